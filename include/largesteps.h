@@ -1,0 +1,18 @@
+/* largesteps.h - umbrella header: includes every public header of the library.
+ *
+ * largesteps is a C99 library for inverse rendering of triangle meshes
+ * ("Large Steps in Inverse Rendering of Geometry", Nicolet, Jacobson, Jakob
+ * 2021). All memory comes from a caller-provided arena (largesteps/arena.h),
+ * every failure is a returned ls_status (largesteps/status.h), and results are
+ * the same bits on every compiler and architecture (largesteps/math.h).
+ */
+#ifndef LARGESTEPS_H
+#define LARGESTEPS_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+#include <largesteps/arena.h>
+#include <largesteps/monitor.h>
+#include <largesteps/math.h>
+
+#endif /* LARGESTEPS_H */

@@ -1,0 +1,128 @@
+/* tests/test.h - the test harness shared by every test program.
+ *
+ * A test program is a main() that calls TEST_RUN(fn) for each test function
+ * and returns TEST_END(). Inside a test, CHECK* macros record failures without
+ * stopping the test (so one run shows every broken assertion); REQUIRE* stops
+ * the current test. Output, one line per test, then the summary line:
+ *     ok   arena_alloc_rounds
+ *     FAIL arena_restore  tests/test_arena.c:88: used == 0 (got 16)
+ *     test_arena: 12 passed, 1 failed
+ * The Makefile reads that last line. Test programs may use stdio and libm:
+ * only src/ is held to the library's rules.
+ */
+#ifndef LS_TEST_H
+#define LS_TEST_H
+
+#include <stdio.h>
+#include <string.h>
+#include <stdint.h>
+#include <math.h>
+#include <largesteps.h>
+
+typedef struct test_state {
+    const char *program;
+    const char *current;
+    int failures_in_test; /* CHECK failures in the running test */
+    int passed;
+    int failed;
+    int checks;
+} test_state;
+
+/* One instance per test program (tests are single-file programs). */
+static test_state test_g;
+
+#define TEST_INIT(name) ((void)test_hash, test_g.program = (name))
+
+#define TEST_FAILMSG_(...)                                                         \
+    do {                                                                           \
+        if (test_g.failures_in_test == 0) printf("FAIL %s\n", test_g.current);     \
+        test_g.failures_in_test++;                                                 \
+        printf("     %s:%d: ", __FILE__, __LINE__);                                \
+        printf(__VA_ARGS__);                                                       \
+        printf("\n");                                                              \
+    } while (0)
+
+#define CHECK(cond)                                                                \
+    do {                                                                           \
+        test_g.checks++;                                                           \
+        if (!(cond)) TEST_FAILMSG_("%s", #cond);                                  \
+    } while (0)
+
+#define CHECK_MSG(cond, ...)                                                       \
+    do {                                                                           \
+        test_g.checks++;                                                           \
+        if (!(cond)) TEST_FAILMSG_(__VA_ARGS__);                                   \
+    } while (0)
+
+/* Integer equality, printing both values. */
+#define CHECK_EQ(a, b)                                                             \
+    do {                                                                           \
+        long long a_ = (long long)(a), b_ = (long long)(b);                        \
+        test_g.checks++;                                                           \
+        if (a_ != b_) TEST_FAILMSG_("%s == %s (%lld vs %lld)", #a, #b, a_, b_);   \
+    } while (0)
+
+#define CHECK_STATUS(expr, want)                                                   \
+    do {                                                                           \
+        ls_status s_ = (expr);                                                     \
+        test_g.checks++;                                                           \
+        if (s_ != (want))                                                          \
+            TEST_FAILMSG_("%s returned %s, wanted %s", #expr, ls_status_name(s_), \
+                          ls_status_name(want));                                   \
+    } while (0)
+
+/* |a - b| <= tol, compared in double; NaN never passes. */
+#define CHECK_NEAR(a, b, tol)                                                      \
+    do {                                                                           \
+        double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);             \
+        test_g.checks++;                                                           \
+        if (!(fabs(a_ - b_) <= t_))                                                \
+            TEST_FAILMSG_("%s ~ %s (%.17g vs %.17g, tol %.3g)", #a, #b, a_, b_, t_); \
+    } while (0)
+
+/* Stop the current test when a precondition fails. */
+#define REQUIRE(cond)                                                              \
+    do {                                                                           \
+        test_g.checks++;                                                           \
+        if (!(cond)) {                                                             \
+            TEST_FAILMSG_("required: %s", #cond);                                  \
+            return;                                                                \
+        }                                                                          \
+    } while (0)
+
+#define TEST_RUN(fn)                                                               \
+    do {                                                                           \
+        test_g.current = #fn;                                                      \
+        test_g.failures_in_test = 0;                                               \
+        fn();                                                                      \
+        if (test_g.failures_in_test == 0) {                                        \
+            test_g.passed++;                                                       \
+            printf("ok   %s\n", #fn);                                              \
+        } else {                                                                   \
+            test_g.failed++;                                                       \
+        }                                                                          \
+        fflush(stdout);                                                            \
+    } while (0)
+
+#define TEST_END()                                                                 \
+    (printf("%s: %d passed, %d failed\n", test_g.program, test_g.passed,          \
+            test_g.failed),                                                        \
+     test_g.failed == 0 && test_g.passed > 0 ? 0 : 1)
+
+/* Tolerance scaled to the build's precision: k units of LS_REAL_EPSILON. */
+#define TEST_EPS(k) ((double)(k) * (double)LS_REAL_EPSILON)
+
+/* FNV-1a over raw bytes: for "inputs unchanged" checks and digests. */
+static uint64_t test_hash(const void *data, size_t bytes, uint64_t h)
+{
+    const unsigned char *p = (const unsigned char *)data;
+    size_t i;
+    for (i = 0; i < bytes; i++) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+#define TEST_HASH_SEED 14695981039346656037ull
+
+#endif /* LS_TEST_H */
