@@ -40,6 +40,13 @@ stage clang-double variant build/clang-double CC=clang CXX=clang++ REAL=double
 stage asan-ubsan   variant build/asan-ubsan   CC=clang CXX=clang++ REAL=double SAN=1
 stage install      sh tests/install.sh
 stage lint         sh tests/lint.sh
+# Stages that need more than the native compilers (OpenImageIO, QEMU, ...):
+# each tests/stage_NAME.sh prints "NAME: N passed, M failed" like the others.
+for script in tests/stage_*.sh; do
+    [ -e "$script" ] || continue
+    name=$(basename "$script" .sh)
+    stage "${name#stage_}" sh "$script"
+done
 
 echo "$total_pass passed, $total_fail failed"
 [ "$total_fail" = 0 ]
