@@ -36,7 +36,8 @@ variant() { # build dir, make variables...
 
 stage gcc-double   variant build/gcc-double   CC=gcc   CXX=g++     REAL=double
 stage gcc-float    variant build/gcc-float    CC=gcc   CXX=g++     REAL=float
-stage clang-double variant build/clang-double CC=clang CXX=clang++ REAL=double
+# clang double is also the build with status messages compiled out (names only).
+stage clang-double variant build/clang-double CC=clang CXX=clang++ REAL=double ARCHFLAGS=-DLS_NO_STATUS_STRINGS
 stage asan-ubsan   variant build/asan-ubsan   CC=clang CXX=clang++ REAL=double SAN=1
 stage install      sh tests/install.sh
 stage lint         sh tests/lint.sh

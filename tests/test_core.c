@@ -104,18 +104,26 @@ static void status_names_and_messages(void)
         NAMED(LS_ERR_FPENV), NAMED(LS_ERR_ABI), NAMED(LS_ERR_STATE)};
 #undef NAMED
     size_t i, j;
+    ls_build_info info;
+    ls_build_info_get(&info);
     CHECK_EQ(sizeof codes / sizeof codes[0], LS_STATUS_COUNT);
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
         CHECK_EQ(codes[i].code, (ls_status)i);
         CHECK_MSG(strcmp(ls_status_name(codes[i].code), codes[i].name) == 0, "%s named %s",
                   codes[i].name, ls_status_name(codes[i].code));
-        CHECK(strlen(ls_status_str(codes[i].code)) > 6);
+        CHECK(strlen(ls_status_str(codes[i].code)) > 4);
         for (j = 0; j < i; j++) CHECK(strcmp(ls_status_str(codes[i].code), ls_status_str(codes[j].code)) != 0);
+        /* built with -DLS_NO_STATUS_STRINGS the message is the name */
+        if (!info.status_strings) CHECK(strcmp(ls_status_str(codes[i].code), codes[i].name) == 0);
     }
     CHECK(strcmp(ls_status_name(-1), "LS_ERR_UNKNOWN") == 0);
     CHECK(strcmp(ls_status_name(LS_STATUS_COUNT), "LS_ERR_UNKNOWN") == 0);
-    CHECK(strstr(ls_status_str(9999), "unknown") != NULL);
-    CHECK(strstr(ls_status_str(LS_ERR_NOMEM), "sizing query") != NULL);
+    if (info.status_strings) {
+        CHECK(strstr(ls_status_str(9999), "unknown") != NULL);
+        CHECK(strstr(ls_status_str(LS_ERR_NOMEM), "sizing query") != NULL);
+    } else {
+        CHECK(strcmp(ls_status_str(9999), "LS_ERR_UNKNOWN") == 0);
+    }
 }
 
 static void diag_clear_resets_every_field(void)
