@@ -82,10 +82,42 @@ static int no_excess_precision(void)
     return (one + tiny) - one == 0;
 }
 
+/* A few outputs of the deterministic functions with their exact bit patterns
+ * (the same on every target; tests/test_math.c holds the full table). A
+ * mismatch means the compiler broke IEEE semantics (fast-math, contraction,
+ * excess precision) or the environment changed the arithmetic. */
+static int math_matches_known_bits(void)
+{
+#if LS_REAL_IS_FLOAT
+    static const uint32_t expect[5] = {0x3f576aa4u, 0x402df854u, 0x40135d8eu, 0x402b6374u, 0x3fb504f3u};
+    volatile float one = 1.0f, ten = 10.0f, two = 2.0f, half = 0.5f;
+    float got[5];
+    uint32_t bits;
+#else
+    static const uint64_t expect[5] = {0x3feaed548f090ceeull, 0x4005bf0a8b145769ull, 0x40026bb1bbb55516ull,
+                                       0x40056c6e7397f5aeull, 0x3ff6a09e667f3bcdull};
+    volatile double one = 1.0, ten = 10.0, two = 2.0, half = 0.5;
+    double got[5];
+    uint64_t bits;
+#endif
+    int i;
+    got[0] = LS_RSIN(one);
+    got[1] = LS_REXP(one);
+    got[2] = LS_RLOG(ten);
+    got[3] = LS_RATAN2(one, -two);
+    got[4] = LS_RPOW(two, half);
+    for (i = 0; i < 5; i++) {
+        memcpy(&bits, &got[i], sizeof bits);
+        if (bits != expect[i]) return 0;
+    }
+    return 1;
+}
+
 ls_status ls_selftest(size_t caller_real_bytes)
 {
     if (caller_real_bytes != sizeof(ls_real)) return LS_ERR_ABI;
-    if (!rounds_to_nearest_even() || !keeps_subnormals() || !no_excess_precision())
+    if (!rounds_to_nearest_even() || !keeps_subnormals() || !no_excess_precision() ||
+        !math_matches_known_bits())
         return LS_ERR_FPENV;
     return LS_OK;
 }
