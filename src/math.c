@@ -99,51 +99,51 @@ int ls_isinf(double x) { return (md_bits(x) & LS_D_ABS) == LS_D_INF; }
 int ls_isinff(float x) { return (mf_bits(x) & LS_F_ABS) == LS_F_INF; }
 
 /* ---- saturating conversions ------------------------------------------- */
-/* Each range test is written so that NaN fails it and the cast is reached
- * only for values whose truncation fits the type. */
+/* NaN first, then the two saturating ends: the cast is reached only for
+ * values whose truncation fits the type. */
 
 int32_t ls_to_i32(double x)
 {
+    if (ls_isnan(x)) return 0;
     if (x >= 2147483648.0) return INT32_MAX;
-    if (x > -2147483649.0) return (int32_t)x;
     if (x <= -2147483649.0) return INT32_MIN;
-    return 0; /* NaN */
+    return (int32_t)x;
 }
 
 int32_t ls_to_i32f(float x)
 {
+    if (ls_isnanf(x)) return 0;
     if (x >= 2147483648.0f) return INT32_MAX;
-    if (x >= -2147483648.0f) return (int32_t)x;
     if (x < -2147483648.0f) return INT32_MIN;
-    return 0;
+    return (int32_t)x;
 }
 
 uint32_t ls_to_u32(double x)
 {
+    if (ls_isnan(x) || x <= -1.0) return 0;
     if (x >= 4294967296.0) return UINT32_MAX;
-    if (x > -1.0) return (uint32_t)x;
-    return 0; /* x <= -1 or NaN */
+    return (uint32_t)x;
 }
 
 uint32_t ls_to_u32f(float x)
 {
+    if (ls_isnanf(x) || x <= -1.0f) return 0;
     if (x >= 4294967296.0f) return UINT32_MAX;
-    if (x > -1.0f) return (uint32_t)x;
-    return 0;
+    return (uint32_t)x;
 }
 
 int64_t ls_to_i64(double x)
 {
+    if (ls_isnan(x)) return 0;
     if (x >= 9223372036854775808.0) return INT64_MAX;
-    if (x >= -9223372036854775808.0) return (int64_t)x;
     if (x < -9223372036854775808.0) return INT64_MIN;
-    return 0;
+    return (int64_t)x;
 }
 
 int64_t ls_to_i64f(float x)
 {
+    if (ls_isnanf(x)) return 0;
     if (x >= 9223372036854775808.0f) return INT64_MAX;
-    if (x >= -9223372036854775808.0f) return (int64_t)x;
     if (x < -9223372036854775808.0f) return INT64_MIN;
-    return 0;
+    return (int64_t)x;
 }

@@ -21,8 +21,8 @@
 #define EXP_L2 0x1.cf79abc9e3b3ap-46
 #define EXPF_INVL 0x1.715476p+5f /* 32/ln2 */
 #define EXPF_L1 0x1.630000p-6f
-#define EXPF_L2 -0x1.bd0000p-18f
-#define EXPF_L3 -0x1.05c610p-34f
+#define EXPF_L2 (-0x1.bd0000p-18f)
+#define EXPF_L3 (-0x1.05c610p-34f)
 #define LN2_HI 0x1.62e42fefa3800p-1
 #define LN2_LO 0x1.ef35793c76730p-45
 #define LN2F_HI 0x1.62e400p-1f
@@ -30,7 +30,7 @@
 #define INVLN10_HI 0x1.bcb7b1526e50ep-2
 #define INVLN10_LO 0x1.95355baaafad3p-57
 #define INVLN10F_HI 0x1.bcb7b2p-2f
-#define INVLN10F_LO -0x1.5b235ep-27f
+#define INVLN10F_LO (-0x1.5b235ep-27f)
 
 /* EXP_E: degree 4 on [-0.00543637, 0.00543637], weighted error 2^-70.2 */
 #define EXP_E0 0x1.0000000000000p-1
@@ -44,18 +44,18 @@
 #define EXPF_E2 0x1.555482p-5f
 /* LOG_P: degree 7 on [-0.0078125, 0.0078125], weighted error 2^-69.6 */
 #define LOG_P0 0x1.5555555555555p-2
-#define LOG_P1 -0x1.0000000000000p-2
+#define LOG_P1 (-0x1.0000000000000p-2)
 #define LOG_P2 0x1.9999999999b92p-3
-#define LOG_P3 -0x1.55555555557e0p-3
+#define LOG_P3 (-0x1.55555555557e0p-3)
 #define LOG_P4 0x1.2492490cbfe35p-3
-#define LOG_P5 -0x1.ffffffcb63addp-4
+#define LOG_P5 (-0x1.ffffffcb63addp-4)
 #define LOG_P6 0x1.c72a9fbc11accp-4
-#define LOG_P7 -0x1.99a7aa1a7d045p-4
+#define LOG_P7 (-0x1.99a7aa1a7d045p-4)
 /* LOGF_P: degree 4 on [-0.03125, 0.03125], weighted error 2^-36.6 */
 #define LOGF_P0 0x1.555556p-2f
-#define LOGF_P1 -0x1.fffff8p-3f
+#define LOGF_P1 (-0x1.fffff8p-3f)
 #define LOGF_P2 0x1.99998ep-3f
-#define LOGF_P3 -0x1.55b4b2p-3f
+#define LOGF_P3 (-0x1.55b4b2p-3f)
 #define LOGF_P4 0x1.24f562p-3f
 
 /* 2^(j/64) as head, tail */
@@ -345,7 +345,7 @@ static double exp_core(double x, double xl)
     double r = hi - lo;
     double dr = ((hi - r) - lo) + xl;
     double p = r + r * r * (EXP_E0 + r * (EXP_E1 + r * (EXP_E2 + r * (EXP_E3 + r * EXP_E4))));
-    double th = exp_tab[2 * j], tl = exp_tab[2 * j + 1];
+    double th = exp_tab[2 * (size_t)j], tl = exp_tab[2 * (size_t)j + 1];
     /* exp(r + dr) = (1 + p)(1 + dr): dr carries pow's low part, up to 2^-44 */
     double y = th + (tl + th * (p + (dr + dr * p)));
     if (e >= -1021) {
@@ -381,7 +381,7 @@ static void log_core(double x, double *hi, double *lo)
     k += (int32_t)(u >> 52) - 1023;
     j = (uint32_t)(u >> 45) & 127u;
     m = md_from((u & 0x000fffffffffffffull) | 0x3ff0000000000000ull);
-    t = &log_tab[3u * j];
+    t = &log_tab[3 * (size_t)j];
     c = t[0];
     if (j >= 53u) k += 1; /* table holds log(1/c) - ln2 */
     /* r = m c - 1 exactly: c has 8 bits, m = mh + ml with 26 + 27 bits */
@@ -496,8 +496,8 @@ static float expf_core(float x, float xl)
     lo = (e1 - kf * EXPF_L3) + xl;
     mf_fast_two_sum(r1, lo, &r, &dr);
     p = r + r * r * (EXPF_E0 + r * (EXPF_E1 + r * EXPF_E2));
-    th = expf_tab[2 * j];
-    tl = expf_tab[2 * j + 1];
+    th = expf_tab[2 * (size_t)j];
+    tl = expf_tab[2 * (size_t)j + 1];
     y = th + (tl + th * (p + (dr + dr * p)));
     if (e >= -125) {
         if (e <= 127) return y * mf_pow2(e);
@@ -530,7 +530,7 @@ static void logf_core(float x, float *hi, float *lo)
     k += (int32_t)(u >> 23) - 127;
     j = (u >> 18) & 31u;
     m = mf_from((u & 0x007fffffu) | 0x3f800000u);
-    t = &logf_tab[3u * j];
+    t = &logf_tab[3 * (size_t)j];
     c = t[0];
     if (j >= 13u) k += 1;
     /* c has 6 bits, m = mh + ml with 12 + 12 bits */

@@ -29,55 +29,55 @@
 #define PIO2_C4 0x1.b839a252049c1p-104
 #define INV_PIO2 0x1.45f306dc9c883p-1
 #define PIO2F_HI 0x1.921fb6p+0f
-#define PIO2F_LO -0x1.777a5cp-25f
+#define PIO2F_LO (-0x1.777a5cp-25f)
 #define PIF_HI 0x1.921fb6p+1f
-#define PIF_LO -0x1.777a5cp-24f
+#define PIF_LO (-0x1.777a5cp-24f)
 #define PIO4F_HI 0x1.921fb6p-1f
 #define PI3O4F_HI 0x1.2d97c8p+1f
 #define PIO2F_C1 0x1.922000p+0f
-#define PIO2F_C2 -0x1.2af000p-18f
+#define PIO2F_C2 (-0x1.2af000p-18f)
 #define PIO2F_C3 0x1.0b4800p-34f
-#define PIO2F_C4 -0x1.ee5800p-50f
-#define PIO2F_C5 -0x1.d9ccecp-66f
+#define PIO2F_C4 (-0x1.ee5800p-50f)
+#define PIO2F_C5 (-0x1.d9ccecp-66f)
 #define INV_PIO2F 0x1.45f306p-1f
 
 /* SIN_S: degree 6 on [8.67362e-19, 0.61685], weighted error 2^-57.1 */
-#define SIN_S0 -0x1.5555555555555p-3
+#define SIN_S0 (-0x1.5555555555555p-3)
 #define SIN_S1 0x1.111111111110bp-7
-#define SIN_S2 -0x1.a01a01a018a6dp-13
+#define SIN_S2 (-0x1.a01a01a018a6dp-13)
 #define SIN_S3 0x1.71de3a53308b9p-19
-#define SIN_S4 -0x1.ae64528d7e680p-26
+#define SIN_S4 (-0x1.ae64528d7e680p-26)
 #define SIN_S5 0x1.61208c47ce0c4p-33
-#define SIN_S6 -0x1.aaa24713c3645p-41
+#define SIN_S6 (-0x1.aaa24713c3645p-41)
 /* COS_C: degree 5 on [8.67362e-19, 0.61685], weighted error 2^-59.7 */
 #define COS_C0 0x1.555555555554bp-5
-#define COS_C1 -0x1.6c16c16c14f91p-10
+#define COS_C1 (-0x1.6c16c16c14f91p-10)
 #define COS_C2 0x1.a01a019c844f5p-16
-#define COS_C3 -0x1.27e4f7eac4bc6p-22
+#define COS_C3 (-0x1.27e4f7eac4bc6p-22)
 #define COS_C4 0x1.1ee9d7b4e3f05p-29
-#define COS_C5 -0x1.8fa49a0861a5fp-37
+#define COS_C5 (-0x1.8fa49a0861a5fp-37)
 /* SINF_S: degree 4 on [8.67362e-19, 0.61685], weighted error 2^-28.2 */
-#define SINF_S0 -0x1.555556p-3f
+#define SINF_S0 (-0x1.555556p-3f)
 #define SINF_S1 0x1.111112p-7f
-#define SINF_S2 -0x1.a019fap-13f
+#define SINF_S2 (-0x1.a019fap-13f)
 #define SINF_S3 0x1.71d76ep-19f
-#define SINF_S4 -0x1.a961a2p-26f
+#define SINF_S4 (-0x1.a961a2p-26f)
 /* COSF_C: degree 3 on [8.67362e-19, 0.61685], weighted error 2^-30.4 */
 #define COSF_C0 0x1.555556p-5f
-#define COSF_C1 -0x1.6c16b8p-10f
+#define COSF_C1 (-0x1.6c16b8p-10f)
 #define COSF_C2 0x1.a010dep-16f
-#define COSF_C3 -0x1.241e9cp-22f
+#define COSF_C3 (-0x1.241e9cp-22f)
 /* ATAN_A: degree 5 on [8.67362e-19, 0.000984207], weighted error 2^-65.6 */
-#define ATAN_A0 -0x1.5555555555555p-2
+#define ATAN_A0 (-0x1.5555555555555p-2)
 #define ATAN_A1 0x1.9999999999999p-3
-#define ATAN_A2 -0x1.2492492491b6bp-3
+#define ATAN_A2 (-0x1.2492492491b6bp-3)
 #define ATAN_A3 0x1.c71c71b998843p-4
-#define ATAN_A4 -0x1.745cc6899d91fp-4
+#define ATAN_A4 (-0x1.745cc6899d91fp-4)
 #define ATAN_A5 0x1.3a266252c787dp-4
 /* ATANF_A: degree 2 on [8.67362e-19, 0.000984207], weighted error 2^-36.6 */
-#define ATANF_A0 -0x1.555556p-2f
+#define ATANF_A0 (-0x1.555556p-2f)
 #define ATANF_A1 0x1.99998ap-3f
-#define ATANF_A2 -0x1.242446p-3f
+#define ATANF_A2 (-0x1.242446p-3f)
 
 /* atan(j/16) as head, tail */
 static const double atan_tab[34] = {
@@ -201,6 +201,7 @@ static uint32_t ph_reduce(uint64_t m, int32_t e, uint64_t *hi, uint64_t *lo,
         quad = (quad + 1u) & 3u;
         *neg = 1;
         fl = ~fl + 1u;
+        /* cppcheck-suppress knownConditionTrueFalse ; fl == 0 after the wrap of ~0 + 1: the negation's carry */
         fh = ~fh + (fl == 0u ? 1u : 0u);
     }
     *lz = 0;
@@ -364,8 +365,8 @@ static void atan_dd(double th, double tl, double *rh, double *rl)
     }
     z = uh * uh;
     a = ATAN_A0 + z * (ATAN_A1 + z * (ATAN_A2 + z * (ATAN_A3 + z * (ATAN_A4 + z * ATAN_A5))));
-    md_two_sum(atan_tab[2 * j], uh, &sh, &se);
-    lo = se + (atan_tab[2 * j + 1] + (ul + uh * z * a));
+    md_two_sum(atan_tab[2 * (size_t)j], uh, &sh, &se);
+    lo = se + (atan_tab[2 * (size_t)j + 1] + (ul + uh * z * a));
     md_fast_two_sum(sh, lo, rh, rl);
 }
 
@@ -580,8 +581,8 @@ static void atanf_ff(float th, float tl, float *rh, float *rl)
     }
     z = uh * uh;
     a = ATANF_A0 + z * (ATANF_A1 + z * ATANF_A2);
-    mf_two_sum(atanf_tab[2 * j], uh, &sh, &se);
-    lo = se + (atanf_tab[2 * j + 1] + (ul + uh * z * a));
+    mf_two_sum(atanf_tab[2 * (size_t)j], uh, &sh, &se);
+    lo = se + (atanf_tab[2 * (size_t)j + 1] + (ul + uh * z * a));
     mf_fast_two_sum(sh, lo, rh, rl);
 }
 

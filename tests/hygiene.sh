@@ -19,7 +19,11 @@ bad() { fail=$((fail + 1)); echo "FAIL $1"; if [ -n "$2" ]; then printf '%s\n' "
 # (64-bit division on 32-bit targets, soft-float on Cortex-M, ...).
 ALLOW='^(memcpy|memset|memmove|sqrt|sqrtf|_GLOBAL_OFFSET_TABLE_|__stack_chk_fail|__stack_chk_guard|__aeabi_[a-z0-9_]+|__(u?(div|mod)[dst]i3|u?divmod[dst]i4|ashl[dst]i3|ashr[dst]i3|lshr[dst]i3|mul[dst]i3|(clz|ctz|popcount|parity|ffs)[dst]i2|bswap[sd]i2|(add|sub|mul|div|neg)[sdt]f3|extend[sdt]f[sdt]f2|trunc[dt]f[sd]f2|fix(uns)?[sdt]f[sdt]i|float(un)?[sdt]i[sdt]f|(eq|ne|lt|le|gt|ge|un|cmp)[sdt]f2))$'
 
-undefined_bad() { $NM -u -A "$@" 2>/dev/null | awk '{print $NF}' | sort -u | grep -Ev "$ALLOW"; }
+# Undefined in some object and defined in none: what the library needs from outside.
+undefined_bad() {
+    $NM -g --defined-only -A "$@" 2>/dev/null | awk '{print $NF}' | sort -u > "$probe_dir/defined.txt"
+    $NM -u -A "$@" 2>/dev/null | awk '{print $NF}' | sort -u | grep -vxF -f "$probe_dir/defined.txt" | grep -Ev "$ALLOW"
+}
 writable_bad() {
     for o in "$@"; do
         $SIZE -A "$o" | awk -v o="$o" '$1 ~ /^\.(data|bss|tdata|tbss)($|\.)/ && $1 !~ /^\.data\.rel\.ro/ && $2 > 0 {print o ": " $1 " " $2 " bytes"}'
