@@ -14,5 +14,8 @@
 #include <largesteps/arena.h>
 #include <largesteps/monitor.h>
 #include <largesteps/math.h>
+#include <largesteps/sparse.h>
+#include <largesteps/order.h>
+#include <largesteps/ldlt.h>
 
 #endif /* LARGESTEPS_H */

@@ -1,0 +1,179 @@
+/* largesteps/ldlt.h - sparse LDL^T factorization of symmetric positive
+ * definite matrices and solves with k interleaved right-hand sides.
+ *
+ * P A P^T = L D L^T with L unit lower triangular, D diagonal (no square roots),
+ * P a fill-reducing permutation. The matrix A is an ls_csc read through its
+ * upper triangle (entries with row <= col; a matrix storing both triangles is
+ * fine). Three phases, each with an exact sizing query:
+ *
+ *   ls_ldlt_analyze_bytes / ls_ldlt_analyze   ordering, elimination tree,
+ *        column counts, postorder: the symbolic object (depends on the pattern)
+ *   ls_ldlt_bytes / ls_ldlt_factor            the numeric factor; the bytes are
+ *        known after analysis, before any numeric work
+ *   ls_ldlt_refactor                          new values, same pattern: no memory
+ *   ls_ldlt_solve_bytes / ls_ldlt_solve       X = A^{-1} B in place, B n x k
+ *        row-major (entry (i, c) at x[i*k + c]); k = 3 is the fast path
+ *   ls_ldlt_refine                            iterative refinement steps
+ *
+ * Algorithm: up-looking LDL^T (row k of L is a sparse triangular solve whose
+ * pattern is the elimination-tree reach of column k of A). Every operation is
+ * done in a fixed order: the same input gives the same bits everywhere.
+ *
+ * Pivots: a zero, negative or non-finite pivot (including NaN or infinity in
+ * A) fails with LS_ERR_NOT_SPD; the ls_diag names the column in A's
+ * numbering (index) and the pivot (value). A factor whose (re)factorization
+ * failed is marked invalid: solves on it return LS_ERR_STATE until a
+ * successful ls_ldlt_refactor.
+ *
+ * Tiny values: during the factorization, intermediate values and entries of
+ * L whose magnitude is below LS_LDLT_FLUSH are replaced by zero (the pattern
+ * is kept). Products of two kept values are then never subnormal, so the float
+ * factorization does not slow down on CPUs that trap subnormals, without
+ * touching the FPU's flush flags. This perturbs A by at most about
+ * LS_LDLT_FLUSH times its row counts: negligible when A's diagonal is of
+ * order 1 or larger (M = I + lambda L); scale A so if it is not.
+ *
+ * Very large lambda in M = I + lambda L: when lambda times the vertex degree
+ * exceeds about 1/epsilon, 1 + lambda*deg rounds to lambda*deg and the
+ * computed matrix is the singular lambda L; the last pivot of each connected
+ * component is then rounding noise. Then ls_ldlt_factor either returns
+ * LS_ERR_NOT_SPD naming that column (noise <= 0), or succeeds with a tiny
+ * backward error but a meaningless constant component of the solution. The
+ * solver does not know the structure of M; the caller (the parameterization)
+ * should handle the constant mode or keep lambda below 1e6 (float) / 1e14
+ * (double). See the README's backward-error table.
+ */
+#ifndef LARGESTEPS_LDLT_H
+#define LARGESTEPS_LDLT_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+#include <largesteps/arena.h>
+#include <largesteps/sparse.h>
+#include <largesteps/order.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if LS_REAL_IS_FLOAT
+#define LS_LDLT_FLUSH 1.0842021724855044e-19f /* 2^-63: squares stay normal in float */
+#else
+#define LS_LDLT_FLUSH 1.4916681462400413e-154 /* 2^-511: squares stay normal in double */
+#endif
+
+/* Factor states. */
+#define LS_LDLT_ANALYZED 1u /* symbolic only: factor before solving */
+#define LS_LDLT_VALID    2u /* a successful numeric factorization */
+#define LS_LDLT_INVALID  3u /* the last (re)factorization failed: refactor needed */
+
+typedef struct ls_ldlt {
+    uint32_t n;
+    uint32_t state;     /* LS_LDLT_* */
+    uint32_t a_nnz;     /* stored entries of the analyzed matrix (checked by factor) */
+    uint32_t c_nnz;     /* entries of A's upper triangle */
+    uint32_t l_nnz;     /* entries of L below the diagonal */
+    uint32_t method;    /* LS_ORDER_* used */
+    uint32_t *perm;     /* n: new -> old */
+    uint32_t *pinv;     /* n: old -> new */
+    uint32_t *parent;   /* n: elimination tree, UINT32_MAX at roots */
+    uint32_t *lp;       /* n + 1: column starts of L */
+    uint32_t *cp;       /* n + 1: P A P^T upper pattern, column starts */
+    uint32_t *ci;       /* c_nnz: its rows */
+    uint32_t *csrc;     /* c_nnz: position of each entry's value in A */
+    /* numeric part, allocated by the first ls_ldlt_factor (NULL before) */
+    uint32_t *li;       /* l_nnz: rows of L */
+    ls_real *lx;        /* l_nnz: values of L */
+    ls_real *dinv;      /* n: 1 / D */
+    ls_real *y;         /* n: workspace */
+    uint32_t *flag;     /* n: workspace */
+    uint32_t *stack;    /* n: workspace */
+    uint32_t *lnz;      /* n: workspace */
+    uint64_t flops;     /* multiply-adds of one numeric factorization */
+} ls_ldlt;
+
+/* ls_ldlt_analyze_bytes: exact arena bytes of ls_ldlt_analyze(a, method):
+ * the symbolic object plus the peak scratch (ordering). O(nnz(a)).
+ * Errors: LS_ERR_INVALID (NULL, not square, unknown method, or LS_ORDER_ND /
+ * LS_ORDER_AUTO, which need coordinates: ls_ldlt_analyze_mesh_bytes),
+ * LS_ERR_TOO_LARGE. */
+ls_status ls_ldlt_analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes);
+
+/* ls_ldlt_analyze: symbolic analysis of the square matrix a: the ordering
+ * (LS_ORDER_AMD, LS_ORDER_NATURAL, or LS_ORDER_GIVEN with perm = new -> old,
+ * else perm is ignored and may be NULL), the permuted upper pattern, the
+ * elimination tree, its postorder (the factor's columns are renumbered in it)
+ * and the exact column counts of L (Gilbert-Ng-Peyton: time about
+ * O(nnz(A)), not O(nnz(L)), plus the ordering's). The object keeps 20 bytes
+ * per row plus 8 per entry of A's upper triangle (about 52 bytes per vertex of
+ * a triangle mesh); the ordering's scratch is released. Memory:
+ * ls_ldlt_analyze_bytes from the arena's bottom. Errors: LS_ERR_INVALID (NULL, not square, perm not a permutation,
+ * index out of range), LS_ERR_TOO_LARGE (nnz(L) >= 2^32), LS_ERR_NOMEM; on
+ * failure the arena and *f are unchanged. */
+ls_status ls_ldlt_analyze(const ls_csc *a, uint32_t method, const uint32_t *perm, ls_arena *arena,
+                          ls_ldlt *f, ls_diag *diag);
+
+/* ls_ldlt_analyze_mesh_bytes: exact arena bytes of ls_ldlt_analyze_mesh(a,
+ * method); method may be any LS_ORDER_* but LS_ORDER_GIVEN. O(nnz(a)). */
+ls_status ls_ldlt_analyze_mesh_bytes(const ls_csc *a, uint32_t method, size_t *bytes);
+
+/* ls_ldlt_analyze_mesh: ls_ldlt_analyze for a matrix whose variables are mesh
+ * vertices with coordinates xyz (n x 3 row-major), which enables
+ * LS_ORDER_ND (geometric nested dissection) and LS_ORDER_AUTO: both AMD and
+ * ND are computed, their nnz(L) predicted from exact column counts, and the
+ * smaller kept (f->method says which). AUTO costs about both orderings plus
+ * two column counts. Errors: as ls_ldlt_analyze, plus LS_ERR_NONFINITE for a
+ * non-finite coordinate. */
+ls_status ls_ldlt_analyze_mesh(const ls_csc *a, uint32_t method, const ls_real *xyz, ls_arena *arena, ls_ldlt *f,
+                               ls_diag *diag);
+
+/* ls_ldlt_bytes: exact arena bytes the numeric factor will take (L, 1/D and
+ * workspace: 12 bytes per entry of L in double, 8 in float, plus 12 + 2
+ * sizeof(ls_real) per row), known from the analysis before any numeric work.
+ * O(1). Errors: LS_ERR_INVALID (NULL or not analyzed), LS_ERR_TOO_LARGE. */
+ls_status ls_ldlt_bytes(const ls_ldlt *f, size_t *bytes);
+
+/* ls_ldlt_factor: numeric factorization of a (same pattern as analyzed: the
+ * entry count is checked, the pattern itself is trusted). The first call takes
+ * ls_ldlt_bytes(f) from the arena's bottom; later calls reuse that memory
+ * (arena may then be NULL). Time sum over columns of |L(:,j)|^2 (up-looking).
+ * Errors: LS_ERR_INVALID (NULL, pattern size differs, nothing analyzed),
+ * LS_ERR_NOMEM (nothing changed), LS_ERR_NOT_SPD (diag: column in A's
+ * numbering, pivot value; f is then marked LS_LDLT_INVALID and the arena is as
+ * before the call). */
+ls_status ls_ldlt_factor(ls_ldlt *f, const ls_csc *a, ls_arena *arena, ls_diag *diag);
+
+/* ls_ldlt_refactor: numeric-only refactorization with new values of the same
+ * pattern, reusing the memory of a previous ls_ldlt_factor (no arena). Same
+ * cost and errors as ls_ldlt_factor; LS_ERR_STATE if never factored. */
+ls_status ls_ldlt_refactor(ls_ldlt *f, const ls_csc *a, ls_diag *diag);
+
+/* ls_ldlt_solve_bytes: exact scratch bytes of ls_ldlt_solve with k
+ * right-hand sides (n * k reals). O(1). */
+ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes);
+
+/* ls_ldlt_solve: x (n x k, row-major) holds B on entry and A^{-1} B on
+ * return: permute, forward with L, scale by 1/D, backward with L^T,
+ * permute back. Time 4 nnz(L) k + O(n k); scratch n k reals, released.
+ * Errors: LS_ERR_INVALID (NULL, k = 0), LS_ERR_STATE (not validly
+ * factored), LS_ERR_NONFINITE (B holds a NaN or infinity: x unchanged; or the
+ * solution overflowed: x then holds it), LS_ERR_NOMEM (x unchanged). */
+ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena);
+
+/* ls_ldlt_refine_bytes: exact scratch bytes of ls_ldlt_refine (2 n k reals). */
+ls_status ls_ldlt_refine_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes);
+
+/* ls_ldlt_refine: `steps` rounds of iterative refinement of x (n x k, a
+ * solution of A x = b from ls_ldlt_solve): r = b - A x in working precision,
+ * x += A^{-1} r. Improves the backward error to a few epsilon (it cannot beat
+ * the forward error bound kappa * epsilon). Time steps * (2 nnz(A) + 4
+ * nnz(L)) k. Errors: as ls_ldlt_solve, plus LS_ERR_INVALID if a's size
+ * differs from the factor's. */
+ls_status ls_ldlt_refine(const ls_ldlt *f, const ls_csc *a, uint32_t k, const ls_real *b, ls_real *x,
+                         uint32_t steps, ls_arena *arena);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LARGESTEPS_LDLT_H */

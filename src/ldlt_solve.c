@@ -1,0 +1,426 @@
+/* ldlt_solve.c - solves with an LDL^T factor for k interleaved right-hand
+ * sides (n x k row-major), and iterative refinement. */
+#include <largesteps/ldlt.h>
+#include <string.h>
+
+static int all_finite(const ls_real *x, size_t count)
+{
+    size_t i;
+    for (i = 0; i < count; i++) {
+        ls_real d = x[i] - x[i];
+        if (!(d == 0)) return 0;
+    }
+    return 1;
+}
+
+/* Columns are processed in chunks of up to CHUNK consecutive columns that form
+ * a chain in the elimination tree with nested patterns (column c's rows are
+ * c+1 followed by column c+1's rows): then the rows below the chunk (R) are
+ * shared, and each w_i of R is loaded and stored once per chunk instead of
+ * once per column. The forward pass performs exactly the operations of the
+ * column-by-column algorithm in the same order (same bits); the backward pass
+ * subtracts the R terms of a chunk before its in-chunk terms (a fixed order).
+ * Every k uses the same order per right-hand side, so k = 3 equals three
+ * k = 1 solves bit for bit. */
+#define CHUNK 4u
+
+/* 1 when column c+1 continues column c's chain (c + 1 < n). */
+static int chained(const uint32_t *lp, const uint32_t *li, uint32_t c)
+{
+    uint32_t cnt = lp[c + 1u] - lp[c];
+    return cnt > 0 && li[lp[c]] == c + 1u && cnt == lp[c + 2u] - lp[c + 1u] + 1u;
+}
+
+/* R rows of a chunk of width 1, 2 or 4 (written out so that the chunk's values
+ * stay in registers): forward subtracts the chunk's final values from each w_i
+ * in column order; backward subtracts l_ic w_i from each column's accumulator
+ * in row order. */
+static void fwd_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    for (t = 0; t < r; t++) {
+        ls_real *wi = w + 3u * (size_t)ri[t];
+        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= p0[t] * v00;
+        x1 -= p0[t] * v01;
+        x2 -= p0[t] * v02;
+        wi[0] = x0;
+        wi[1] = x1;
+        wi[2] = x2;
+    }
+}
+
+static void fwd_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    const ls_real *p1 = pc[1];
+    const ls_real v10 = wc[3], v11 = wc[4], v12 = wc[5];
+    for (t = 0; t < r; t++) {
+        ls_real *wi = w + 3u * (size_t)ri[t];
+        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= p0[t] * v00;
+        x1 -= p0[t] * v01;
+        x2 -= p0[t] * v02;
+        x0 -= p1[t] * v10;
+        x1 -= p1[t] * v11;
+        x2 -= p1[t] * v12;
+        wi[0] = x0;
+        wi[1] = x1;
+        wi[2] = x2;
+    }
+}
+
+static void fwd_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    const ls_real *p1 = pc[1];
+    const ls_real v10 = wc[3], v11 = wc[4], v12 = wc[5];
+    const ls_real *p2 = pc[2];
+    const ls_real v20 = wc[6], v21 = wc[7], v22 = wc[8];
+    const ls_real *p3 = pc[3];
+    const ls_real v30 = wc[9], v31 = wc[10], v32 = wc[11];
+    for (t = 0; t < r; t++) {
+        ls_real *wi = w + 3u * (size_t)ri[t];
+        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= p0[t] * v00;
+        x1 -= p0[t] * v01;
+        x2 -= p0[t] * v02;
+        x0 -= p1[t] * v10;
+        x1 -= p1[t] * v11;
+        x2 -= p1[t] * v12;
+        x0 -= p2[t] * v20;
+        x1 -= p2[t] * v21;
+        x2 -= p2[t] * v22;
+        x0 -= p3[t] * v30;
+        x1 -= p3[t] * v31;
+        x2 -= p3[t] * v32;
+        wi[0] = x0;
+        wi[1] = x1;
+        wi[2] = x2;
+    }
+}
+
+static void back_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    for (t = 0; t < r; t++) {
+        const ls_real *wi = w + 3u * (size_t)ri[t];
+        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= p0[t] * x0;
+        a01 -= p0[t] * x1;
+        a02 -= p0[t] * x2;
+    }
+    acc[0] = a00;
+    acc[1] = a01;
+    acc[2] = a02;
+}
+
+static void back_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    const ls_real *p1 = pc[1];
+    ls_real a10 = acc[3], a11 = acc[4], a12 = acc[5];
+    for (t = 0; t < r; t++) {
+        const ls_real *wi = w + 3u * (size_t)ri[t];
+        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= p0[t] * x0;
+        a01 -= p0[t] * x1;
+        a02 -= p0[t] * x2;
+        a10 -= p1[t] * x0;
+        a11 -= p1[t] * x1;
+        a12 -= p1[t] * x2;
+    }
+    acc[0] = a00;
+    acc[1] = a01;
+    acc[2] = a02;
+    acc[3] = a10;
+    acc[4] = a11;
+    acc[5] = a12;
+}
+
+static void back_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+{
+    uint32_t t;
+    const ls_real *p0 = pc[0];
+    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    const ls_real *p1 = pc[1];
+    ls_real a10 = acc[3], a11 = acc[4], a12 = acc[5];
+    const ls_real *p2 = pc[2];
+    ls_real a20 = acc[6], a21 = acc[7], a22 = acc[8];
+    const ls_real *p3 = pc[3];
+    ls_real a30 = acc[9], a31 = acc[10], a32 = acc[11];
+    for (t = 0; t < r; t++) {
+        const ls_real *wi = w + 3u * (size_t)ri[t];
+        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= p0[t] * x0;
+        a01 -= p0[t] * x1;
+        a02 -= p0[t] * x2;
+        a10 -= p1[t] * x0;
+        a11 -= p1[t] * x1;
+        a12 -= p1[t] * x2;
+        a20 -= p2[t] * x0;
+        a21 -= p2[t] * x1;
+        a22 -= p2[t] * x2;
+        a30 -= p3[t] * x0;
+        a31 -= p3[t] * x1;
+        a32 -= p3[t] * x2;
+    }
+    acc[0] = a00;
+    acc[1] = a01;
+    acc[2] = a02;
+    acc[3] = a10;
+    acc[4] = a11;
+    acc[5] = a12;
+    acc[6] = a20;
+    acc[7] = a21;
+    acc[8] = a22;
+    acc[9] = a30;
+    acc[10] = a31;
+    acc[11] = a32;
+}
+
+/* forward (L) and diagonal (1/D), chunked, k = 3 */
+static void forward3(const ls_ldlt *f, ls_real *w)
+{
+    uint32_t n = f->n, s = 0, e, c, c2;
+    const uint32_t *lp = f->lp, *li = f->li;
+    const ls_real *lx = f->lx, *dinv = f->dinv;
+    while (s < n) {
+        const ls_real *pc[CHUNK];
+        uint32_t m, r;
+        const uint32_t *ri;
+        for (e = s + 1u; e < n && e - s < CHUNK && chained(lp, li, e - 1u); e++) {
+        }
+        if (e - s == 3u) e--; /* widths 1, 2, 4 */
+        m = e - s;
+        for (c = s; c < e; c++) {
+            const ls_real *lc = lx + lp[c];
+            pc[c - s] = lc + (e - 1u - c);
+            for (c2 = c + 1u; c2 < e; c2++) {
+                const ls_real l = lc[c2 - c - 1u];
+                w[3u * (size_t)c2] -= l * w[3u * (size_t)c];
+                w[3u * (size_t)c2 + 1u] -= l * w[3u * (size_t)c + 1u];
+                w[3u * (size_t)c2 + 2u] -= l * w[3u * (size_t)c + 2u];
+            }
+        }
+        r = lp[e] - lp[e - 1u];
+        ri = li + lp[e - 1u];
+        if (m == 1) fwd_rows1(r, ri, pc, w + 3u * (size_t)s, w);
+        else if (m == 2) fwd_rows2(r, ri, pc, w + 3u * (size_t)s, w);
+        else fwd_rows4(r, ri, pc, w + 3u * (size_t)s, w);
+        for (c = s; c < e; c++) {
+            const ls_real di = dinv[c];
+            w[3u * (size_t)c] *= di;
+            w[3u * (size_t)c + 1u] *= di;
+            w[3u * (size_t)c + 2u] *= di;
+        }
+        s = e;
+    }
+}
+
+/* backward (L^T), chunked from the last column down, k = 3 */
+static void backward3(const ls_ldlt *f, ls_real *w)
+{
+    uint32_t n = f->n, e = n, s, c, c2;
+    const uint32_t *lp = f->lp, *li = f->li;
+    const ls_real *lx = f->lx;
+    while (e > 0) {
+        const ls_real *pc[CHUNK];
+        uint32_t m, r;
+        const uint32_t *ri;
+        for (s = e - 1u; s > 0 && e - s < CHUNK && chained(lp, li, s - 1u); s--) {
+        }
+        if (e - s == 3u) s++; /* widths 1, 2, 4 */
+        m = e - s;
+        for (c = s; c < e; c++) pc[c - s] = lx + lp[c] + (e - 1u - c);
+        r = lp[e] - lp[e - 1u];
+        ri = li + lp[e - 1u];
+        {
+            ls_real acc[3u * CHUNK];
+            memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_real));
+            if (m == 1) back_rows1(r, ri, pc, w, acc);
+            else if (m == 2) back_rows2(r, ri, pc, w, acc);
+            else back_rows4(r, ri, pc, w, acc);
+            for (c = e; c > s; c--) {
+                const uint32_t cc = c - 1u;
+                const ls_real *lc = lx + lp[cc];
+                ls_real *a = acc + 3u * (size_t)(cc - s);
+                for (c2 = cc + 1u; c2 < e; c2++) {
+                    const ls_real l = lc[c2 - cc - 1u];
+                    a[0] -= l * w[3u * (size_t)c2];
+                    a[1] -= l * w[3u * (size_t)c2 + 1u];
+                    a[2] -= l * w[3u * (size_t)c2 + 2u];
+                }
+                w[3u * (size_t)cc] = a[0];
+                w[3u * (size_t)cc + 1u] = a[1];
+                w[3u * (size_t)cc + 2u] = a[2];
+            }
+        }
+        e = s;
+    }
+}
+
+/* The same two passes for any k (the same operations per right-hand side). */
+static void forwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
+{
+    uint32_t n = f->n, s = 0, e, c, c2, t, q;
+    const uint32_t *lp = f->lp, *li = f->li;
+    const ls_real *lx = f->lx, *dinv = f->dinv;
+    while (s < n) {
+        uint32_t m, r;
+        const uint32_t *ri;
+        for (e = s + 1u; e < n && e - s < CHUNK && chained(lp, li, e - 1u); e++) {
+        }
+        if (e - s == 3u) e--; /* widths 1, 2, 4 */
+        m = e - s;
+        for (c = s; c < e; c++) {
+            const ls_real *lc = lx + lp[c];
+            for (c2 = c + 1u; c2 < e; c2++) {
+                const ls_real l = lc[c2 - c - 1u];
+                for (q = 0; q < k; q++) w[(size_t)c2 * k + q] -= l * w[(size_t)c * k + q];
+            }
+        }
+        r = lp[e] - lp[e - 1u];
+        ri = li + lp[e - 1u];
+        for (t = 0; t < r; t++) {
+            ls_real *wi = w + (size_t)ri[t] * k;
+            for (c = 0; c < m; c++) {
+                const ls_real l = lx[lp[s + c] + (e - 1u - (s + c)) + t];
+                const ls_real *wc = w + (size_t)(s + c) * k;
+                for (q = 0; q < k; q++) wi[q] -= l * wc[q];
+            }
+        }
+        for (c = s; c < e; c++)
+            for (q = 0; q < k; q++) w[(size_t)c * k + q] *= dinv[c];
+        s = e;
+    }
+}
+
+static void backwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
+{
+    uint32_t n = f->n, e = n, s, c, c2, t, q;
+    const uint32_t *lp = f->lp, *li = f->li;
+    const ls_real *lx = f->lx;
+    while (e > 0) {
+        uint32_t m, r;
+        const uint32_t *ri;
+        for (s = e - 1u; s > 0 && e - s < CHUNK && chained(lp, li, s - 1u); s--) {
+        }
+        if (e - s == 3u) s++; /* widths 1, 2, 4 */
+        m = e - s;
+        r = lp[e] - lp[e - 1u];
+        ri = li + lp[e - 1u];
+        for (t = 0; t < r; t++) {
+            const ls_real *wi = w + (size_t)ri[t] * k;
+            for (c = 0; c < m; c++) {
+                const ls_real l = lx[lp[s + c] + (e - 1u - (s + c)) + t];
+                ls_real *wc = w + (size_t)(s + c) * k;
+                for (q = 0; q < k; q++) wc[q] -= l * wi[q];
+            }
+        }
+        for (c = e; c > s; c--) {
+            const uint32_t cc = c - 1u;
+            const ls_real *lc = lx + lp[cc];
+            for (c2 = cc + 1u; c2 < e; c2++) {
+                const ls_real l = lc[c2 - cc - 1u];
+                for (q = 0; q < k; q++) w[(size_t)cc * k + q] -= l * w[(size_t)c2 * k + q];
+            }
+        }
+        e = s;
+    }
+}
+
+ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
+{
+    ls_size s;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (f == NULL || k == 0) return LS_ERR_INVALID;
+    ls_size_init(&s);
+    ls_size_add(&s, (size_t)f->n * k, sizeof(ls_real));
+    if ((size_t)f->n * k / k != f->n) return LS_ERR_TOO_LARGE;
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena)
+{
+    ls_arena_mark mark;
+    ls_real *w;
+    uint32_t i, c, n;
+    size_t bytes;
+    if (f == NULL || k == 0 || arena == NULL || (x == NULL && f->n > 0)) return LS_ERR_INVALID;
+    if (f->state != LS_LDLT_VALID) return LS_ERR_STATE;
+    if (ls_ldlt_solve_bytes(f, k, &bytes) != LS_OK) return LS_ERR_TOO_LARGE;
+    n = f->n;
+    if (!all_finite(x, (size_t)n * k)) return LS_ERR_NONFINITE;
+    mark = ls_arena_save(arena);
+    w = (ls_real *)ls_arena_scratch(arena, (size_t)n * k, sizeof(ls_real));
+    if (w == NULL) return LS_ERR_NOMEM;
+    for (i = 0; i < n; i++) {
+        const ls_real *src = x + (size_t)f->perm[i] * k;
+        for (c = 0; c < k; c++) w[(size_t)i * k + c] = src[c];
+    }
+    if (k == 3) {
+        forward3(f, w);
+        backward3(f, w);
+    } else {
+        forwardk(f, k, w);
+        backwardk(f, k, w);
+    }
+    for (i = 0; i < n; i++) {
+        ls_real *dst = x + (size_t)f->perm[i] * k;
+        for (c = 0; c < k; c++) dst[c] = w[(size_t)i * k + c];
+    }
+    ls_arena_restore(arena, mark);
+    return all_finite(x, (size_t)n * k) ? LS_OK : LS_ERR_NONFINITE;
+}
+
+ls_status ls_ldlt_refine_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
+{
+    ls_status st = ls_ldlt_solve_bytes(f, k, bytes);
+    if (st != LS_OK) return st;
+    if (*bytes > SIZE_MAX / 2u) return LS_ERR_TOO_LARGE;
+    *bytes *= 2u;
+    return LS_OK;
+}
+
+ls_status ls_ldlt_refine(const ls_ldlt *f, const ls_csc *a, uint32_t k, const ls_real *b, ls_real *x,
+                         uint32_t steps, ls_arena *arena)
+{
+    ls_arena_mark mark;
+    ls_real *r;
+    size_t i, count, bytes;
+    uint32_t s;
+    ls_status st = LS_OK;
+    if (f == NULL || a == NULL || k == 0 || arena == NULL || ((b == NULL || x == NULL) && f->n > 0) ||
+        a->ncols != f->n || a->nrows != f->n)
+        return LS_ERR_INVALID;
+    if (f->state != LS_LDLT_VALID) return LS_ERR_STATE;
+    if (ls_ldlt_refine_bytes(f, k, &bytes) != LS_OK) return LS_ERR_TOO_LARGE;
+    count = (size_t)f->n * k;
+    if (!all_finite(b, count) || !all_finite(x, count)) return LS_ERR_NONFINITE;
+    mark = ls_arena_save(arena);
+    r = (ls_real *)ls_arena_scratch(arena, count, sizeof(ls_real));
+    if (r == NULL) return LS_ERR_NOMEM;
+    for (s = 0; s < steps; s++) {
+        st = ls_csc_matvec_sym(a, k, x, r);
+        if (st != LS_OK) break;
+        for (i = 0; i < count; i++) r[i] = b[i] - r[i];
+        st = ls_ldlt_solve(f, k, r, arena);
+        if (st != LS_OK) break;
+        for (i = 0; i < count; i++) x[i] += r[i];
+    }
+    ls_arena_restore(arena, mark);
+    if (st != LS_OK) return st;
+    return all_finite(x, count) ? LS_OK : LS_ERR_NONFINITE;
+}
