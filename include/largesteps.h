@@ -17,5 +17,9 @@
 #include <largesteps/sparse.h>
 #include <largesteps/order.h>
 #include <largesteps/ldlt.h>
+#include <largesteps/stream.h>
+#include <largesteps/checksum.h>
+#include <largesteps/inflate.h>
+#include <largesteps/image.h>
 
 #endif /* LARGESTEPS_H */
