@@ -21,5 +21,8 @@
 #include <largesteps/checksum.h>
 #include <largesteps/inflate.h>
 #include <largesteps/image.h>
+#include <largesteps/camera.h>
+#include <largesteps/raster.h>
+#include <largesteps/shade.h>
 
 #endif /* LARGESTEPS_H */

@@ -1,0 +1,136 @@
+/* largesteps/shade.h - forward shading of a visibility buffer into an RGBA image.
+ *
+ * Input: an ls_vis filled by ls_raster (largesteps/raster.h), the same
+ * triangles, and per-vertex attributes (normals, optionally colours). Every
+ * sample is shaded on its own, then each pixel is the box average (mean) of its
+ * S x S samples: colour = mean over samples of (surface colour where covered,
+ * background colour elsewhere); alpha = coverage = covered samples / S^2.
+ * Output: ls_real RGBA, width x height pixels, rows top first (the layout of
+ * ls_image in largesteps/image.h): pixel (x, y) channel c at 4 (y width + x) + c.
+ *
+ * Shading modes (ls_shade_opts.mode); each pays only for what it uses:
+ *  - LS_SHADE_MASK: white (1, 1, 1) where covered (the silhouette).
+ *  - LS_SHADE_SH: diffuse irradiance from 9 spherical-harmonics coefficients
+ *    per channel (Ramamoorthi & Hanrahan 2001, as the reference renderer):
+ *    E_c(n) = n_h^T M_c n_h with n_h = (n, 1) and
+ *        M = [ c1 L22   c1 L2-2  c1 L21  c2 L11 ]
+ *            [ c1 L2-2 -c1 L22   c1 L2-1 c2 L1-1 ]
+ *            [ c1 L21   c1 L2-1  c3 L20  c2 L10 ]
+ *            [ c2 L11   c2 L1-1  c2 L10  c4 L00 - c5 L20 ]
+ *    c1..c5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708; colour
+ *    = albedo E_c / pi. Coefficients sh[9 c + k], k in the order L00, L1-1,
+ *    L10, L11, L2-2, L2-1, L20, L21, L22 (real SH basis on (x, y, z):
+ *    Y1-1 ~ y, Y10 ~ z, Y11 ~ x, Y2-2 ~ xy, Y2-1 ~ yz, Y20 ~ 3z^2 - 1,
+ *    Y21 ~ xz, Y22 ~ x^2 - y^2).
+ *  - LS_SHADE_LAMBERT: albedo sum_l max(0, n . d_l) rgb_l over directional
+ *    lights (d_l: unit direction towards the light) plus an ambient term.
+ *  - LS_SHADE_COLOR: the interpolated vertex colour (unlit).
+ * n is the barycentric interpolation of the vertex normals, NOT renormalised
+ * (as the reference renderer) unless opts.renormalize is 1. albedo is the
+ * interpolated vertex colour when opts.vertex_colors is given, else 1.
+ *
+ * Everything is plain arithmetic in a fixed order (no libm): the same bits on
+ * every platform for the same ls_real.
+ */
+#ifndef LARGESTEPS_SHADE_H
+#define LARGESTEPS_SHADE_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+#include <largesteps/raster.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LS_SHADE_MASK 0u
+#define LS_SHADE_SH 1u
+#define LS_SHADE_LAMBERT 2u
+#define LS_SHADE_COLOR 3u
+
+/* Ramamoorthi-Hanrahan constants. */
+#define LS_SH_C1 0.429043
+#define LS_SH_C2 0.511664
+#define LS_SH_C3 0.743125
+#define LS_SH_C4 0.886227
+#define LS_SH_C5 0.247708
+
+typedef struct ls_light {
+    ls_real dir[3]; /* unit direction from the surface towards the light (world) */
+    ls_real rgb[3]; /* radiance scale per channel */
+} ls_light;
+
+typedef struct ls_shade_opts {
+    uint32_t mode;                /* LS_SHADE_* */
+    uint32_t renormalize;         /* 1: normalise the interpolated normal */
+    const ls_real *sh;            /* [27] SH coefficients, 9 per channel (LS_SHADE_SH) */
+    const ls_light *lights;       /* [light_count] (LS_SHADE_LAMBERT) */
+    uint32_t light_count;
+    ls_real ambient[3];           /* added to the Lambert sum (LS_SHADE_LAMBERT) */
+    const ls_real *vertex_colors; /* [3 vertex_count] RGB albedo, or NULL (required by LS_SHADE_COLOR) */
+    ls_real background[3];        /* RGB where no surface is seen */
+    const ls_real *background_image; /* optional [3 width height] RGB per pixel, rows top first;
+                                        replaces background when not NULL */
+} ls_shade_opts;
+
+/* ls_shade_opts_init: mode LS_SHADE_MASK, no renormalisation, no lights or
+ * colours, black background, ambient 0. O(1). */
+void ls_shade_opts_init(ls_shade_opts *opts);
+
+/* ls_shade_image_bytes: the bytes of the RGBA output of a width x height
+ * view (4 ls_real per pixel), for a caller who takes it from an arena.
+ * Errors: LS_ERR_INVALID (zero side, NULL), LS_ERR_TOO_LARGE. O(1). */
+ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes);
+
+/* ls_shade: shades *vis (from ls_raster with these indices) into out
+ * [4 width height] RGBA. normals: [3 vertex_count] vertex normals (unused by
+ * LS_SHADE_MASK and LS_SHADE_COLOR, may then be NULL). Errors: LS_ERR_STATE
+ * (vis not rasterized), LS_ERR_INVALID (NULL arrays a mode needs, unknown
+ * mode, vertex_count differing from the rasterized one), LS_ERR_MESH (an
+ * index out of range; diag->index is the triangle). O(samples); no memory. */
+ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
+                   uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag);
+
+/* ls_shade_sh_eval: E_c(n) / pi for the three channels at normal n (as
+ * given, not normalised) into rgb. O(1). */
+void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3]);
+
+/* ls_shade_vertex_normals: unit vertex normals into out[3 vertex_count]: the
+ * normalised sum of the unit normals of the incident faces (uniform weights,
+ * what the reference renderer's weights amount to; research notes 4.3). A
+ * vertex with no non-degenerate face gets (0, 0, 0). Errors: LS_ERR_INVALID
+ * (NULL arrays), LS_ERR_MESH (index out of range; diag->index is the face).
+ * O(vertices + faces); no memory. (A stand-in for the mesh module's normals.) */
+ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
+                                  uint32_t triangle_count, ls_real *out, ls_diag *diag);
+
+/* ls_sh_from_equirect: projects an equirectangular environment map (RGB,
+ * width x height, rows top first, 3 ls_real per pixel) onto the 9 SH
+ * coefficients per channel (order as above) into sh[27]. Pixel (i, j) looks
+ * in direction (sin t cos p, cos t, sin t sin p) with polar angle
+ * t = pi (j + 0.5) / height from +y (up) and azimuth p = 2 pi (i + 0.5) / width;
+ * each pixel weighs its solid angle (2 pi / width)(pi / height) sin t.
+ * Sums run in a fixed order. Errors: LS_ERR_INVALID (NULL, zero size).
+ * O(width height); no memory. */
+ls_status ls_sh_from_equirect(const ls_real *rgb, uint32_t width, uint32_t height, ls_real sh[27]);
+
+/* ls_shade_env_background: the background of one view from an
+ * equirectangular environment map (RGB, env_width x env_height, rows top
+ * first, directions as in ls_sh_from_equirect), looked up (nearest texel) in
+ * the world direction of the ray through each pixel centre, into
+ * out[3 width height] (rows top first), to be passed as
+ * opts.background_image. view and proj are the camera's world-to-view and
+ * projection matrices (largesteps/camera.h); the ray through NDC (nx, ny)
+ * joins the unprojected points at NDC depth -1 and 1. (The reference
+ * renderer's map uses u = 0.75 - phi / 2 pi: convert its maps first.)
+ * Errors: LS_ERR_INVALID (NULL, zero size, a singular projection),
+ * LS_ERR_NONFINITE (non-finite matrix). O(width height); no memory. */
+ls_status ls_shade_env_background(const ls_real *env, uint32_t env_width, uint32_t env_height,
+                                  const ls_real view[16], const ls_real proj[16], uint32_t width,
+                                  uint32_t height, ls_real *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LARGESTEPS_SHADE_H */

@@ -1,0 +1,794 @@
+/* raster.c - deterministic tile rasterizer producing the visibility buffer.
+ * Design and conventions: include/largesteps/raster.h. */
+#include <largesteps/raster.h>
+#include <string.h>
+
+#define VIS_MAGIC 0x56495342u /* "VISB" */
+#define SUB_ONE 256           /* one sample in fixed point */
+#define SUB_HALF 128
+#define FIX_LIMIT 8388608.0f  /* 2^23: clamp of snapped coordinates (|x| < guard + max dim) */
+#define MAX_POLY 8            /* a triangle clipped by 5 planes has at most 8 vertices */
+#define NPLANES 5
+#define FLAG_OUT_MASK 0x1Fu   /* bits 0..4: outside plane k */
+#define FLAG_BAD_W 0x20u      /* W <= 0 although no plane rejects it */
+
+/* Keeps the frames of the big helpers apart (the per-function stack limit). */
+#if defined(__GNUC__) || defined(__clang__)
+#define NOINLINE __attribute__((noinline))
+#else
+#define NOINLINE
+#endif
+
+/* One transformed vertex (scratch, and the on-the-fly copy of the queries). */
+typedef struct rvert {
+    ls_real c[4];   /* clip coordinates */
+    ls_real zw, iw; /* Z/W and 1/W (valid when flags == 0) */
+    int32_t x, y;   /* snapped window position, 1/256 samples (valid when flags == 0) */
+    uint32_t flags; /* planes the vertex is outside of */
+    uint32_t pad_;
+} rvert;
+
+/* A polygon vertex during clipping: clip coordinates and the barycentric
+ * weights (b0, b1) of the original triangle's first two vertices. */
+typedef struct pvert {
+    ls_real c[4];
+    ls_real b[2];
+} pvert;
+
+typedef struct clipbuf {
+    pvert a[MAX_POLY];
+    pvert b[MAX_POLY];
+} clipbuf;
+
+/* One screen triangle ready to draw, positively oriented. */
+typedef struct stri {
+    int32_t x[3], y[3];
+    ls_real zw[3], iw[3];
+    ls_real b[3][2]; /* weights of the original triangle's vertices 0 and 1 */
+    int64_t area;    /* twice the area, > 0 */
+} stri;
+
+/* Per-call constants. */
+typedef struct rctx {
+    const ls_real *m;
+    ls_real sw_half, sh_half; /* sample grid size / 2 */
+    ls_real gx, gy;           /* guard-band planes: |X| <= gx W, |Y| <= gy W */
+    uint32_t sw, sh, tiles_x, tiles_y;
+} rctx;
+
+static int finite_r(ls_real x)
+{
+    return x - x == x - x;
+}
+
+/* Clamped round-to-nearest of a real to int32 (NaN -> 0). */
+static int32_t snap_round(ls_real v)
+{
+    ls_real f = v * (ls_real)SUB_ONE;
+    int32_t t;
+    if (!(f > -(ls_real)FIX_LIMIT)) f = -(ls_real)FIX_LIMIT; /* also NaN */
+    if (f > (ls_real)FIX_LIMIT) f = (ls_real)FIX_LIMIT;
+    f += (ls_real)0.5;
+    t = (int32_t)f; /* truncation toward zero, |f| <= 2^23 + 1 */
+    if ((ls_real)t > f) t -= 1; /* floor */
+    return t;
+}
+
+static ls_status check_dims(uint32_t width, uint32_t height, uint32_t ss)
+{
+    if (width == 0 || height == 0 || (ss != 1 && ss != 2 && ss != 4)) return LS_ERR_INVALID;
+    if (width > LS_RASTER_MAX_DIM / ss || height > LS_RASTER_MAX_DIM / ss) return LS_ERR_INVALID;
+    return LS_OK;
+}
+
+static void ctx_init(rctx *cx, const ls_real mvp[16], uint32_t sw, uint32_t sh)
+{
+    cx->m = mvp;
+    cx->sw = sw;
+    cx->sh = sh;
+    cx->sw_half = (ls_real)sw * (ls_real)0.5;
+    cx->sh_half = (ls_real)sh * (ls_real)0.5;
+    /* x_s in [-G, sw + G]  <=>  X/W in [-(1 + 2G/sw), 1 + 2G/sw] */
+    cx->gx = (ls_real)1 + (ls_real)(2u * LS_RASTER_GUARD) / (ls_real)sw;
+    cx->gy = (ls_real)1 + (ls_real)(2u * LS_RASTER_GUARD) / (ls_real)sh;
+    cx->tiles_x = (sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+    cx->tiles_y = (sh + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+}
+
+/* Signed distance-like value of c to clip plane k (inside when >= 0):
+ * 0 near (Z >= -W), 1 left, 2 right, 3 top, 4 bottom of the guard band. */
+static ls_real plane_dist(const rctx *cx, const ls_real c[4], int k)
+{
+    switch (k) {
+    case 0: return c[2] + c[3];
+    case 1: return c[0] + cx->gx * c[3];
+    case 2: return cx->gx * c[3] - c[0];
+    case 3: return cx->gy * c[3] - c[1];
+    default: return c[1] + cx->gy * c[3];
+    }
+}
+
+static void snap_point(const rctx *cx, const ls_real c[4], int32_t *x, int32_t *y, ls_real *zw, ls_real *iw)
+{
+    ls_real inv = (ls_real)1 / c[3];
+    ls_real xs = (c[0] * inv + (ls_real)1) * cx->sw_half;
+    ls_real ys = ((ls_real)1 - c[1] * inv) * cx->sh_half;
+    *x = snap_round(xs);
+    *y = snap_round(ys);
+    *zw = c[2] * inv;
+    *iw = inv;
+}
+
+/* Transforms one vertex; returns 0 when its clip coordinates are not finite. */
+static int transform_vertex(const rctx *cx, const ls_real p[3], rvert *v)
+{
+    int k;
+    size_t i;
+    uint32_t flags = 0;
+    for (i = 0; i < 4; i++) {
+        ls_real s = cx->m[4 * i] * p[0];
+        s += cx->m[4 * i + 1] * p[1];
+        s += cx->m[4 * i + 2] * p[2];
+        s += cx->m[4 * i + 3];
+        v->c[i] = s;
+    }
+    if (!finite_r(v->c[0]) || !finite_r(v->c[1]) || !finite_r(v->c[2]) || !finite_r(v->c[3])) return 0;
+    for (k = 0; k < NPLANES; k++)
+        if (plane_dist(cx, v->c, k) < (ls_real)0) flags |= 1u << k;
+    if (flags == 0 && !(v->c[3] > (ls_real)0)) flags = FLAG_BAD_W;
+    v->flags = flags;
+    v->pad_ = 0;
+    if (flags == 0) {
+        snap_point(cx, v->c, &v->x, &v->y, &v->zw, &v->iw);
+    } else {
+        v->x = v->y = 0;
+        v->zw = v->iw = (ls_real)0;
+    }
+    return 1;
+}
+
+/* 1 when a is lexicographically smaller than b (canonical edge direction). */
+static int lex_less(const ls_real a[4], const ls_real b[4])
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        if (a[i] < b[i]) return 1;
+        if (a[i] > b[i]) return 0;
+    }
+    return 0;
+}
+
+/* Intersection of edge (p, q) with plane k, computed from the canonical
+ * endpoint so that both triangles sharing the edge get the same point. */
+static void clip_edge(const rctx *cx, const pvert *p, const pvert *q, int k, pvert *out)
+{
+    const pvert *a = p, *b = q;
+    ls_real da, db, t;
+    int i;
+    if (lex_less(q->c, p->c)) {
+        a = q;
+        b = p;
+    }
+    da = plane_dist(cx, a->c, k);
+    db = plane_dist(cx, b->c, k);
+    t = da / (da - db);
+    for (i = 0; i < 4; i++) out->c[i] = a->c[i] + t * (b->c[i] - a->c[i]);
+    for (i = 0; i < 2; i++) out->b[i] = a->b[i] + t * (b->b[i] - a->b[i]);
+}
+
+/* Clips the triangle (v0, v1, v2) against the planes in `planes`; the polygon
+ * ends up in cb->a. Returns its vertex count (0 when nothing is left). */
+NOINLINE static int clip_polygon(const rctx *cx, const rvert *const v[3], uint32_t planes, clipbuf *cb)
+{
+    int n = 3, k, i;
+    pvert *src = cb->a, *dst = cb->b, *tmp;
+    for (i = 0; i < 3; i++) {
+        memcpy(src[i].c, v[i]->c, sizeof src[i].c);
+        src[i].b[0] = i == 0 ? (ls_real)1 : (ls_real)0;
+        src[i].b[1] = i == 1 ? (ls_real)1 : (ls_real)0;
+    }
+    for (k = 0; k < NPLANES; k++) {
+        int m = 0;
+        if (!(planes & (1u << k))) continue;
+        for (i = 0; i < n; i++) {
+            const pvert *p = &src[i], *q = &src[i + 1 < n ? i + 1 : 0];
+            int pin = plane_dist(cx, p->c, k) >= (ls_real)0;
+            int qin = plane_dist(cx, q->c, k) >= (ls_real)0;
+            if (pin && m < MAX_POLY) dst[m++] = *p;
+            if (pin != qin && m < MAX_POLY) clip_edge(cx, p, q, k, &dst[m++]);
+        }
+        n = m;
+        tmp = src;
+        src = dst;
+        dst = tmp;
+        if (n < 3) return 0;
+    }
+    if (src != cb->a) memcpy(cb->a, src, (size_t)n * sizeof *src);
+    return n;
+}
+
+/* Builds a positively oriented screen triangle from three snapped points;
+ * returns 0 when its snapped area is zero. */
+static int make_stri(stri *t)
+{
+    int64_t a = ((int64_t)t->x[1] - t->x[0]) * ((int64_t)t->y[2] - t->y[0]) -
+                ((int64_t)t->y[1] - t->y[0]) * ((int64_t)t->x[2] - t->x[0]);
+    if (a == 0) return 0;
+    if (a < 0) { /* swap vertices 1 and 2 */
+        int32_t ti;
+        ls_real tr;
+        int i;
+        ti = t->x[1]; t->x[1] = t->x[2]; t->x[2] = ti;
+        ti = t->y[1]; t->y[1] = t->y[2]; t->y[2] = ti;
+        tr = t->zw[1]; t->zw[1] = t->zw[2]; t->zw[2] = tr;
+        tr = t->iw[1]; t->iw[1] = t->iw[2]; t->iw[2] = tr;
+        for (i = 0; i < 2; i++) {
+            tr = t->b[1][i]; t->b[1][i] = t->b[2][i]; t->b[2][i] = tr;
+        }
+        a = -a;
+    }
+    t->area = a;
+    return 1;
+}
+
+/* floor(v / 256) for any sign (>> of negative values is implementation-defined). */
+static int64_t floor_div_sub(int64_t v)
+{
+    return v >= 0 ? v / SUB_ONE : -((-v + SUB_ONE - 1) / SUB_ONE);
+}
+
+typedef struct sbox {
+    int64_t x0, y0, x1, y1; /* inclusive sample range */
+} sbox;
+
+/* Sample range whose centres may be covered by t, clamped to the grid;
+ * returns 0 when empty. */
+static int stri_box(uint32_t sw, uint32_t sh, const stri *t, sbox *b)
+{
+    int64_t minx = t->x[0], maxx = t->x[0], miny = t->y[0], maxy = t->y[0];
+    int i;
+    for (i = 1; i < 3; i++) {
+        if (t->x[i] < minx) minx = t->x[i];
+        if (t->x[i] > maxx) maxx = t->x[i];
+        if (t->y[i] < miny) miny = t->y[i];
+        if (t->y[i] > maxy) maxy = t->y[i];
+    }
+    b->x0 = floor_div_sub(minx - SUB_HALF + SUB_ONE - 1);
+    b->y0 = floor_div_sub(miny - SUB_HALF + SUB_ONE - 1);
+    b->x1 = floor_div_sub(maxx - SUB_HALF);
+    b->y1 = floor_div_sub(maxy - SUB_HALF);
+    if (b->x0 < 0) b->x0 = 0;
+    if (b->y0 < 0) b->y0 = 0;
+    if (b->x1 > (int64_t)sw - 1) b->x1 = (int64_t)sw - 1;
+    if (b->y1 > (int64_t)sh - 1) b->y1 = (int64_t)sh - 1;
+    return b->x0 <= b->x1 && b->y0 <= b->y1;
+}
+
+/* Prepares one input triangle: returns how many screen triangles it gives
+ * (a fan over the clipped polygon, which is left in cb->a; 0 = nothing to
+ * draw). triangle_sub builds them one at a time, so that only one screen
+ * triangle lives on the stack. */
+static int triangle_prepare(const rctx *cx, const rvert *const v[3], clipbuf *cb, int *clipped)
+{
+    uint32_t any = v[0]->flags | v[1]->flags | v[2]->flags;
+    uint32_t all = v[0]->flags & v[1]->flags & v[2]->flags;
+    int n, i;
+    *clipped = any != 0;
+    if (all & FLAG_OUT_MASK) return 0; /* entirely outside one plane */
+    if (any == 0) return 1;
+    n = clip_polygon(cx, v, any & FLAG_OUT_MASK, cb);
+    for (i = 0; i < n; i++)
+        if (!(cb->a[i].c[3] > (ls_real)0)) return 0; /* not a proper projection */
+    return n >= 3 ? n - 2 : 0;
+}
+
+/* Screen triangle k of a prepared triangle; returns 0 when its snapped area is 0. */
+static int triangle_sub(const rctx *cx, const rvert *const v[3], const clipbuf *cb, int clipped, int k, stri *out)
+{
+    int i;
+    if (!clipped) {
+        for (i = 0; i < 3; i++) {
+            out->x[i] = v[i]->x;
+            out->y[i] = v[i]->y;
+            out->zw[i] = v[i]->zw;
+            out->iw[i] = v[i]->iw;
+            out->b[i][0] = i == 0 ? (ls_real)1 : (ls_real)0;
+            out->b[i][1] = i == 1 ? (ls_real)1 : (ls_real)0;
+        }
+    } else {
+        const pvert *p[3];
+        p[0] = &cb->a[0];
+        p[1] = &cb->a[k + 1];
+        p[2] = &cb->a[k + 2];
+        for (i = 0; i < 3; i++) {
+            snap_point(cx, p[i]->c, &out->x[i], &out->y[i], &out->zw[i], &out->iw[i]);
+            out->b[i][0] = p[i]->b[0];
+            out->b[i][1] = p[i]->b[1];
+        }
+    }
+    return make_stri(out);
+}
+
+/* The tile range of a triangle (union of its screen triangles); 0 if empty. */
+NOINLINE static int triangle_tiles(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *tiles)
+{
+    int clipped, n = triangle_prepare(cx, v, cb, &clipped), k, any = 0;
+    sbox u = {0, 0, 0, 0}, b;
+    stri st;
+    for (k = 0; k < n; k++) {
+        if (!triangle_sub(cx, v, cb, clipped, k, &st) || !stri_box(cx->sw, cx->sh, &st, &b)) continue;
+        if (!any) {
+            u = b;
+            any = 1;
+        } else {
+            if (b.x0 < u.x0) u.x0 = b.x0;
+            if (b.y0 < u.y0) u.y0 = b.y0;
+            if (b.x1 > u.x1) u.x1 = b.x1;
+            if (b.y1 > u.y1) u.y1 = b.y1;
+        }
+    }
+    if (!any) return 0;
+    tiles->x0 = u.x0 >> LS_RASTER_TILE_LOG2; /* non-negative after clamping */
+    tiles->y0 = u.y0 >> LS_RASTER_TILE_LOG2;
+    tiles->x1 = u.x1 >> LS_RASTER_TILE_LOG2;
+    tiles->y1 = u.y1 >> LS_RASTER_TILE_LOG2;
+    return 1;
+}
+
+static ls_status validate(const ls_real mvp[16], const ls_real *positions, uint32_t vertex_count,
+                          const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
+{
+    uint32_t t;
+    int i;
+    if (mvp == NULL || (vertex_count > 0 && positions == NULL) || (triangle_count > 0 && indices == NULL))
+        return LS_ERR_INVALID;
+    if (triangle_count > UINT32_MAX - 1u) return LS_ERR_TOO_LARGE;
+    for (i = 0; i < 16; i++) {
+        if (!finite_r(mvp[i])) {
+            if (diag != NULL) {
+                diag->status = LS_ERR_NONFINITE;
+                diag->has_value = 1;
+                diag->value = mvp[i];
+                diag->what = "non-finite entry in the clip transform";
+            }
+            return LS_ERR_NONFINITE;
+        }
+    }
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) {
+            if (diag != NULL) {
+                diag->status = LS_ERR_MESH;
+                diag->has_index = 1;
+                diag->index = t;
+                diag->what = "triangle vertex index out of range";
+            }
+            return LS_ERR_MESH;
+        }
+    }
+    return LS_OK;
+}
+
+static ls_status nonfinite_vertex(uint32_t i, ls_diag *diag)
+{
+    if (diag != NULL) {
+        diag->status = LS_ERR_NONFINITE;
+        diag->has_index = 1;
+        diag->index = i;
+        diag->what = "vertex with non-finite clip coordinates";
+    }
+    return LS_ERR_NONFINITE;
+}
+
+/* Scratch layout of ls_raster, shared by the queries. */
+static void scratch_size(ls_size *s, uint32_t vertex_count, uint32_t triangle_count, size_t tiles, size_t entries)
+{
+    ls_size_add(s, vertex_count, sizeof(rvert));
+    ls_size_add(s, tiles + 1, sizeof(size_t));
+    ls_size_add(s, 1, sizeof(clipbuf));
+    ls_size_add(s, triangle_count, 4 * sizeof(uint16_t));
+    ls_size_add(s, entries, sizeof(uint32_t));
+}
+
+ls_status ls_vis_bytes(uint32_t width, uint32_t height, uint32_t ss, uint32_t max_vertices, size_t *bytes)
+{
+    ls_size s;
+    size_t n;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    st = check_dims(width, height, ss);
+    if (st != LS_OK) return st;
+    n = (size_t)(width * ss) * (size_t)(height * ss); /* <= 2^26 */
+    ls_size_init(&s);
+    ls_size_add(&s, n, sizeof(uint32_t));
+    ls_size_add(&s, n, 2 * sizeof(ls_real));
+    ls_size_add(&s, n, sizeof(ls_real));
+    ls_size_add(&s, max_vertices, 4 * sizeof(ls_real));
+    ls_size_add(&s, max_vertices, 2 * sizeof(int32_t));
+    ls_size_add(&s, max_vertices, sizeof(uint32_t));
+    ls_size_add(&s, ((size_t)(width * ss + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2) *
+                        ((size_t)(height * ss + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2),
+                sizeof(uint8_t));
+    return ls_size_get(&s, bytes);
+}
+
+static void vis_clear(ls_vis *vis)
+{
+    size_t n = (size_t)vis->sw * vis->sh, i;
+    memset(vis->tri, 0, n * sizeof *vis->tri);
+    for (i = 0; i < 2 * n; i++) vis->bary[i] = (ls_real)0;
+    for (i = 0; i < n; i++) vis->depth[i] = (ls_real)1;
+}
+
+ls_status ls_vis_init(ls_vis *vis, ls_arena *arena, uint32_t width, uint32_t height, uint32_t ss,
+                      uint32_t max_vertices)
+{
+    size_t bytes, n, tiles;
+    ls_status st;
+    ls_arena_mark mark;
+    ls_vis v;
+    if (vis == NULL || arena == NULL) return LS_ERR_INVALID;
+    st = ls_vis_bytes(width, height, ss, max_vertices, &bytes);
+    if (st != LS_OK) return st;
+    memset(&v, 0, sizeof v);
+    v.width = width;
+    v.height = height;
+    v.ss = ss;
+    v.sw = width * ss;
+    v.sh = height * ss;
+    v.vertex_capacity = max_vertices;
+    n = (size_t)v.sw * v.sh;
+    mark = ls_arena_save(arena);
+    v.tri = (uint32_t *)ls_arena_alloc(arena, n, sizeof(uint32_t));
+    v.bary = v.tri ? (ls_real *)ls_arena_alloc(arena, n, 2 * sizeof(ls_real)) : NULL;
+    v.depth = v.bary ? (ls_real *)ls_arena_alloc(arena, n, sizeof(ls_real)) : NULL;
+    v.clip = v.depth ? (ls_real *)ls_arena_alloc(arena, max_vertices, 4 * sizeof(ls_real)) : NULL;
+    v.snap = v.clip ? (int32_t *)ls_arena_alloc(arena, max_vertices, 2 * sizeof(int32_t)) : NULL;
+    v.vflags = v.snap ? (uint32_t *)ls_arena_alloc(arena, max_vertices, sizeof(uint32_t)) : NULL;
+    tiles = ((size_t)(v.sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2) *
+            ((size_t)(v.sh + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2);
+    v.tile_dirty = v.vflags ? (uint8_t *)ls_arena_alloc_zero(arena, tiles, sizeof(uint8_t)) : NULL;
+    if (v.tile_dirty == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    vis_clear(&v);
+    v.magic = VIS_MAGIC;
+    *vis = v;
+    return LS_OK;
+}
+
+ls_status ls_raster_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t ss, uint32_t vertex_count,
+                                        uint32_t triangle_count, size_t *bytes)
+{
+    ls_size s;
+    size_t tiles, entries;
+    ls_status st;
+    uint32_t tx, ty;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    st = check_dims(width, height, ss);
+    if (st != LS_OK) return st;
+    tx = (width * ss + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+    ty = (height * ss + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+    tiles = (size_t)tx * ty;
+    st = ls_size_mul(tiles, triangle_count, &entries);
+    if (st != LS_OK) return st;
+    ls_size_init(&s);
+    scratch_size(&s, vertex_count, triangle_count, tiles, entries);
+    return ls_size_get(&s, bytes);
+}
+
+/* Arguments of the count pass (few arguments: no stack-passed ones). */
+typedef struct cpass {
+    const rvert *verts;       /* transformed vertices, or NULL: transform on the fly */
+    const ls_real *positions;
+    const uint32_t *indices;
+    uint32_t triangle_count;
+    uint32_t clipped;         /* out: triangles that needed clipping */
+    size_t *counts;           /* out, optional: tile counts (added to) */
+    uint16_t *rects;          /* out, optional: each triangle's tile range x0, y0, x1, y1
+                                 (x0 > x1 when it covers nothing) */
+    size_t entries;           /* out: total tile-list entries */
+} cpass;
+
+/* Count pass over the triangles: adds each triangle's tiles to counts and the
+ * total to entries. */
+NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
+{
+    uint32_t t;
+    size_t total = 0;
+    cp->clipped = 0;
+    for (t = 0; t < cp->triangle_count; t++) {
+        const uint32_t *f = cp->indices + 3 * (size_t)t;
+        const rvert *v[3];
+        rvert local[3];
+        sbox tb;
+        int i;
+        size_t n;
+        for (i = 0; i < 3; i++) {
+            if (cp->verts != NULL) {
+                v[i] = &cp->verts[f[i]];
+            } else {
+                (void)transform_vertex(cx, cp->positions + 3 * (size_t)f[i], &local[i]); /* validated before */
+                v[i] = &local[i];
+            }
+        }
+        if (v[0]->flags | v[1]->flags | v[2]->flags) cp->clipped++;
+        if (!triangle_tiles(cx, v, cb, &tb)) {
+            if (cp->rects != NULL) {
+                cp->rects[4 * (size_t)t] = 1;
+                cp->rects[4 * (size_t)t + 2] = 0;
+            }
+            continue;
+        }
+        if (cp->rects != NULL) { /* tile indices < LS_RASTER_MAX_DIM / LS_RASTER_TILE */
+            cp->rects[4 * (size_t)t] = (uint16_t)tb.x0;
+            cp->rects[4 * (size_t)t + 1] = (uint16_t)tb.y0;
+            cp->rects[4 * (size_t)t + 2] = (uint16_t)tb.x1;
+            cp->rects[4 * (size_t)t + 3] = (uint16_t)tb.y1;
+        }
+        n = (size_t)(tb.x1 - tb.x0 + 1) * (size_t)(tb.y1 - tb.y0 + 1);
+        if (total > SIZE_MAX - n) return LS_ERR_TOO_LARGE;
+        total += n;
+        if (cp->counts != NULL) {
+            int64_t tx, ty;
+            for (ty = tb.y0; ty <= tb.y1; ty++)
+                for (tx = tb.x0; tx <= tb.x1; tx++) cp->counts[(size_t)ty * cx->tiles_x + (size_t)tx]++;
+        }
+    }
+    cp->entries = total;
+    return LS_OK;
+}
+
+ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], const ls_real *positions,
+                                  uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
+                                  size_t *bytes)
+{
+    rctx cx;
+    clipbuf cb;
+    ls_size s;
+    cpass cp;
+    uint32_t i;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (vis == NULL || vis->magic != VIS_MAGIC) return LS_ERR_STATE;
+    if (vertex_count > vis->vertex_capacity) return LS_ERR_INVALID;
+    st = validate(mvp, positions, vertex_count, indices, triangle_count, NULL);
+    if (st != LS_OK) return st;
+    ctx_init(&cx, mvp, vis->sw, vis->sh);
+    for (i = 0; i < vertex_count; i++) {
+        rvert v;
+        if (!transform_vertex(&cx, positions + 3 * (size_t)i, &v)) return LS_ERR_NONFINITE;
+    }
+    memset(&cp, 0, sizeof cp);
+    cp.positions = positions;
+    cp.indices = indices;
+    cp.triangle_count = triangle_count;
+    st = count_pass(&cx, &cb, &cp);
+    if (st != LS_OK) return st;
+    ls_size_init(&s);
+    scratch_size(&s, vertex_count, triangle_count, (size_t)cx.tiles_x * cx.tiles_y, cp.entries);
+    return ls_size_get(&s, bytes);
+}
+
+/* Draws one screen triangle into the samples of rectangle r (inclusive). */
+NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *r, uint32_t id)
+{
+    sbox b;
+    int64_t dx[3], dy[3], bias[3], e_row[3];
+    int64_t px0, py;
+    int k, i0;
+    const ls_real inv_area = (ls_real)1 / (ls_real)t->area;
+    /* depth = zw0 + e1 (zw1 - zw0) / area + e2 (zw2 - zw0) / area */
+    const ls_real dz1 = (t->zw[1] - t->zw[0]) * inv_area, dz2 = (t->zw[2] - t->zw[0]) * inv_area;
+    if (!stri_box(vis->sw, vis->sh, t, &b)) return;
+    if (b.x0 < r->x0) b.x0 = r->x0;
+    if (b.y0 < r->y0) b.y0 = r->y0;
+    if (b.x1 > r->x1) b.x1 = r->x1;
+    if (b.y1 > r->y1) b.y1 = r->y1;
+    if (b.x0 > b.x1 || b.y0 > b.y1) return;
+    /* edge k is opposite vertex k: from vertex k+1 to vertex k+2 */
+    for (k = 0; k < 3; k++) {
+        int i1 = (k + 2) % 3;
+        i0 = (k + 1) % 3;
+        dx[k] = t->x[i1] - t->x[i0];
+        dy[k] = t->y[i1] - t->y[i0];
+        bias[k] = (dy[k] < 0 || (dy[k] == 0 && dx[k] > 0)) ? 0 : -1; /* top-left rule */
+    }
+    px0 = b.x0 * SUB_ONE + SUB_HALF;
+    py = b.y0 * SUB_ONE + SUB_HALF;
+    /* biased edge values: inside <=> all three >= 0 */
+    for (k = 0; k < 3; k++) {
+        i0 = (k + 1) % 3;
+        e_row[k] = dx[k] * (py - t->y[i0]) - dy[k] * (px0 - t->x[i0]) + bias[k];
+        dy[k] *= SUB_ONE; /* steps per sample */
+        dx[k] *= SUB_ONE;
+    }
+    {
+        /* locals, so that the stores into the buffers cannot force reloads */
+        uint32_t *tri = vis->tri;
+        ls_real *depth = vis->depth, *bary = vis->bary;
+        const size_t sw = vis->sw;
+        const int64_t sx0 = dy[0], sx1 = dy[1], sx2 = dy[2], b0 = bias[0], b1 = bias[1], b2 = bias[2];
+        const ls_real z0 = t->zw[0], w0 = t->iw[0], w1 = t->iw[1], w2 = t->iw[2];
+        const ls_real c00 = t->b[0][0], c10 = t->b[1][0], c20 = t->b[2][0];
+        const ls_real c01 = t->b[0][1], c11 = t->b[1][1], c21 = t->b[2][1];
+        const uint32_t idp = id + 1u;
+        int64_t i, j;
+        for (j = b.y0; j <= b.y1; j++) {
+            int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2];
+            size_t s = (size_t)j * sw + (size_t)b.x0;
+            for (i = b.x0; i <= b.x1; i++, s++, e0 -= sx0, e1 -= sx1, e2 -= sx2) {
+                ls_real f1, f2, d;
+                uint32_t cur;
+                if ((e0 | e1 | e2) < 0) continue;
+                /* the exact edge functions (without the fill-rule bias) */
+                f1 = (ls_real)(e1 - b1);
+                f2 = (ls_real)(e2 - b2);
+                d = z0 + (f1 * dz1 + f2 * dz2);
+                cur = tri[s];
+                if (d <= (ls_real)1 && (cur == 0 || d < depth[s] || (d == depth[s] && idp <= cur))) {
+                    ls_real f0 = (ls_real)(e0 - b0);
+                    ls_real q0 = f0 * w0, q1 = f1 * w1, q2 = f2 * w2;
+                    ls_real rq = (ls_real)1 / ((q0 + q1) + q2);
+                    tri[s] = idp;
+                    depth[s] = d;
+                    bary[2 * s] = (q0 * c00 + q1 * c10 + q2 * c20) * rq;
+                    bary[2 * s + 1] = (q0 * c01 + q1 * c11 + q2 * c21) * rq;
+                }
+            }
+            e_row[0] += dx[0];
+            e_row[1] += dx[1];
+            e_row[2] += dx[2];
+        }
+    }
+}
+
+/* What every tile's drawing needs. */
+typedef struct dpass {
+    ls_vis *vis;
+    const rctx *cx;
+    const rvert *verts;
+    const uint32_t *indices;
+    clipbuf *cb;
+} dpass;
+
+NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t count, uint32_t tx, uint32_t ty)
+{
+    ls_vis *vis = dp->vis;
+    const rctx *cx = dp->cx;
+    const rvert *verts = dp->verts;
+    const uint32_t *indices = dp->indices;
+    clipbuf *cb = dp->cb;
+    sbox r;
+    size_t e;
+    int64_t j;
+    stri st;
+    r.x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
+    r.y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
+    r.x1 = r.x0 + LS_RASTER_TILE - 1;
+    r.y1 = r.y0 + LS_RASTER_TILE - 1;
+    if (r.x1 > (int64_t)cx->sw - 1) r.x1 = (int64_t)cx->sw - 1;
+    if (r.y1 > (int64_t)cx->sh - 1) r.y1 = (int64_t)cx->sh - 1;
+    /* a clean tile (cleared, nothing drawn since) with nothing to draw stays as it is */
+    if (count == 0 && !vis->tile_dirty[(size_t)ty * cx->tiles_x + tx]) return;
+    vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = count > 0;
+    for (j = r.y0; j <= r.y1; j++) {
+        size_t s0 = (size_t)j * vis->sw + (size_t)r.x0, n = (size_t)(r.x1 - r.x0 + 1), i;
+        memset(vis->tri + s0, 0, n * sizeof *vis->tri);
+        memset(vis->bary + 2 * s0, 0, 2 * n * sizeof *vis->bary); /* all-zero bits are +0 in IEEE 754 */
+        for (i = 0; i < n; i++) vis->depth[s0 + i] = (ls_real)1;
+    }
+    for (e = 0; e < count; e++) {
+        uint32_t t = list[e];
+        const uint32_t *f = indices + 3 * (size_t)t;
+        const rvert *v[3];
+        int n, k, clipped;
+        v[0] = &verts[f[0]];
+        v[1] = &verts[f[1]];
+        v[2] = &verts[f[2]];
+        n = triangle_prepare(cx, v, cb, &clipped);
+        for (k = 0; k < n; k++)
+            if (triangle_sub(cx, v, cb, clipped, k, &st)) draw_stri(vis, &st, &r, t);
+    }
+}
+
+ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
+                    uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
+{
+    rctx cx;
+    ls_arena_mark mark;
+    rvert *verts;
+    size_t *offs, tiles, entries, i, before;
+    uint32_t *list, t, clipped;
+    clipbuf *cb;
+    uint16_t *rects;
+    cpass cp;
+    dpass dp;
+    ls_status st;
+    if (vis == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (vis->magic != VIS_MAGIC) return LS_ERR_STATE;
+    if (vertex_count > vis->vertex_capacity) return LS_ERR_INVALID;
+    st = validate(mvp, positions, vertex_count, indices, triangle_count, diag);
+    if (st != LS_OK) return st;
+    ctx_init(&cx, mvp, vis->sw, vis->sh);
+    tiles = (size_t)cx.tiles_x * cx.tiles_y;
+    mark = ls_arena_save(arena);
+    before = ls_arena_used(arena);
+    verts = (rvert *)ls_arena_scratch(arena, vertex_count, sizeof(rvert));
+    offs = verts ? (size_t *)ls_arena_scratch(arena, tiles + 1, sizeof(size_t)) : NULL;
+    cb = offs ? (clipbuf *)ls_arena_scratch(arena, 1, sizeof(clipbuf)) : NULL;
+    rects = cb ? (uint16_t *)ls_arena_scratch(arena, triangle_count, 4 * sizeof(uint16_t)) : NULL;
+    if (rects == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    for (t = 0; t < vertex_count; t++) {
+        if (!transform_vertex(&cx, positions + 3 * (size_t)t, &verts[t])) {
+            ls_arena_restore(arena, mark);
+            return nonfinite_vertex(t, diag);
+        }
+    }
+    for (i = 0; i <= tiles; i++) offs[i] = 0;
+    memset(&cp, 0, sizeof cp);
+    cp.verts = verts;
+    cp.indices = indices;
+    cp.triangle_count = triangle_count;
+    cp.counts = offs + 1;
+    cp.rects = rects;
+    st = count_pass(&cx, cb, &cp);
+    entries = cp.entries;
+    clipped = cp.clipped;
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        return st;
+    }
+    list = (uint32_t *)ls_arena_scratch(arena, entries, sizeof(uint32_t));
+    if (list == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    /* prefix sum: offs[k + 1] = end of tile k's list */
+    for (i = 0; i < tiles; i++) offs[i + 1] += offs[i];
+    /* fill in reverse triangle order, moving each end down to its start, so
+     * that every list ends up in increasing triangle order */
+    for (t = triangle_count; t-- > 0;) {
+        const uint16_t *rc = rects + 4 * (size_t)t;
+        uint32_t tx, ty;
+        for (ty = rc[1]; ty <= rc[3] && rc[0] <= rc[2]; ty++)
+            for (tx = rc[0]; tx <= rc[2]; tx++) {
+                size_t k = (size_t)ty * cx.tiles_x + tx + 1;
+                list[--offs[k]] = t;
+            }
+    }
+    /* now offs[k + 1] is the start of tile k; tile k ends at offs[k + 2] (or entries) */
+    vis->scratch_bytes = ls_arena_used(arena) - before;
+    dp.vis = vis;
+    dp.cx = &cx;
+    dp.verts = verts;
+    dp.indices = indices;
+    dp.cb = cb;
+    for (t = 0; t < cx.tiles_y; t++) {
+        uint32_t tx;
+        for (tx = 0; tx < cx.tiles_x; tx++) {
+            size_t k = (size_t)t * cx.tiles_x + tx;
+            size_t start = offs[k + 1], end = k + 1 < tiles ? offs[k + 2] : entries;
+            draw_tile(&dp, list + start, end - start, tx, t);
+        }
+    }
+    for (t = 0; t < vertex_count; t++) {
+        memcpy(vis->clip + 4 * (size_t)t, verts[t].c, 4 * sizeof(ls_real));
+        vis->snap[2 * (size_t)t] = verts[t].x;
+        vis->snap[2 * (size_t)t + 1] = verts[t].y;
+        vis->vflags[t] = verts[t].flags;
+    }
+    vis->vertex_count = vertex_count;
+    vis->triangle_count = triangle_count;
+    vis->bin_entries = entries;
+    vis->clipped_triangles = clipped;
+    ls_arena_restore(arena, mark);
+    return LS_OK;
+}
