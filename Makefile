@@ -8,20 +8,106 @@
 #   make run                print the library's configuration
 #   make install PREFIX=... install the library, headers, config.h and a pkg-config file
 #   make bench              benchmarks (tables in build/bench/)
+#   make cross              every emulated target (aarch64, armhf, riscv64, s390x,
+#                           i686; float and double) under qemu-user: tests + digest
+#   make m4                 the Cortex-M4 port under qemu-system-arm (mps2-an386):
+#                           digest, MCU profile, no double arithmetic in the float build
+#   make size               code size per module, Cortex-M4 float -Os build, checked
+#                           against fixtures/size-cortex-m4.txt
+#   make digest-update      rewrite fixtures/digest-{double,float}.txt from this machine
 #
 # Variables: CC (gcc or clang), REAL (double or float), SAN=1 (ASan+UBSan),
 # BUILD (output directory), ARCHFLAGS (extra target flags, e.g. for cross builds),
-# RUNNER (prefix to run test programs, e.g. "qemu-aarch64 -L /usr/aarch64-linux-gnu").
+# RUNNER (prefix to run test programs, e.g. "qemu-aarch64 -L /usr/aarch64-linux-gnu"),
+# TARGET (aarch64, armhf, riscv64, s390x, i686, cortex-m4: sets CC, AR, NM, SIZE,
+# ARCHFLAGS, RUNNER and BUILD=build/TARGET-REAL, e.g. `make check TARGET=s390x REAL=float`),
+# PROFILE (cortex-m4 only: full = the board's 4 MiB RAM, mcu = 256 KiB RAM, 8 KiB stack).
 
 CC       ?= cc
 CXX      ?= c++
 AR       ?= ar
+NM       ?= nm
+SIZE     ?= size
 REAL     ?= double
-BUILD    ?= build
+TARGET   ?=
+PROFILE  ?= full
+# TARGET is a make variable only: a TARGET in the environment is ignored.
+ifeq ($(origin TARGET),environment)
+TARGET   :=
+endif
 PREFIX   ?= /usr/local
 SAN      ?=
 ARCHFLAGS ?=
 RUNNER   ?=
+
+# --- targets ----------------------------------------------------------------
+# Emulated Linux targets: Debian's gcc cross compilers, run under qemu-user with
+# the target's libc (packages: .ci/packages/cross.txt). Flags that make
+# FLT_EVAL_METHOD 0 (core.h refuses anything else): s390x evaluates float in
+# double in ISO C mode, i686 defaults to the x87.
+CROSS_TARGETS    := aarch64 armhf riscv64 s390x i686
+triple_aarch64   := aarch64-linux-gnu
+triple_armhf     := arm-linux-gnueabihf
+triple_riscv64   := riscv64-linux-gnu
+triple_s390x     := s390x-linux-gnu
+triple_i686      := i686-linux-gnu
+triple_cortex-m4 := arm-none-eabi
+qemu_aarch64     := qemu-aarch64
+qemu_armhf       := qemu-arm
+qemu_riscv64     := qemu-riscv64
+qemu_s390x       := qemu-s390x
+qemu_i686        := qemu-i386
+flags_s390x      := -fexcess-precision=fast
+# i686 also: no PIE (its __x86.get_pc_thunk.* helpers are global symbols
+# without the ls_ prefix) and fixed-size outgoing-argument areas (pushed
+# arguments make gcc's call graph report dynamic frames).
+flags_i686       := -msse2 -mfpmath=sse -fno-pie -no-pie -maccumulate-outgoing-args
+# Cortex-M4F: single-precision FPU only; double arithmetic is soft float.
+flags_cortex-m4  := -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 \
+                    -ffunction-sections -fdata-sections
+HOSTED := 1
+PORT_DIR := port/posix
+ifneq ($(TARGET),)
+ifeq ($(filter $(TARGET),$(CROSS_TARGETS) cortex-m4),)
+$(error TARGET must be one of $(CROSS_TARGETS) cortex-m4, not '$(TARGET)')
+endif
+TRIPLE := $(triple_$(TARGET))
+ifneq ($(origin CC),command line)
+CC := $(TRIPLE)-gcc
+endif
+ifneq ($(origin AR),command line)
+AR := $(TRIPLE)-ar
+endif
+ifneq ($(origin NM),command line)
+NM := $(TRIPLE)-nm
+endif
+ifneq ($(origin SIZE),command line)
+SIZE := $(TRIPLE)-size
+endif
+# The host's C++ compiler checks that the headers parse as C++ (no target code).
+ifneq ($(origin CXX),command line)
+CXX := g++
+endif
+ifneq ($(origin ARCHFLAGS),command line)
+ARCHFLAGS := $(flags_$(TARGET))
+endif
+ifeq ($(TARGET),cortex-m4)
+HOSTED   := 0
+PORT_DIR := port/cortex-m4
+BUILD    ?= build/cortex-m4-$(PROFILE)-$(REAL)
+ifeq ($(origin RUNNER),file)
+RUNNER   := sh tests/tools/run_m4.sh
+endif
+else
+BUILD    ?= build/$(TARGET)-$(REAL)
+# LS_TEST_EMULATED=1 tells a test program it runs under an emulator (it may
+# shrink its own loops).
+ifeq ($(origin RUNNER),file)
+RUNNER   := env LS_TEST_EMULATED=1 $(qemu_$(TARGET)) -L /usr/$(TRIPLE)
+endif
+endif
+endif
+BUILD    ?= build
 
 ifeq ($(filter $(REAL),double float),)
 $(error REAL must be double or float, not '$(REAL)')
@@ -59,16 +145,37 @@ CFLAGS_LIB   := $(WARN) $(STACKWARN) $(OPT) $(ARCHFLAGS) $(INCLUDES)
 # Tests and the port print doubles with printf: -Wdouble-promotion does not apply there.
 CFLAGS_TEST  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wvla $(OPT) $(ARCHFLAGS) $(INCLUDES) -Itests
 CFLAGS_PORT  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wconversion -Wstrict-prototypes \
-                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(INCLUDES) -Iport/posix
+                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(INCLUDES) -I$(PORT_DIR)
 LDLIBS       := -lm
 LDFLAGS      := $(ARCHFLAGS) $(LDSAN)
+ifeq ($(HOSTED),0)
+# Bare metal: our own start-up and semihosting system calls (port/cortex-m4),
+# newlib for the test programs' printf, the profile's memory map.
+CFLAGS_TEST  += -I$(PORT_DIR) -DLS_PORT_CORTEX_M4=1
+LDFLAGS      += -nostartfiles --specs=nosys.specs -L$(PORT_DIR) -T$(PROFILE).ld -Wl,--gc-sections
+endif
 
 LIB_SRC  := $(sort $(wildcard src/*.c))
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/src/%.o)
-PORT_SRC := $(filter-out port/posix/main.c,$(sort $(wildcard port/posix/*.c)))
-PORT_OBJ := $(PORT_SRC:port/posix/%.c=$(BUILD)/obj/port/%.o)
+PORT_SRC := $(filter-out $(PORT_DIR)/main.c,$(sort $(wildcard $(PORT_DIR)/*.c)))
+PORT_OBJ := $(PORT_SRC:$(PORT_DIR)/%.c=$(BUILD)/obj/port/%.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+DIGEST   := $(BUILD)/tests/digest
+DIGEST_FIXTURE := fixtures/digest-$(REAL).txt
+ifeq ($(HOSTED),1)
+CHECK_BIN := $(TEST_BIN)
+ifneq ($(TARGET),)
+# Emulated targets: all but the programs in tests/tools/cross_skip.txt (too
+# slow under QEMU; each line gives the reason).
+CROSS_SKIP := $(strip $(shell sed -e 's/\#.*//' tests/tools/cross_skip.txt 2>/dev/null))
+CHECK_BIN := $(filter-out $(CROSS_SKIP:%=$(BUILD)/tests/%),$(TEST_BIN))
+endif
+else
+# On the bare-metal port: the MCU-profile workload (tests/test_mcu.c). The
+# other test programs need a hosted C library (fenv, files, large buffers).
+CHECK_BIN := $(BUILD)/tests/test_mcu
+endif
 HEADERS  := include/largesteps.h $(sort $(wildcard include/largesteps/*.h))
 CONFIG_H := $(BUILD)/include/largesteps/config.h
 
@@ -76,10 +183,14 @@ LIB      := $(BUILD)/liblargesteps.a
 PORTLIB  := $(BUILD)/liblargesteps-posix.a
 CLI      := $(BUILD)/largesteps
 
-.PHONY: all lib check test run install bench clean lint FORCE
+.PHONY: all lib check test run install bench clean lint cross m4 size size-update digest-update FORCE
 .DEFAULT_GOAL := all
 
+ifeq ($(HOSTED),1)
 all: $(LIB) $(CLI)
+else
+all: $(LIB)
+endif
 lib: $(LIB)
 
 # config.h is rewritten only when its contents change, so switching REAL rebuilds
@@ -95,7 +206,7 @@ $(BUILD)/obj/src/%.o: src/%.c $(CONFIG_H)
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_LIB) $(CALLGRAPH) -MMD -MP -c $< -o $@
 
-$(BUILD)/obj/port/%.o: port/posix/%.c $(CONFIG_H)
+$(BUILD)/obj/port/%.o: $(PORT_DIR)/%.c $(CONFIG_H)
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_PORT) -MMD -MP -c $< -o $@
 
@@ -110,19 +221,54 @@ $(PORTLIB): $(PORT_OBJ)
 $(CLI): port/posix/main.c $(PORTLIB) $(LIB) $(CONFIG_H)
 	$(CC) $(CFLAGS_PORT) $< $(PORTLIB) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: tests/%.c tests/test.h $(PORTLIB) $(LIB) $(CONFIG_H)
-	@mkdir -p $(@D)
-	$(CC) $(CFLAGS_TEST) -MMD -MP $< $(PORTLIB) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+# The port's objects are linked as objects, not from the archive: on bare
+# metal nothing references the vector table, which must be linked all the same.
+ifeq ($(HOSTED),1)
+PORT_LINK := $(PORTLIB)
+else
+PORT_LINK := $(PORT_OBJ)
+endif
 
-# One variant: build, run every test program, then the checks on the built objects.
-check: all $(TEST_BIN)
-	@sh tests/run_variant.sh "$(BUILD)" "$(RUNNER)" $(TEST_BIN)
-	@sh tests/hygiene.sh "$(BUILD)" "$(CC)" "$(CXX)" "$(SAN)" "$(CC_IS_GCC)"
+$(BUILD)/tests/%: tests/%.c tests/test.h $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -MMD -MP $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+# One variant: build, run every test program and the digest, then the checks
+# on the built objects. Every step runs; the recipe fails if any failed.
+check: all $(CHECK_BIN) $(DIGEST)
+	@$(if $(CROSS_SKIP),echo "     not run under emulation (tests/tools/cross_skip.txt): $(CROSS_SKIP)";) st=0; \
+	sh tests/run_variant.sh "$(BUILD)" "$(RUNNER)" $(CHECK_BIN) || st=1; \
+	sh tests/tools/digest_check.sh "$(DIGEST)" "$(DIGEST_FIXTURE)" "$(RUNNER)" || st=1; \
+	NM="$(NM)" SIZE="$(SIZE)" sh tests/hygiene.sh "$(BUILD)" "$(CC) $(ARCHFLAGS)" "$(CXX)" "$(SAN)" "$(CC_IS_GCC)" || st=1; \
+	exit $$st
+
+# The emulated targets and the Cortex-M4 port (also stages of `make test`).
+cross:
+	@sh tests/stage_cross.sh
+
+m4:
+	@sh tests/stage_cortex_m4.sh
+
+size:
+	@sh tests/tools/m4_size.sh
+
+size-update:
+	@sh tests/tools/m4_size.sh --update
+
+# Rewrites the expected digests from this machine's gcc builds (both ls_real).
+# Commit them with the change that moved them, after reading the diff.
+digest-update:
+	@for r in double float; do \
+	  $(MAKE) --no-print-directory REAL=$$r BUILD=build/digest-$$r TARGET= build/digest-$$r/tests/digest >/dev/null && \
+	  ./build/digest-$$r/tests/digest > fixtures/digest-$$r.txt && echo "wrote fixtures/digest-$$r.txt"; \
+	done
 
 # The native matrix (gcc double, gcc float, clang double, ASan+UBSan), static
-# analysis and the install checks; the last line is "N passed, M failed".
+# analysis, the install checks, then the stages tests/stage_*.sh (the emulated
+# targets, Cortex-M4, ...); each stage's time is checked against
+# tests/tools/budgets.txt. The last line is "N passed, M failed".
 test:
-	@sh tests/matrix.sh
+	@sh tests/tools/budget.sh
 
 lint:
 	@sh tests/lint.sh
@@ -152,4 +298,4 @@ clean:
 
 FORCE:
 
--include $(LIB_OBJ:.o=.d) $(PORT_OBJ:.o=.d) $(TEST_BIN:=.d)
+-include $(LIB_OBJ:.o=.d) $(PORT_OBJ:.o=.d) $(TEST_BIN:=.d) $(DIGEST).d

@@ -140,10 +140,18 @@ int64_t ls_to_i64(double x)
     return (int64_t)x;
 }
 
+/* From the bits, not a cast: on 32-bit ARM a float -> int64 cast calls
+ * libgcc's __aeabi_f2lz, which converts through double (no double arithmetic
+ * may appear in a float build on a Cortex-M4). */
 int64_t ls_to_i64f(float x)
 {
+    uint32_t bits = mf_bits(x);
+    int32_t e = (int32_t)((bits >> 23) & 0xffu) - 127; /* unbiased exponent */
+    uint64_t mag;
     if (ls_isnanf(x)) return 0;
-    if (x >= 9223372036854775808.0f) return INT64_MAX;
-    if (x < -9223372036854775808.0f) return INT64_MIN;
-    return (int64_t)x;
+    if (e < 0) return 0;                                  /* |x| < 1 truncates to 0 */
+    if (e >= 63) return (bits >> 31) ? INT64_MIN : INT64_MAX; /* includes -2^63 exactly */
+    mag = (uint64_t)((bits & 0x7fffffu) | 0x800000u);
+    mag = e >= 23 ? mag << (e - 23) : mag >> (23 - e);
+    return (bits >> 31) ? -(int64_t)mag : (int64_t)mag;
 }

@@ -31,7 +31,7 @@ typedef struct test_state {
 /* One instance per test program (tests are single-file programs). */
 static test_state test_g;
 
-#define TEST_INIT(name) ((void)test_hash, test_g.program = (name))
+#define TEST_INIT(name) ((void)test_hash, (void)test_hash_reals, test_g.program = (name))
 
 #define TEST_FAILMSG_(...)                                                         \
     do {                                                                           \
@@ -124,5 +124,25 @@ static uint64_t test_hash(const void *data, size_t bytes, uint64_t h)
     return h;
 }
 #define TEST_HASH_SEED 14695981039346656037ull
+
+/* FNV-1a over ls_real values, each as its IEEE bits in little-endian byte
+ * order: the same digest on big-endian targets (s390x) as on little-endian
+ * ones, and equal to test_hash over the raw memory on little-endian hosts. */
+static uint64_t test_hash_reals(const ls_real *v, size_t n, uint64_t h)
+{
+    size_t i, b;
+    for (i = 0; i < n; i++) {
+        unsigned char le[sizeof(ls_real)];
+#if LS_REAL_IS_FLOAT
+        uint32_t bits;
+#else
+        uint64_t bits;
+#endif
+        memcpy(&bits, &v[i], sizeof bits);
+        for (b = 0; b < sizeof bits; b++) le[b] = (unsigned char)(bits >> (8 * b));
+        h = test_hash(le, sizeof le, h);
+    }
+    return h;
+}
 
 #endif /* LS_TEST_H */

@@ -353,9 +353,9 @@ static void ldlt_multi_rhs_and_digest(void)
     }
     memcpy(x3, b, sizeof(ls_real) * 3 * n);
     CHECK_STATUS(ls_ldlt_solve(&f, 3, x3, &arena), LS_OK);
-    h = test_hash(f.lx, sizeof(ls_real) * f.l_nnz, TEST_HASH_SEED);
-    h = test_hash(f.dinv, sizeof(ls_real) * n, h);
-    h = test_hash(x3, sizeof(ls_real) * 3 * n, h);
+    h = test_hash_reals(f.lx, f.l_nnz, TEST_HASH_SEED);
+    h = test_hash_reals(f.dinv, n, h);
+    h = test_hash_reals(x3, 3 * (size_t)n, h);
     printf("     digest (icosphere 642, lambda 19, factor + 3-RHS solve): %016llx\n", (unsigned long long)h);
     /* the same bits on every compiler and architecture (measured: gcc and clang, x86-64) */
     CHECK(h == (sizeof(ls_real) == 8 ? 0x6640e17f1302a6a3ull : 0x46ec4bba2ee45146ull));

@@ -607,6 +607,19 @@ static void test_conversions(void)
     CHECK(ls_to_i64f(9223372036854775808.0f) == INT64_MAX);
     CHECK(ls_to_i64f(-9223372036854775808.0f) == INT64_MIN);
     CHECK(ls_to_i64f(-1e30f) == INT64_MIN);
+    CHECK(ls_to_i64f(-0.0f) == 0 && ls_to_i64f(0.99f) == 0 && ls_to_i64f(-1.0f) == -1);
+    CHECK(ls_to_i64f(8388607.5f) == 8388607 && ls_to_i64f(-16777217.0f) == -16777216);
+    { /* every in-range float exponent, both signs: equal to the C cast */
+        uint32_t e, k, bad = 0;
+        for (e = 0; e < 190; e++)
+            for (k = 0; k < 64; k++) {
+                uint32_t bits = (e << 23) | ((k * 0x1f3a5u * 977u) & 0x7fffffu) | ((k & 1u) << 31);
+                float v;
+                memcpy(&v, &bits, 4);
+                if (fabsf(v) < 9.2233715e18f && ls_to_i64f(v) != (int64_t)v) bad++;
+            }
+        CHECK_EQ(bad, 0);
+    }
 }
 
 /* ------------------------------------------------------------------ */

@@ -448,7 +448,7 @@ static void golden_renders(void)
             o.background[1] = (ls_real)0.1;
             o.background[2] = (ls_real)0.15;
             REQUIRE(ls_shade(&vis, f, nf, nrm, nv, &o, out, NULL) == LS_OK);
-            h = test_hash(out, sizeof out, h);
+            h = test_hash_reals(out, sizeof out / sizeof out[0], h);
             for (y = 0; y < GV; y++)
                 for (x = 0; x < GV; x++)
                     for (i = 0; i < 4; i++)

@@ -45,7 +45,8 @@ static void csc_to_dense(const ls_csc *m, double *d)
         for (p = m->colptr[j]; p < m->colptr[j + 1]; p++) d[m->rowidx[p] * m->ncols + j] += (double)m->values[p];
 }
 
-static unsigned char big[1 << 20];
+static LS_ARENA_BUFFER(big_buffer, 1 << 20);
+#define big big_buffer.bytes
 
 static void sparse_from_triplets_matches_dense(void)
 {

@@ -1,0 +1,159 @@
+/* test_mcu.c - the MCU-profile workload: what a Cortex-M4 part with 256 KiB
+ * of RAM and an 8 KiB stack must be able to run.
+ *
+ * Each job in the table below runs the library on a fixed static arena of
+ * MCU_ARENA_BYTES and must (1) succeed and check its own results, (2) fit the
+ * arena (its peak is printed), and (3) on the Cortex-M4 port, stay within
+ * MCU_JOB_STACK bytes of stack, measured by painting the stack before the job
+ * (port/cortex-m4/ls_m4.h). `make m4` runs it in the MCU profile (mcu.ld);
+ * every other target runs it as an ordinary test program, where the stack is
+ * not measured. Later issues add jobs: an LDL^T solve on a small icosphere,
+ * then a tiny fit. A job gets the arena initialised and empty; it reports
+ * failures with CHECK/REQUIRE like any test.
+ */
+#include "test.h"
+#if defined(LS_PORT_CORTEX_M4)
+#include "ls_m4.h"
+#endif
+
+/* The deterministic math module (largesteps/math.h), present when its
+ * type-generic macros are. */
+#if defined(LS_RSIN)
+#define MCU_MATH 1
+#else
+#define MCU_MATH 0
+#endif
+
+/* RAM budget: 256 KiB = 8 KiB stack + this arena + newlib's data and stdio
+ * buffers (about 4 KiB) + the program's own static data. */
+#define MCU_ARENA_BYTES (192u * 1024u)
+/* Stack budget of one job (the library's rule: a public function's worst
+ * call chain is at most 4096 bytes), leaving room for main and printf. */
+#define MCU_JOB_STACK 4096u
+
+static LS_ARENA_BUFFER(mcu_buffer, MCU_ARENA_BYTES);
+
+static void job_selftest(ls_arena *arena)
+{
+    (void)arena;
+    CHECK_STATUS(ls_selftest(sizeof(ls_real)), LS_OK);
+}
+
+/* Fill the whole arena with 1 KiB objects and 512-byte scratch blocks from
+ * both ends, then roll back: the arena must hand out exactly its capacity. */
+static void job_arena_fill(ls_arena *arena)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    size_t objects = 0, scratch = 0;
+    unsigned char *p;
+    for (;;) {
+        p = (unsigned char *)ls_arena_alloc(arena, 1024, 1);
+        if (p == NULL) break;
+        p[0] = (unsigned char)objects;
+        p[1023] = (unsigned char)objects;
+        objects++;
+        p = (unsigned char *)ls_arena_scratch(arena, 512, 1);
+        if (p == NULL) break;
+        p[0] = 1;
+        scratch++;
+    }
+    CHECK_EQ(objects * 1024 + scratch * 512 + 1024 > arena->capacity, 1);
+    CHECK_EQ(arena->need > arena->capacity, 1);
+    CHECK(ls_arena_available(arena) < 1024);
+    ls_arena_restore(arena, mark);
+    CHECK_EQ(ls_arena_used(arena), 0);
+    CHECK_EQ(arena->peak, objects * 1024 + scratch * 512);
+}
+
+#if MCU_MATH
+/* The elementary functions of the build's ls_real: identities that hold to
+ * a few ulps, over a sweep (also measures the math functions' stack). */
+static void job_math(ls_arena *arena)
+{
+    int k;
+    double worst_pyth = 0, worst_explog = 0;
+    (void)arena;
+    for (k = -2000; k <= 2000; k++) {
+        ls_real x = (ls_real)k / (ls_real)64;
+        ls_real s = LS_RSIN(x), c = LS_RCOS(x);
+        ls_real e = LS_REXP(x / (ls_real)8), l = LS_RLOG(e);
+        double pyth = fabs((double)(s * s + c * c) - 1.0);
+        double explog = fabs((double)l - (double)(x / (ls_real)8));
+        if (pyth > worst_pyth) worst_pyth = pyth;
+        if (explog > worst_explog) worst_explog = explog;
+    }
+    CHECK_NEAR(worst_pyth, 0, TEST_EPS(4));
+    CHECK_NEAR(worst_explog, 0, TEST_EPS(4) * 32);
+}
+#endif
+
+typedef struct mcu_job {
+    const char *name;
+    void (*run)(ls_arena *arena);
+} mcu_job;
+
+static const mcu_job jobs[] = {
+    {"mcu_selftest", job_selftest},
+    {"mcu_arena_fill", job_arena_fill},
+#if MCU_MATH
+    {"mcu_math", job_math},
+#endif
+};
+
+static void run_job(const mcu_job *job)
+{
+    ls_arena arena;
+#if defined(LS_PORT_CORTEX_M4)
+    size_t stack = 0;
+    uintptr_t mark;
+#endif
+    test_g.current = job->name;
+    test_g.failures_in_test = 0;
+    if (ls_arena_init(&arena, mcu_buffer.bytes, sizeof mcu_buffer.bytes) != LS_OK) {
+        TEST_FAILMSG_("ls_arena_init failed");
+    } else {
+#if defined(LS_PORT_CORTEX_M4)
+        mark = ls_m4_stack_paint();
+        job->run(&arena);
+        stack = ls_m4_stack_used_since(mark);
+        CHECK_MSG(stack <= MCU_JOB_STACK, "stack %lu bytes > budget %u", (unsigned long)stack, MCU_JOB_STACK);
+#else
+        job->run(&arena);
+#endif
+        CHECK(arena.peak <= MCU_ARENA_BYTES);
+    }
+    if (test_g.failures_in_test == 0) {
+        test_g.passed++;
+#if defined(LS_PORT_CORTEX_M4)
+        printf("ok   %s (arena peak %lu bytes, stack %lu bytes)\n", job->name,
+               (unsigned long)arena.peak, (unsigned long)stack);
+#else
+        printf("ok   %s (arena peak %lu bytes)\n", job->name, (unsigned long)arena.peak);
+#endif
+    } else {
+        test_g.failed++;
+    }
+    fflush(stdout);
+}
+
+#if defined(LS_PORT_CORTEX_M4)
+/* The whole program, printf included, within the profile's stack. */
+static void whole_program_stack_fits(void)
+{
+    size_t used = ls_m4_stack_high_water(), size = ls_m4_stack_size();
+    printf("     stack high-water so far %lu of %lu bytes, RAM %lu bytes\n", (unsigned long)used,
+           (unsigned long)size, (unsigned long)ls_m4_ram_size());
+    CHECK(used + 1024 <= size);
+}
+#endif
+
+int main(void)
+{
+    size_t i;
+    TEST_INIT("test_mcu");
+    for (i = 0; i < sizeof jobs / sizeof jobs[0]; i++) run_job(&jobs[i]);
+#if defined(LS_PORT_CORTEX_M4)
+    TEST_RUN(whole_program_stack_fits);
+#endif
+    return TEST_END();
+}
