@@ -24,5 +24,9 @@
 #include <largesteps/camera.h>
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
+#include <largesteps/number.h>
+#include <largesteps/sort.h>
+#include <largesteps/mesh.h>
+#include <largesteps/mesh_io.h>
 
 #endif /* LARGESTEPS_H */
