@@ -276,9 +276,13 @@ lint:
 run: $(CLI)
 	@$(CLI) info
 
+# Benchmarks against peers measured in the same run (bench-only packages:
+# libsuitesparse-dev libeigen3-dev libosmesa6-dev); tables in $(BUILD)/bench/.
 bench: all
 	@mkdir -p $(BUILD)/bench
-	@echo "no benchmarks yet: they arrive with the solver and the rasterizer"
+	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
+	LP_NUM_THREADS=0 sh tests/stage_osmesa.sh | tee $(BUILD)/bench/raster.txt | grep -E 'bench|FAIL|passed'
+
 
 install: $(LIB) $(CONFIG_H)
 	@mkdir -p $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/$(VARIANT_NAME)/largesteps

@@ -24,6 +24,9 @@
 #include <largesteps/camera.h>
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
+#include <largesteps/loss.h>
+#include <largesteps/render_backward.h>
+#include <largesteps/silhouette.h>
 #include <largesteps/number.h>
 #include <largesteps/sort.h>
 #include <largesteps/mesh.h>

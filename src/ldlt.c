@@ -75,20 +75,14 @@ static int sym_alloc(ls_arena *arena, uint32_t n, uint32_t c_nnz, sym_ws *ws)
     return 1;
 }
 
-static ls_status analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
+/* The bytes of an analysis of a (validated: square, rows in range) whose
+ * upper triangle with the diagonal holds c_nnz entries. */
+static ls_status analyze_bytes_c(const ls_csc *a, uint32_t method, uint32_t c_nnz, size_t *bytes)
 {
     ls_size s, scratch, ord;
-    uint32_t c_nnz, n, nnz;
-    int bad;
+    uint32_t n = a->ncols, nnz = a->colptr[a->ncols];
     ls_status st;
     size_t ob = 0;
-    if (bytes == NULL) return LS_ERR_INVALID;
-    *bytes = 0;
-    if (!square_ok(a) || method > LS_ORDER_AUTO) return LS_ERR_INVALID;
-    n = a->ncols;
-    nnz = a->colptr[n];
-    c_nnz = upper_count(a, &bad);
-    if (bad) return LS_ERR_INVALID;
     ls_size_init(&s);
     symbolic_size(&s, n, c_nnz);
     ls_size_init(&scratch);
@@ -110,6 +104,18 @@ static ls_status analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
     if (method == LS_ORDER_AUTO) ls_size_add(&s, n, sizeof(uint32_t)); /* the ND candidate */
     ls_size_add_size(&s, &scratch);
     return ls_size_get(&s, bytes);
+}
+
+static ls_status analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
+{
+    uint32_t c_nnz;
+    int bad;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (!square_ok(a) || method > LS_ORDER_AUTO) return LS_ERR_INVALID;
+    c_nnz = upper_count(a, &bad);
+    if (bad) return LS_ERR_INVALID;
+    return analyze_bytes_c(a, method, c_nnz, bytes);
 }
 
 ls_status ls_ldlt_analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
@@ -307,17 +313,17 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
         diag_fill(diag, LS_ERR_INVALID, "NULL argument, matrix not square or unknown ordering");
         return LS_ERR_INVALID;
     }
-    st = analyze_bytes(a, method, &bytes);
+    n = a->ncols;
+    memset(&g, 0, sizeof g);
+    g.c_nnz = upper_count(a, &bad);
+    st = bad ? LS_ERR_INVALID : analyze_bytes_c(a, method, g.c_nnz, &bytes);
     if (st != LS_OK) {
         diag_fill(diag, st, st == LS_ERR_INVALID ? "row index out of range" : "matrix too large");
         return st;
     }
-    n = a->ncols;
-    memset(&g, 0, sizeof g);
     g.n = n;
     g.state = LS_LDLT_ANALYZED;
     g.a_nnz = a->colptr[n];
-    g.c_nnz = upper_count(a, &bad);
     g.method = method;
     mark = ls_arena_save(arena);
     g.perm = (uint32_t *)ls_arena_alloc(arena, n, sizeof(uint32_t));
@@ -399,7 +405,27 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
         memcpy(g.lp, ncnt, (size_t)n * sizeof(uint32_t));
     }
     for (j = 0; j < n; j++) g.pinv[g.perm[j]] = j;
-    build_c(a, g.pinv, g.cp, g.ci, g.csrc);
+    /* C of the postordered permutation: relabel the columns and rows of C
+     * (a postorder keeps descendants before ancestors, so entries stay in
+     * the upper triangle; each column keeps the order build_c gives it) */
+    {
+        uint32_t *ncp = ws.tp, *nci = ws.ti, *ncsrc = g.ci, *swap, p, d = 0;
+        for (j = 0; j < n; j++) {
+            uint32_t k = post[j];
+            ncp[j] = d;
+            for (p = g.cp[k]; p < g.cp[k + 1u]; p++) nci[d++] = ipost[g.ci[p]];
+        }
+        ncp[n] = d;
+        for (j = 0, d = 0; j < n; j++) {
+            uint32_t k = post[j];
+            for (p = g.cp[k]; p < g.cp[k + 1u]; p++) ncsrc[d++] = g.csrc[p];
+        }
+        memcpy(g.cp, ncp, ((size_t)n + 1u) * sizeof(uint32_t));
+        memcpy(g.csrc, nci, (size_t)d * sizeof(uint32_t));
+        swap = g.ci; /* now holds the sources */
+        g.ci = g.csrc;
+        g.csrc = swap;
+    }
     {
         uint32_t prev = 0;
         for (j = 0; j < n; j++) { /* counts to column starts, in place */

@@ -25,7 +25,7 @@ static int all_finite(const ls_real *x, size_t count)
 #define CHUNK 4u
 
 /* 1 when column c+1 continues column c's chain (c + 1 < n). */
-static int chained(const uint32_t *lp, const uint32_t *li, uint32_t c)
+static inline int chained(const uint32_t *lp, const uint32_t *li, uint32_t c)
 {
     uint32_t cnt = lp[c + 1u] - lp[c];
     return cnt > 0 && li[lp[c]] == c + 1u && cnt == lp[c + 2u] - lp[c + 1u] + 1u;
@@ -362,21 +362,55 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
     if (f->state != LS_LDLT_VALID) return LS_ERR_STATE;
     if (ls_ldlt_solve_bytes(f, k, &bytes) != LS_OK) return LS_ERR_TOO_LARGE;
     n = f->n;
-    if (!all_finite(x, (size_t)n * k)) return LS_ERR_NONFINITE;
     mark = ls_arena_save(arena);
     w = (ls_real *)ls_arena_scratch(arena, (size_t)n * k, sizeof(ls_real));
-    if (w == NULL) return LS_ERR_NOMEM;
+    if (w == NULL) return all_finite(x, (size_t)n * k) ? LS_ERR_NOMEM : LS_ERR_NONFINITE;
+    /* gather P b; the finiteness checks ride along: x - x is 0 for a finite
+     * x and NaN otherwise, and a sum of zeros and NaNs is NaN iff one is */
+    if (k == 3) {
+        ls_real chk0 = 0, chk1 = 0, chk2 = 0;
+        for (i = 0; i < n; i++) {
+            const ls_real *src = x + 3u * (size_t)f->perm[i];
+            ls_real *dst = w + 3u * (size_t)i;
+            const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
+            dst[0] = v0;
+            dst[1] = v1;
+            dst[2] = v2;
+            chk0 += v0 - v0;
+            chk1 += v1 - v1;
+            chk2 += v2 - v2;
+        }
+        if (!(chk0 + chk1 + chk2 == 0)) {
+            ls_arena_restore(arena, mark);
+            return LS_ERR_NONFINITE;
+        }
+        forward3(f, w);
+        backward3(f, w);
+        chk0 = chk1 = chk2 = 0;
+        for (i = 0; i < n; i++) {
+            ls_real *dst = x + 3u * (size_t)f->perm[i];
+            const ls_real *src = w + 3u * (size_t)i;
+            const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
+            dst[0] = v0;
+            dst[1] = v1;
+            dst[2] = v2;
+            chk0 += v0 - v0;
+            chk1 += v1 - v1;
+            chk2 += v2 - v2;
+        }
+        ls_arena_restore(arena, mark);
+        return chk0 + chk1 + chk2 == 0 ? LS_OK : LS_ERR_NONFINITE;
+    }
+    if (!all_finite(x, (size_t)n * k)) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NONFINITE;
+    }
     for (i = 0; i < n; i++) {
         const ls_real *src = x + (size_t)f->perm[i] * k;
         for (c = 0; c < k; c++) w[(size_t)i * k + c] = src[c];
     }
-    if (k == 3) {
-        forward3(f, w);
-        backward3(f, w);
-    } else {
-        forwardk(f, k, w);
-        backwardk(f, k, w);
-    }
+    forwardk(f, k, w);
+    backwardk(f, k, w);
     for (i = 0; i < n; i++) {
         ls_real *dst = x + (size_t)f->perm[i] * k;
         for (c = 0; c < k; c++) dst[c] = w[(size_t)i * k + c];

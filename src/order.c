@@ -35,7 +35,18 @@ typedef struct amd_ws {
     int32_t n, iwlen, pfree;
     int32_t *pe, *len, *elen, *nv, *degree, *w;
     int32_t *dhead, *dnext, *dprev, *hhead, *hnext, *hval, *mnext, *mtail, *iw;
+    /* constrained mode (cons != NULL): set cons[i] of variable i; sets are
+     * eliminated in increasing order; setlist[setptr[k] .. setptr[k + 1])
+     * are the members of set k; only the current set is in the degree lists */
+    const int32_t *cons, *setlist, *setptr;
+    int32_t nsets, cur, inlist;
 } amd_ws;
+
+/* The constraint sets handed to amd_graph_run (see amd_ws). */
+typedef struct amd_sets {
+    const int32_t *cons, *setlist, *setptr;
+    int32_t nsets;
+} amd_sets;
 
 static size_t iw_length(uint32_t nnz)
 {
@@ -69,7 +80,7 @@ int ls_order_is_perm(uint32_t n, const uint32_t *perm, unsigned char *mark)
     return 1;
 }
 
-static void dlist_insert(amd_ws *s, int32_t i, int32_t deg)
+static inline void dlist_insert(amd_ws *s, int32_t i, int32_t deg)
 {
     int32_t h = s->dhead[deg];
     s->dnext[i] = h;
@@ -77,14 +88,22 @@ static void dlist_insert(amd_ws *s, int32_t i, int32_t deg)
     if (h != NONE) s->dprev[h] = i;
     s->dhead[deg] = i;
     s->degree[i] = deg;
+    s->inlist++;
 }
 
-static void dlist_remove(amd_ws *s, int32_t i)
+static inline void dlist_remove(amd_ws *s, int32_t i)
 {
     int32_t nx = s->dnext[i], pv = s->dprev[i];
     if (pv != NONE) s->dnext[pv] = nx;
     else s->dhead[s->degree[i]] = nx;
     if (nx != NONE) s->dprev[nx] = pv;
+    s->inlist--;
+}
+
+/* In constrained mode: whether variable i is (to be) in the degree lists. */
+static inline int listed(const amd_ws *s, int32_t i)
+{
+    return s->cons == NULL || s->cons[i] == s->cur;
 }
 
 /* Appends the member list of b to that of a. */
@@ -139,6 +158,19 @@ static int amd_run(amd_ws *s, uint32_t *perm)
     int32_t *iw = s->iw;
     while (nel < n) {
         int32_t me, elenme, nvpiv, degme = 0, pme1, pme2, pme, p, i, e, v;
+        while (s->inlist == 0 && s->cons != NULL && s->cur + 1 < s->nsets) {
+            int32_t k; /* the current set is done: list the next one */
+            s->cur++;
+            mindeg = n;
+            for (k = s->setptr[s->cur]; k < s->setptr[s->cur + 1]; k++) {
+                i = s->setlist[k];
+                if (elen[i] >= 0 && nv[i] > 0) {
+                    int32_t d = degree[i] < n ? degree[i] : n - 1;
+                    dlist_insert(s, i, d);
+                    if (d < mindeg) mindeg = d;
+                }
+            }
+        }
         while (mindeg < n && s->dhead[mindeg] == NONE) mindeg++;
         if (mindeg >= n) return 0;
         me = s->dhead[mindeg];
@@ -159,7 +191,7 @@ static int amd_run(amd_ws *s, uint32_t *perm)
                     degme += nvi;
                     nv[i] = -nvi;
                     iw[++pme2] = i;
-                    dlist_remove(s, i);
+                    if (listed(s, i)) dlist_remove(s, i);
                 }
             }
         } else {
@@ -189,7 +221,7 @@ static int amd_run(amd_ws *s, uint32_t *perm)
                         degme += nvi;
                         nv[i] = -nvi;
                         iw[s->pfree++] = i;
-                        dlist_remove(s, i);
+                        if (listed(s, i)) dlist_remove(s, i);
                     }
                 }
                 if (e != me) {
@@ -254,7 +286,7 @@ static int amd_run(amd_ws *s, uint32_t *perm)
                     hash += (uint32_t)j;
                 }
             }
-            if (elen[i] == 1 && p3 == pn) {
+            if (elen[i] == 1 && p3 == pn && (s->cons == NULL || s->cons[i] == s->cons[me])) {
                 int32_t nvi = -nv[i]; /* mass elimination */
                 pe[i] = FLIP(me);
                 degme -= nvi;
@@ -290,7 +322,8 @@ static int amd_run(amd_ws *s, uint32_t *perm)
                 int32_t ln = len[i2], eln = elen[i2], jlast = i2, j2 = s->hnext[i2];
                 for (p = pe[i2] + 1; p < pe[i2] + ln; p++) w[iw[p]] = wflg;
                 while (j2 != NONE) {
-                    int ok = len[j2] == ln && elen[j2] == eln && s->hval[j2] == s->hval[i2];
+                    int ok = len[j2] == ln && elen[j2] == eln && s->hval[j2] == s->hval[i2] &&
+                             (s->cons == NULL || s->cons[j2] == s->cons[i2]);
                     for (p = pe[j2] + 1; ok && p < pe[j2] + ln; p++)
                         if (w[iw[p]] != wflg) ok = 0;
                     if (ok) {
@@ -319,8 +352,12 @@ static int amd_run(amd_ws *s, uint32_t *perm)
             nv[i] = nvi;
             deg = degree[i] + degme - nvi;
             if (deg > n - nel - nvi) deg = n - nel - nvi;
-            dlist_insert(s, i, deg);
-            if (deg < mindeg) mindeg = deg;
+            if (listed(s, i)) {
+                dlist_insert(s, i, deg);
+                if (deg < mindeg) mindeg = deg;
+            } else {
+                degree[i] = deg;
+            }
             iw[p++] = i;
         }
         nv[me] = nvpiv;
@@ -342,9 +379,16 @@ static int amd_run(amd_ws *s, uint32_t *perm)
 
 /* Sets up the quotient graph of the pattern of the n x n matrix g in the workspace (block: 14 n ints, iw: iwlen ints) and runs the
  * elimination. Returns 0 on an internal inconsistency. */
-static int amd_graph_run(const ls_csc *g, int32_t *block, int32_t *iw, size_t iwlen, uint32_t *perm)
+static int amd_graph_run(const ls_csc *g, int32_t *block, int32_t *iw, size_t iwlen, uint32_t *perm,
+                         const amd_sets *sets)
 {
     amd_ws s;
+    s.cons = sets != NULL ? sets->cons : NULL;
+    s.setlist = sets != NULL ? sets->setlist : NULL;
+    s.setptr = sets != NULL ? sets->setptr : NULL;
+    s.nsets = sets != NULL ? sets->nsets : 0;
+    s.cur = 0;
+    s.inlist = 0;
     int32_t i;
     uint32_t j, q, n = g->ncols;
     const uint32_t *colptr = g->colptr, *rowidx = g->rowidx;
@@ -398,7 +442,11 @@ static int amd_graph_run(const ls_csc *g, int32_t *block, int32_t *iw, size_t iw
         s.mnext[i] = NONE;
         s.mtail[i] = i;
     }
-    for (i = 0; i < s.n; i++) dlist_insert(&s, i, s.len[i] < s.n ? s.len[i] : s.n - 1);
+    for (i = 0; i < s.n; i++) {
+        int32_t d = s.len[i] < s.n ? s.len[i] : s.n - 1;
+        if (listed(&s, i)) dlist_insert(&s, i, d);
+        else s.degree[i] = d;
+    }
     return amd_run(&s, perm);
 }
 
@@ -445,7 +493,7 @@ ls_status ls_order_amd(const ls_csc *a, ls_arena *arena, uint32_t *perm, ls_diag
         }
         return LS_ERR_NOMEM;
     }
-    if (!amd_graph_run(a, block, iw, iwlen, perm)) {
+    if (!amd_graph_run(a, block, iw, iwlen, perm, NULL)) {
         ls_arena_restore(arena, mark);
         if (diag != NULL) {
             diag->status = LS_ERR_INVALID;
@@ -458,31 +506,22 @@ ls_status ls_order_amd(const ls_csc *a, ls_arena *arena, uint32_t *perm, ls_diag
 }
 
 /* ---- geometric nested dissection --------------------------------------
- * The vertex set of a task (a range of idx) is split at the median of its
- * longest bounding-box axis (ties broken by index); the vertices of the
- * smaller boundary (those of one half with a neighbour in the other half)
- * form the separator and are ordered last, then both halves become tasks.
- * idx ends up being the permutation (new -> old). No recursion: an explicit
- * task stack. */
+ * The vertex set of a task (a range of idx) is cut at the median of its
+ * projection on the best of several directions (the smallest boundary);
+ * the boundary of one half is the separator, refined by greedy vertex moves,
+ * and placed last; both halves become tasks (an explicit task stack, no
+ * recursion) down to leaves of ND_LEAF vertices. The separators' positions
+ * then define constraint sets for the minimum degree above (leaves first,
+ * inner separators before outer ones), which gives the final order. */
 
 #define ND_LEAF 16u
+#define ND_PASSES 12u
+#define ND_CAND 10u
+#define ND_FEW 100u
 
 static size_t nd_adj_length(uint32_t nnz)
 {
     return 2u * (size_t)nnz;
-}
-
-/* Leaves (sets of at most ND_LEAF vertices) are ordered by minimum degree on
- * their induced subgraph, in a workspace sized for the largest leaf. */
-static uint32_t nd_leaf_n(uint32_t n)
-{
-    return n < ND_LEAF ? n : ND_LEAF;
-}
-
-static uint32_t nd_leaf_nnz(uint32_t n, uint32_t nnz)
-{
-    uint32_t m = nd_leaf_n(n), full = m * (m - (m > 0 ? 1u : 0u)) / 2u;
-    return full < nnz ? full : nnz;
 }
 
 ls_status ls_order_nd_bytes(uint32_t n, uint32_t nnz, size_t *bytes)
@@ -490,19 +529,21 @@ ls_status ls_order_nd_bytes(uint32_t n, uint32_t nnz, size_t *bytes)
     ls_size s;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
-    if (n >= (1u << 30) || nd_adj_length(nnz) > (size_t)UINT32_MAX - 1u) return LS_ERR_TOO_LARGE;
+    if (n >= (1u << 30) || nd_adj_length(nnz) > (size_t)UINT32_MAX - 1u ||
+        iw_length(nnz) + (size_t)n + 1u > (size_t)INT32_MAX - 1u)
+        return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)n + 1u, sizeof(uint32_t)); /* xadj */
     ls_size_add(&s, nd_adj_length(nnz), sizeof(uint32_t)); /* adj */
     ls_size_add(&s, n, sizeof(uint32_t));              /* stamp */
     ls_size_add(&s, n, sizeof(uint32_t));              /* tmp */
+    ls_size_add(&s, n, sizeof(uint32_t));              /* separator worklist */
     ls_size_add(&s, n, 2u * sizeof(uint32_t));         /* task stack */
     ls_size_add(&s, n, sizeof(ls_real));               /* projection keys */
-    ls_size_add(&s, (size_t)nd_leaf_n(n) + 1u, sizeof(uint32_t));             /* leaf colptr */
-    ls_size_add(&s, nd_leaf_nnz(n, nnz), sizeof(uint32_t));                   /* leaf rows */
-    ls_size_add(&s, nd_leaf_n(n), sizeof(uint32_t));                          /* leaf perm */
-    ls_size_add(&s, nd_leaf_n(n), 14u * sizeof(int32_t));                     /* leaf AMD */
-    ls_size_add(&s, iw_length(nd_leaf_nnz(n, nnz)) + nd_leaf_n(n) + 1u, sizeof(int32_t));
+    ls_size_add(&s, n, 3u * sizeof(int32_t));         /* constraint sets: cons, setlist, setptr */
+    ls_size_add(&s, 1u, sizeof(int32_t));
+    ls_size_add(&s, n, 14u * sizeof(int32_t));        /* constrained minimum degree */
+    ls_size_add(&s, iw_length(nnz) + (size_t)n + 1u, sizeof(int32_t));
     return ls_size_get(&s, bytes);
 }
 
@@ -580,13 +621,50 @@ static void nd_direction(const ls_real *xyz, const uint32_t *vs, uint32_t m, ls_
     }
 }
 
+/* Splits v[lo, hi) at the median of the projection on dir: the lower half
+ * gets stamp sa, the upper sb; counts the vertices of each half with a
+ * neighbour in the other (*na, *nb) and returns the smaller count. */
+typedef struct nd_ctx {
+    const ls_real *xyz;
+    const uint32_t *xadj, *adj;
+    uint32_t *v, *stamp;
+    ls_real *key;
+} nd_ctx;
+
+static uint32_t nd_cut(const nd_ctx *cx, uint32_t lo, uint32_t hi, const ls_real *dir, uint32_t sa, uint32_t *cnt)
+{
+    const ls_real *xyz = cx->xyz;
+    const uint32_t *xadj = cx->xadj, *adj = cx->adj;
+    uint32_t *v = cx->v, *stamp = cx->stamp, *na = cnt, *nb = cnt + 1, sb = sa + 1u;
+    ls_real *key = cx->key;
+    uint32_t i, mid = lo + (hi - lo) / 2u;
+    for (i = lo; i < hi; i++) {
+        const ls_real *x = xyz + 3u * (size_t)v[i];
+        key[v[i]] = x[0] * dir[0] + x[1] * dir[1] + x[2] * dir[2];
+    }
+    nd_select(v, lo, hi, mid, key);
+    for (i = lo; i < mid; i++) stamp[v[i]] = sa;
+    for (i = mid; i < hi; i++) stamp[v[i]] = sb;
+    *na = *nb = 0;
+    for (i = lo; i < hi; i++) {
+        uint32_t u = v[i], other = stamp[u] == sa ? sb : sa, p;
+        for (p = xadj[u]; p < xadj[u + 1u]; p++)
+            if (stamp[adj[p]] == other) {
+                if (i < mid) (*na)++;
+                else (*nb)++;
+                break;
+            }
+    }
+    return *na < *nb ? *na : *nb;
+}
+
 ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena, uint32_t *perm, ls_diag *diag)
 {
     ls_arena_mark mark;
-    uint32_t n, j, q, *xadj, *adj, *stamp, *tmp, *stack, top = 0, task = 0, *lcol, *lrow, *lperm, lm, lnnz;
-    int32_t *lblock, *liw;
+    uint32_t n, j, q, *xadj, *adj, *stamp, *tmp, *sepw, *stack, top = 0, task = 0;
+    int32_t *cons, *setlist, *setptr, *block, *iw;
     ls_real *key;
-    size_t bytes, liwlen;
+    size_t bytes, iwlen;
     ls_status st;
     if (diag != NULL) ls_diag_clear(diag);
     if (a == NULL || arena == NULL || a->colptr == NULL || a->nrows != a->ncols ||
@@ -628,18 +706,17 @@ ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena,
     adj = (uint32_t *)ls_arena_scratch(arena, nd_adj_length(a->colptr[n]), sizeof(uint32_t));
     stamp = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     tmp = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
+    sepw = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     stack = (uint32_t *)ls_arena_scratch(arena, n, 2u * sizeof(uint32_t));
     key = (ls_real *)ls_arena_scratch(arena, n, sizeof(ls_real));
-    lm = nd_leaf_n(n);
-    lnnz = nd_leaf_nnz(n, a->colptr[n]);
-    liwlen = iw_length(lnnz) + lm + 1u;
-    lcol = (uint32_t *)ls_arena_scratch(arena, (size_t)lm + 1u, sizeof(uint32_t));
-    lrow = (uint32_t *)ls_arena_scratch(arena, lnnz, sizeof(uint32_t));
-    lperm = (uint32_t *)ls_arena_scratch(arena, lm, sizeof(uint32_t));
-    lblock = (int32_t *)ls_arena_scratch(arena, lm, 14u * sizeof(int32_t));
-    liw = (int32_t *)ls_arena_scratch(arena, liwlen, sizeof(int32_t));
-    if (xadj == NULL || adj == NULL || stamp == NULL || tmp == NULL || stack == NULL || key == NULL || lcol == NULL ||
-        lrow == NULL || lperm == NULL || lblock == NULL || liw == NULL) {
+    iwlen = iw_length(a->colptr[n]) + (size_t)n + 1u;
+    cons = (int32_t *)ls_arena_scratch(arena, n, sizeof(int32_t));
+    setlist = (int32_t *)ls_arena_scratch(arena, n, sizeof(int32_t));
+    setptr = (int32_t *)ls_arena_scratch(arena, (size_t)n + 1u, sizeof(int32_t));
+    block = (int32_t *)ls_arena_scratch(arena, n, 14u * sizeof(int32_t));
+    iw = (int32_t *)ls_arena_scratch(arena, iwlen, sizeof(int32_t));
+    if (xadj == NULL || adj == NULL || stamp == NULL || tmp == NULL || sepw == NULL || stack == NULL || key == NULL ||
+        cons == NULL || setlist == NULL || setptr == NULL || block == NULL || iw == NULL) {
         ls_arena_restore(arena, mark);
         if (diag != NULL) {
             diag->status = LS_ERR_NOMEM;
@@ -672,101 +749,173 @@ ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena,
     for (j = 0; j < n; j++) {
         perm[j] = j;
         stamp[j] = UINT32_MAX;
+        cons[j] = 0;
     }
     stack[top++] = 0;
     stack[top++] = n;
     while (top > 0) {
-        uint32_t hi = stack[--top], lo = stack[--top], mid, i, sa, sb, na = 0, nb = 0;
-        uint32_t keep_a, w1, w2, ws, *v = perm;
-        ls_real dir[3];
-        if (hi - lo <= ND_LEAF) {
-            uint32_t m = hi - lo, cnt = 0, sl, k;
-            if (m <= 2u) continue;
-            sl = 2u * task++;
-            for (k = 0; k < m; k++) {
-                stamp[v[lo + k]] = sl;
-                tmp[v[lo + k]] = k; /* local index */
-            }
-            for (k = 0; k < m; k++) {
-                uint32_t u = v[lo + k], p;
-                lcol[k] = cnt;
-                for (p = xadj[u]; p < xadj[u + 1u]; p++) {
-                    uint32_t x = adj[p];
-                    if (stamp[x] == sl && tmp[x] < k && cnt < lnnz) lrow[cnt++] = tmp[x];
-                }
-            }
-            lcol[m] = cnt;
-            {
-                ls_csc leaf;
-                leaf.nrows = leaf.ncols = m;
-                leaf.capacity = cnt;
-                leaf.colptr = lcol;
-                leaf.rowidx = lrow;
-                leaf.values = NULL;
-                if (!amd_graph_run(&leaf, lblock, liw, iw_length(cnt) + m + 1u, lperm)) continue;
-            }
-            for (k = 0; k < m; k++) lperm[k] = v[lo + lperm[k]];
-            memcpy(v + lo, lperm, (size_t)m * sizeof(uint32_t));
-            continue;
-        }
-        nd_direction(xyz, v + lo, hi - lo, dir);
-        for (i = lo; i < hi; i++) {
-            const ls_real *x = xyz + 3u * (size_t)v[i];
-            key[v[i]] = x[0] * dir[0] + x[1] * dir[1] + x[2] * dir[2];
-        }
-        mid = lo + (hi - lo) / 2u;
-        nd_select(v, lo, hi, mid, key);
-        sa = 2u * task;
-        sb = 2u * task + 1u;
-        task++;
-        if (task >= (1u << 31)) task = 0; /* stamps only need to differ from live ones */
-        for (i = lo; i < mid; i++) stamp[v[i]] = sa;
-        for (i = mid; i < hi; i++) stamp[v[i]] = sb;
-        /* boundary sizes of both halves */
-        for (i = lo; i < hi; i++) {
-            uint32_t u = v[i], other = stamp[u] == sa ? sb : sa, p;
-            for (p = xadj[u]; p < xadj[u + 1u]; p++)
-                if (stamp[adj[p]] == other) {
-                    if (i < mid) na++;
-                    else nb++;
-                    break;
-                }
-        }
-        keep_a = nb <= na; /* the separator is the smaller boundary */
-        /* reorder: clean half of A, clean half of B, separator */
-        w1 = lo;
-        ws = 0;
-        for (i = lo; i < hi; i++) {
-            uint32_t u = v[i], other = stamp[u] == sa ? sb : sa, in_sep = 0;
-            int sep_side = keep_a ? (i >= mid) : (i < mid);
-            if (sep_side) {
-                uint32_t p;
-                for (p = xadj[u]; p < xadj[u + 1u]; p++)
-                    if (stamp[adj[p]] == other) {
-                        in_sep = 1;
-                        break;
-                    }
-            }
-            if (in_sep) tmp[ws++] = u;
-            else v[w1++] = u;
-        }
-        /* v[lo, w1) holds A-clean then B-clean in their original relative order */
-        w2 = w1;
-        for (i = 0; i < ws; i++) v[w2++] = tmp[i];
+        uint32_t hi = stack[--top], lo = stack[--top], mid, sa, sb, na = 0, nb = 0;
+        uint32_t *v = perm;
+        if (hi - lo <= ND_LEAF) continue; /* a leaf: ordered by the constrained minimum degree */
+        /* candidate cut directions: the principal one and the three axes;
+         * keep the one with the smallest separator (first on ties) */
         {
-            uint32_t ca = 0;
-            for (i = lo; i < w1; i++)
-                if (stamp[v[i]] == sa) ca++;
-            /* halves are contiguous because A's vertices precede B's in v */
-            if (ca > 0) {
-                stack[top++] = lo;
-                stack[top++] = lo + ca;
+            /* principal direction, the 3 axes, the 6 face diagonals */
+            static const signed char dirs[9][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, -1, 0},
+                                                   {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
+            ls_real cand[ND_CAND][3];
+            uint32_t c, best = UINT32_MAX, bi = 0, ncand, nanb[2];
+            nd_ctx ctx;
+            ctx.xyz = xyz;
+            ctx.xadj = xadj;
+            ctx.adj = adj;
+            ctx.v = v;
+            ctx.stamp = stamp;
+            ctx.key = key;
+            nd_direction(xyz, v + lo, hi - lo, cand[0]);
+            for (c = 1; c < ND_CAND; c++) {
+                cand[c][0] = (ls_real)dirs[c - 1u][0];
+                cand[c][1] = (ls_real)dirs[c - 1u][1];
+                cand[c][2] = (ls_real)dirs[c - 1u][2];
             }
-            if (w1 > lo + ca) {
-                stack[top++] = lo + ca;
+            sa = 4u * task;
+            sb = 4u * task + 1u;
+            task++;
+            if (task >= (1u << 29)) task = 0; /* stamps only need to differ from live ones */
+            mid = lo + (hi - lo) / 2u;
+            ncand = hi - lo > ND_FEW ? ND_CAND : 4u; /* small sets: fewer tries */
+            for (c = 0; c < ncand; c++) {
+                uint32_t sz = nd_cut(&ctx, lo, hi, cand[c], sa, nanb);
+                if (sz < best) {
+                    best = sz;
+                    bi = c;
+                }
+            }
+            if (bi != ncand - 1u) (void)nd_cut(&ctx, lo, hi, cand[bi], sa, nanb);
+            na = nanb[0];
+            nb = nanb[1];
+        }
+        /* the separator starts as the smaller boundary, then is refined */
+        {
+            uint32_t i, w1, w2, ws = 0, ss = sa + 2u, total = hi - lo, limit = total - total / 3u, cnt_a = 0, cnt_b = 0;
+            uint32_t pass, keep_a = nb <= na;
+            for (i = lo; i < hi; i++) {
+                uint32_t u = v[i], other = stamp[u] == sa ? sb : sa, in_sep = 0;
+                if (keep_a ? (i >= mid) : (i < mid)) {
+                    uint32_t p;
+                    for (p = xadj[u]; p < xadj[u + 1u]; p++)
+                        if (stamp[adj[p]] == other) {
+                            in_sep = 1;
+                            break;
+                        }
+                }
+                if (in_sep) sepw[lo + ws++] = u;
+                else if (i < mid) cnt_a++;
+                else cnt_b++;
+            }
+            for (i = 0; i < ws; i++) stamp[sepw[lo + i]] = ss;
+            /* greedy vertex-separator refinement: move a separator vertex to
+             * the side where fewer of its neighbours must join the separator;
+             * gains > 0 always, gain 0 only towards the smaller side; a fixed
+             * work budget per pass (deterministic, terminates) */
+            for (pass = 0; pass < ND_PASSES && ws > 0; pass++) {
+                uint32_t k = 0, budget = 4u * ws + 16u, moved = 0;
+                while (k < ws && budget > 0) {
+                    uint32_t u = sepw[lo + k++], p, n_a = 0, n_b = 0, to_a;
+                    int32_t gain_a, gain_b, gain;
+                    budget--;
+                    if (stamp[u] != ss) continue;
+                    for (p = xadj[u]; p < xadj[u + 1u]; p++) {
+                        uint32_t st2 = stamp[adj[p]];
+                        if (st2 == sa) n_a++;
+                        else if (st2 == sb) n_b++;
+                    }
+                    gain_a = 1 - (int32_t)n_b;
+                    gain_b = 1 - (int32_t)n_a;
+                    if (gain_a != gain_b) to_a = gain_a > gain_b;
+                    else to_a = cnt_a <= cnt_b;
+                    gain = to_a ? gain_a : gain_b;
+                    if (gain < 0) continue;
+                    if (gain == 0 && (to_a ? cnt_a >= cnt_b : cnt_b >= cnt_a)) continue;
+                    if ((to_a ? cnt_a : cnt_b) + 1u > limit) continue;
+                    if (ws + (to_a ? n_b : n_a) > total) break; /* worklist full */
+                    stamp[u] = to_a ? sa : sb;
+                    if (to_a) cnt_a++;
+                    else cnt_b++;
+                    for (p = xadj[u]; p < xadj[u + 1u]; p++) {
+                        uint32_t x = adj[p];
+                        if (stamp[x] == (to_a ? sb : sa)) {
+                            stamp[x] = ss;
+                            if (to_a) cnt_b--;
+                            else cnt_a--;
+                            sepw[lo + ws++] = x;
+                        }
+                    }
+                    moved++;
+                }
+                /* compact the worklist to the live separator, in order */
+                {
+                    uint32_t k2 = 0;
+                    for (k = 0; k < ws; k++) {
+                        uint32_t u = sepw[lo + k];
+                        if (stamp[u] == ss) {
+                            stamp[u] = ss + 1u; /* dedup mark */
+                            sepw[lo + k2++] = u;
+                        }
+                    }
+                    for (k = 0; k < k2; k++) stamp[sepw[lo + k]] = ss;
+                    ws = k2;
+                }
+                if (moved == 0) break;
+            }
+            /* reorder: A, then B (original relative order), then the separator */
+            w1 = lo;
+            for (i = lo; i < hi; i++)
+                if (stamp[v[i]] == sa) tmp[w1++] = v[i];
+            w2 = w1;
+            for (i = lo; i < hi; i++)
+                if (stamp[v[i]] == sb) tmp[w2++] = v[i];
+            for (i = lo; i < hi; i++)
+                if (stamp[v[i]] == ss) tmp[w2++] = v[i];
+            memcpy(v + lo, tmp + lo, (size_t)(hi - lo) * sizeof(uint32_t));
+            for (i = w2 - ws; i < w2; i++) cons[v[i]] = (int32_t)(w2 - ws) + 1; /* its block */
+            if (w1 > lo) {
+                stack[top++] = lo;
                 stack[top++] = w1;
             }
+            if (w2 - ws > w1) {
+                stack[top++] = w1;
+                stack[top++] = w2 - ws;
+            }
         }
+    }
+    /* constraint sets: all leaf vertices first (set 0), then each separator
+     * in the order of perm (a separator follows the separators inside it);
+     * minimum degree within the sets orders leaves and separators knowing
+     * the whole graph */
+    {
+        int32_t nsets = 1, last = 0, k = 0;
+        amd_sets sets;
+        setptr[0] = 0;
+        for (j = 0; j < n; j++)
+            if (cons[perm[j]] == 0) setlist[k++] = (int32_t)perm[j];
+        for (j = 0; j < n; j++) {
+            uint32_t u = perm[j];
+            if (cons[u] == 0) continue;
+            if (cons[u] != last) {
+                setptr[nsets++] = k;
+                last = cons[u];
+            }
+            cons[u] = nsets - 1;
+            setlist[k++] = (int32_t)u;
+        }
+        setptr[nsets] = k;
+        sets.cons = cons;
+        sets.setlist = setlist;
+        sets.setptr = setptr;
+        sets.nsets = nsets;
+        if (amd_graph_run(a, block, iw, iwlen, tmp, &sets))
+            memcpy(perm, tmp, (size_t)n * sizeof(uint32_t));
     }
     ls_arena_restore(arena, mark);
     return LS_OK;

@@ -132,7 +132,7 @@ static uint32_t dg_lcg(uint32_t *state)
 }
 
 /* The arena every entry may use (MCU profile: keep it small). */
-#define DG_ARENA_BYTES (32u * 1024u)
+#define DG_ARENA_BYTES (48u * 1024u) /* PNG decoding of a small image takes 22 KiB */
 static LS_ARENA_BUFFER(dg_arena, DG_ARENA_BYTES);
 
 /* ---- core and status ------------------------------------------------- */
@@ -387,6 +387,168 @@ static void dg_math_pow(digest *d)
 
 /* ---- the table ---------------------------------------------------------- */
 
+/* ---- images: encoders and decoders ------------------------------------ */
+
+/* A write callback that hashes the bytes it is given (no output buffer). */
+static int32_t dg_sink(void *user, const void *data, size_t bytes)
+{
+    digest *d = (digest *)user;
+    const unsigned char *p = (const unsigned char *)data;
+    size_t i;
+    for (i = 0; i < bytes; i++) dg_byte(d, p[i]);
+    d->count += bytes;
+    return 0;
+}
+
+/* 29 x 17 pixels: values spread over [-0.03, 1.04] so that clamping and
+ * halfway rounding occur, plus 0.5, -1 and a NaN. */
+static int dg_synthetic_image(ls_image *img, ls_arena *a)
+{
+    uint32_t i, n;
+    if (ls_image_create(img, 29, 17, a) != LS_OK) return 0;
+    n = 4u * img->width * img->height;
+    for (i = 0; i < n; i++) img->pixels[i] = (float)((i * 2654435761u) % 70001u) / 65535.0f - 0.03f;
+    img->pixels[5] = 0.5f;
+    img->pixels[6] = -1.0f;
+    memcpy(&img->pixels[7], &(uint32_t){0x7fc00000u}, 4);
+    return 1;
+}
+
+static void dg_image_encode(digest *d)
+{
+    static const ls_image_format formats[] = {
+        {LS_IMAGE_PNG, 1, 8, 0}, {LS_IMAGE_PNG, 1, 16, 0}, {LS_IMAGE_PNG, 2, 8, 0}, {LS_IMAGE_PNG, 3, 8, 0},
+        {LS_IMAGE_PNG, 3, 16, 0}, {LS_IMAGE_PNG, 4, 8, 0}, {LS_IMAGE_PNG, 4, 16, 0}, {LS_IMAGE_PNM, 1, 8, 0},
+        {LS_IMAGE_PNM, 3, 16, 0}, {LS_IMAGE_PFM, 3, 32, 0}, {LS_IMAGE_PFM, 1, 32, 1}};
+    ls_arena a;
+    ls_image img;
+    size_t i;
+    ls_arena_init(&a, dg_arena.bytes, sizeof dg_arena.bytes);
+    if (!dg_synthetic_image(&img, &a)) return;
+    for (i = 0; i < sizeof formats / sizeof formats[0]; i++) {
+        size_t file_bytes = 0;
+        dg_status(d, ls_image_encoded_size(img.width, img.height, &formats[i], &file_bytes));
+        dg_size(d, file_bytes);
+        dg_status(d, ls_image_encode(&img, &formats[i], dg_sink, d, &a));
+    }
+}
+
+static void dg_image_decode(digest *d)
+{
+    static const ls_image_format formats[] = {{LS_IMAGE_PNG, 4, 16, 0}, {LS_IMAGE_PNG, 3, 8, 0}, {LS_IMAGE_PNM, 1, 16, 0},
+                                              {LS_IMAGE_PFM, 3, 32, 1}};
+    ls_arena a;
+    ls_image img;
+    size_t i, k;
+    ls_status st;
+    ls_arena_init(&a, dg_arena.bytes, sizeof dg_arena.bytes);
+    if (!dg_synthetic_image(&img, &a)) return;
+    for (i = 0; i < sizeof formats / sizeof formats[0]; i++) {
+        ls_arena_mark mark = ls_arena_save(&a);
+        ls_membuf mb;
+        ls_image back;
+        size_t file_bytes = 0;
+        ls_image_encoded_size(img.width, img.height, &formats[i], &file_bytes);
+        mb.data = (unsigned char *)ls_arena_alloc(&a, file_bytes, 1);
+        mb.capacity = file_bytes;
+        mb.size = 0;
+        mb.overflow = 0;
+        if (mb.data == NULL || ls_image_encode(&img, &formats[i], ls_membuf_write, &mb, &a) != LS_OK) {
+            dg_status(d, LS_ERR_NOMEM);
+            ls_arena_restore(&a, mark);
+            continue;
+        }
+        st = ls_image_decode(mb.data, mb.size, &back, &a, NULL);
+        dg_status(d, st);
+        if (st == LS_OK)
+            for (k = 0; k < 4u * (size_t)back.width * back.height; k++) dg_f32(d, back.pixels[k]);
+        ls_arena_restore(&a, mark);
+    }
+}
+
+/* ---- numbers and meshes ------------------------------------------------ */
+
+static void dg_number(digest *d)
+{
+    static const char *const texts[] = {"0", "-0", "1", "0.1", "3.14159265358979323846", "1e308", "1.7976931348623157e308",
+                                        "1.7976931348623159e308", "2.2250738585072011e-308", "4.9e-324", "2.4e-324",
+                                        "1e-400", "123456789012345678901234567890", "0.30000000000000004",
+                                        "3.4028235e38", "3.4028236e38", "1.17549435e-38", "1.4e-45", "7e-46",
+                                        "16777217", "9007199254740993", "inf", "-Infinity", "nan", "3.1+e2", "1e",
+                                        ".", "", "+.5", "-.5e-3"};
+    size_t i;
+    char buf[40];
+    uint32_t seed = 7u;
+    for (i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+        double x = 0;
+        float f = 0;
+        size_t len = strlen(texts[i]);
+        dg_status(d, ls_parse_double(texts[i], len, &x));
+        dg_f64(d, x);
+        dg_status(d, ls_parse_float(texts[i], len, &f));
+        dg_f32(d, f);
+    }
+    for (i = 0; i < 300; i++) { /* formatting of random bit patterns, and parsing back */
+        uint32_t hi = dg_lcg(&seed), lo = dg_lcg(&seed);
+        uint64_t bits = ((uint64_t)hi << 32) | lo;
+        double x;
+        float f;
+        memcpy(&x, &bits, 8);
+        memcpy(&f, &hi, 4);
+        dg_size(d, ls_format_double(x, buf, sizeof buf));
+        dg_str(d, buf);
+        dg_size(d, ls_format_float(f, buf, sizeof buf));
+        dg_str(d, buf);
+    }
+}
+
+/* A small OBJ with quads, i/t/n and i//n corners, negative indices, CRLF
+ * line ends, comments and skipped statements, no final newline. */
+static const char dg_obj_text[] =
+    "# digest mesh\r\nmtllib x.mtl\r\nv 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\n"
+    "v 0.5 0.5 0.7071067811865476\r\nv 0.25 -0.125 1e-3\r\nvt 0 0\r\nvn 0 0 1\r\n"
+    "f 1/1/1 4/1/1 3/1/1 2/1/1\r\nf 1//1 2//1 5//1\r\nf -4 -3 -2\r\ng part\r\nf 3 4 5\r\nf 4 1 5\r\n"
+    "f 1 6 2\r\nf 6 1 2";
+
+static void dg_mesh(digest *d)
+{
+    static const uint32_t weightings[3] = {LS_NORMALS_UNIFORM, LS_NORMALS_AREA, LS_NORMALS_ANGLE};
+    ls_arena a;
+    ls_mesh m;
+    ls_diag diag;
+    ls_mesh_report rep;
+    ls_real *normals, lo[3], hi[3];
+    uint32_t i, w;
+    ls_status st;
+    ls_arena_init(&a, dg_arena.bytes, sizeof dg_arena.bytes);
+    st = ls_mesh_read(dg_obj_text, sizeof dg_obj_text - 1, LS_MESH_FORMAT_OBJ, &a, &m, &diag);
+    dg_status(d, st);
+    if (st != LS_OK) return;
+    dg_u32(d, m.vertex_count);
+    dg_u32(d, m.face_count);
+    for (i = 0; i < 3 * m.vertex_count; i++) dg_real(d, m.positions[i]);
+    for (i = 0; i < 3 * m.face_count; i++) dg_u32(d, m.triangles[i]);
+    normals = (ls_real *)ls_arena_alloc(&a, 3 * (size_t)(m.vertex_count > m.face_count ? m.vertex_count : m.face_count),
+                                        sizeof(ls_real));
+    if (normals == NULL) return;
+    dg_status(d, ls_mesh_face_normals(&m, normals, NULL));
+    for (i = 0; i < 3 * m.face_count; i++) dg_real(d, normals[i]);
+    for (w = 0; w < 3; w++) {
+        dg_status(d, ls_mesh_vertex_normals(&m, weightings[w], normals, NULL));
+        for (i = 0; i < 3 * m.vertex_count; i++) dg_real(d, normals[i]);
+    }
+    dg_status(d, ls_mesh_bounds(&m, lo, hi));
+    for (i = 0; i < 3; i++) {
+        dg_real(d, lo[i]);
+        dg_real(d, hi[i]);
+    }
+    dg_status(d, ls_mesh_validate(&m, &a, &rep));
+    dg_u32(d, (uint32_t)rep.boundary_edges);
+    dg_u32(d, (uint32_t)rep.components);
+    dg_status(d, ls_mesh_write_obj(&m, dg_sink, d));
+    dg_status(d, ls_mesh_write_ply(&m, dg_sink, d));
+}
+
 typedef struct digest_entry {
     const char *name;
     void (*run)(digest *d);
@@ -407,6 +569,10 @@ static const digest_entry entries[] = {
     {"math.log10", dg_math_log10, "log10: specials, k/16 for 1<=k<=2048, 500 random in +-1e6"},
     {"math.atan2", dg_math_atan2, "atan2: specials x specials, (i/6, j/6) for |i|,|j|<=24"},
     {"math.pow", dg_math_pow, "pow: specials x specials, x=i/8 (-8<=i<=40) x y=j/4 (|j|<=20)"},
+    {"image.encode", dg_image_encode, "29x17 synthetic RGBA (clamping, halves, NaN): PNG g8/g16/ga8/rgb8/rgb16/rgba8/rgba16, PGM8, PPM16, PFM rgb LE, grey BE: sizes and bytes"},
+    {"image.decode", dg_image_decode, "the same image encoded as PNG rgba16, rgb8, PGM16, PFM BE and decoded back: float pixels"},
+    {"number", dg_number, "parse double/float of 30 texts (hard cases, errors), format of 300 random double/float bit patterns"},
+    {"mesh", dg_mesh, "OBJ with quads, i/t/n, negative indices, CRLF: positions, triangles, face and vertex normals (3 weightings), bounds, validation, OBJ/PLY bytes"},
     {"math.rounding", dg_math_rounding, "floor, ceil, trunc, round, to_i32/u32/i64: specials, k/4, +-2^e(+0.5), e<=64"},
 #endif
 };

@@ -433,6 +433,25 @@ static void ldlt_errors(void)
     x[1] = 2;
     CHECK_STATUS(ls_ldlt_solve(&f, 1, x, &arena), LS_ERR_NONFINITE);
     CHECK(x[1] == 2);
+    {
+        /* k = 3 (the fused gather/check path): an infinity anywhere is
+         * reported, x is untouched and the arena is as before */
+        ls_real x3[6];
+        ls_arena_mark before = ls_arena_save(&arena);
+        int pos;
+        for (pos = 0; pos < 6; pos++) {
+            int q;
+            for (q = 0; q < 6; q++) x3[q] = (ls_real)(q + 1);
+            x3[pos] = pos % 2 ? (ls_real)INFINITY : (ls_real)-INFINITY;
+            CHECK_STATUS(ls_ldlt_solve(&f, 3, x3, &arena), LS_ERR_NONFINITE);
+            CHECK(x3[(pos + 1) % 6] == (ls_real)((pos + 1) % 6 + 1));
+            CHECK(arena.top == before.top && arena.bottom == before.bottom);
+        }
+        for (pos = 0; pos < 6; pos++) x3[pos] = (ls_real)(pos + 1);
+        x3[0] = 4 * x3[0]; x3[1] = 4 * x3[1]; x3[2] = 4 * x3[2]; /* row 0 scaled by the pivot 4 */
+        CHECK_STATUS(ls_ldlt_solve(&f, 3, x3, &arena), LS_OK);
+        CHECK(x3[0] == 1 && x3[1] == 2 && x3[2] == 3 && x3[3] == 4 && x3[4] == 5 && x3[5] == 6);
+    }
     /* a matrix whose pattern size differs from the analyzed one */
     REQUIRE(ls_csc_from_triplets(2, 2, 2, r, c, v, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_refactor(&f, &a, &dg), LS_ERR_INVALID);

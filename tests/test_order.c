@@ -263,7 +263,10 @@ static void order_nd_geometric(void)
         nd = fill_of_perm(&a, perm);
         amd = fill_of(&a, LS_ORDER_AMD);
         printf("     %s n %u: nnz(L) strictly lower nd %u, amd %u\n", k == 1 ? "grid" : "icosphere", m.nv, nd, amd);
-        if (k == 0) CHECK(nd < amd); /* 10242-vertex sphere: 412.9k vs 462.1k (with diagonal) */
+        if (k == 0) CHECK(nd < amd); /* 10242-vertex sphere: 372.6k vs 472.3k (with diagonal) */
+        /* issue 6 target: <= 1.05 x CHOLMOD-METIS's nnz(L) (369880 with the
+         * diagonal, 359638 strictly lower; tests/bench/run_ldlt.sh): 1.008 */
+        if (k == 0) CHECK_MSG(nd <= 377620u, "nd fill %u", nd);
         /* all vertices at one point: still a permutation */
         for (i = 0; i < 3 * (size_t)m.nv; i++) x[i] = (ls_real)1;
         CHECK_STATUS(ls_order_nd_geom(&a, x, &arena, perm, NULL), LS_OK);

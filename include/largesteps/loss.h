@@ -1,0 +1,75 @@
+/* largesteps/loss.h - image losses (L1, L2) over RGBA views, with gradients.
+ *
+ * The loss of a set of V views of width x height pixels is the mean over
+ * views, pixels and the four RGBA channels, as the reference driver computes
+ * it (large-steps-pytorch scripts/main.py: mean |I - R| or mean (I - R)^2 over
+ * the whole V x H x W x 4 tensor):
+ *     L1 = (1 / N) sum |I - R|,   L2 = (1 / N) sum (I - R)^2,   N = 4 V W H.
+ * Gradients with respect to the rendered values I:
+ *     dL1/dI = sign(I - R) / N  (sign(0) = 0),   dL2/dI = 2 (I - R) / N.
+ *
+ * Images are ls_real RGBA, 4 values per pixel, rows top first (the layout of
+ * ls_shade's output and of ls_image). A reference loaded as an ls_image
+ * (float) is converted by the caller (value by value) to ls_real.
+ *
+ * Accumulation is in a fixed order: values in memory order within a view
+ * (compensated Neumaier summation in ls_real), then the per-view sums in view
+ * order (compensated), then one division by N. The result is therefore the
+ * same bits on every platform and independent of how the views are passed
+ * (all at once with ls_loss_views, or view by view with ls_loss_view followed
+ * by ls_loss_finish). No memory is used.
+ */
+#ifndef LARGESTEPS_LOSS_H
+#define LARGESTEPS_LOSS_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LS_LOSS_L1 0u /* mean absolute difference (the default of the paper's figures) */
+#define LS_LOSS_L2 1u /* mean squared difference */
+
+/* A running total over views, in view order (compensated sum). */
+typedef struct ls_loss_acc {
+    uint32_t kind;       /* LS_LOSS_L1 or LS_LOSS_L2 */
+    uint32_t width, height, view_count; /* the normalisation N = 4 V W H */
+    uint32_t views_done; /* views added so far */
+    ls_real sum;         /* sum of the per-view sums */
+    ls_real comp;        /* compensation term of that sum */
+} ls_loss_acc;
+
+/* ls_loss_begin: starts a total for view_count views of width x height.
+ * Errors: LS_ERR_INVALID (NULL, unknown kind, a zero size). O(1). */
+ls_status ls_loss_begin(ls_loss_acc *acc, uint32_t kind, uint32_t width, uint32_t height,
+                        uint32_t view_count);
+
+/* ls_loss_view: adds one view: rendered and target are [4 width height]
+ * RGBA. grad (may be NULL; may alias neither input) receives dL/drendered of
+ * the final mean loss (already divided by N). Errors: LS_ERR_INVALID (NULL,
+ * more views than announced), LS_ERR_NONFINITE (a non-finite rendered or
+ * target value; diag->index is the value's index in the view, *acc and grad
+ * unchanged). O(width height); no memory. diag may be NULL. */
+ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real *target, ls_real *grad,
+                       ls_diag *diag);
+
+/* ls_loss_finish: the mean loss (sum / N) into *loss. LS_ERR_STATE when
+ * fewer views were added than announced; LS_ERR_INVALID for NULL. O(1). */
+ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss);
+
+/* ls_loss_views: all views at once: rendered[v], target[v] are views
+ * [4 width height]; grad (NULL, or an array whose entries may each be NULL)
+ * receives the gradients. Same bits as ls_loss_begin / ls_loss_view /
+ * ls_loss_finish in view order. Errors as those (diag->index is the value's
+ * index within view diag->offset). O(V width height); no memory. */
+ls_status ls_loss_views(uint32_t kind, uint32_t width, uint32_t height, uint32_t view_count,
+                        const ls_real *const *rendered, const ls_real *const *target,
+                        ls_real *const *grad, ls_real *loss, ls_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LARGESTEPS_LOSS_H */

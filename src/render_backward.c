@@ -1,0 +1,322 @@
+/* render_backward.c - backward of the interior shading (largesteps/render_backward.h). */
+#include <largesteps/render_backward.h>
+#include <math.h>
+
+#if LS_REAL_IS_FLOAT
+#define R_SQRT sqrtf
+#else
+#define R_SQRT sqrt
+#endif
+
+#define R_INV_PI ((ls_real)0.31830988618379067154)
+
+/* Everything one sample's backward needs. */
+typedef struct bctx {
+    const ls_vis *vis;
+    const uint32_t *indices;
+    const ls_real *normals;
+    const ls_shade_opts *o;
+    const ls_real *m; /* mvp */
+    ls_real *gp, *gn, *gc;
+} bctx;
+
+static ls_status mesh_error(ls_diag *diag, uint32_t t)
+{
+    if (diag != NULL) {
+        ls_diag_clear(diag);
+        diag->status = LS_ERR_MESH;
+        diag->has_index = 1;
+        diag->index = t;
+        diag->what = "triangle vertex index out of range";
+    }
+    return LS_ERR_MESH;
+}
+
+/* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi. */
+static void sh_grad(const ls_real *sh, const ls_real n[3], const ls_real g[3], ls_real dn[3])
+{
+    const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2, c3 = (ls_real)LS_SH_C3;
+    ls_real x = n[0], y = n[1], z = n[2];
+    int c;
+    dn[0] = dn[1] = dn[2] = (ls_real)0;
+    for (c = 0; c < 3; c++) {
+        const ls_real *L = sh + 9 * (size_t)c;
+        ls_real gx = c1 * L[8] * x + c1 * (L[4] * y + L[7] * z) + c2 * L[3];
+        ls_real gy = -(c1 * L[8] * y) + c1 * (L[4] * x + L[5] * z) + c2 * L[1];
+        ls_real gz = c3 * L[6] * z + c1 * (L[7] * x + L[5] * y) + c2 * L[2];
+        ls_real s = (ls_real)2 * g[c] * R_INV_PI;
+        dn[0] += s * gx;
+        dn[1] += s * gy;
+        dn[2] += s * gz;
+    }
+}
+
+/* dL/db of one covered sample of triangle f with barycentrics b, given
+ * g = dL/d(sample rgb); adds to the normal and colour gradients. */
+static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[3], const ls_real g[3],
+                             ls_real gb[3])
+{
+    const ls_shade_opts *o = bc->o;
+    ls_real alb[3], dalb[3], ds[3], s[3];
+    int c, k;
+    gb[0] = gb[1] = gb[2] = (ls_real)0;
+    if (o->mode == LS_SHADE_MASK) return;
+    for (c = 0; c < 3; c++) alb[c] = (ls_real)1;
+    if (o->vertex_colors != NULL)
+        for (c = 0; c < 3; c++)
+            alb[c] = b[0] * o->vertex_colors[3 * (size_t)f[0] + (size_t)c] +
+                     b[1] * o->vertex_colors[3 * (size_t)f[1] + (size_t)c] +
+                     b[2] * o->vertex_colors[3 * (size_t)f[2] + (size_t)c];
+    if (o->mode == LS_SHADE_COLOR) {
+        for (c = 0; c < 3; c++) dalb[c] = g[c];
+    } else {
+        ls_real n[3], nn[3], dnn[3], l = (ls_real)0;
+        const ls_real *N[3];
+        int renorm = 0;
+        for (k = 0; k < 3; k++) N[k] = bc->normals + 3 * (size_t)f[k];
+        for (c = 0; c < 3; c++) n[c] = b[0] * N[0][c] + b[1] * N[1][c] + b[2] * N[2][c];
+        nn[0] = n[0];
+        nn[1] = n[1];
+        nn[2] = n[2];
+        if (o->renormalize) {
+            ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+            if (l2 > (ls_real)0) {
+                l = R_SQRT(l2);
+                for (c = 0; c < 3; c++) nn[c] = n[c] / l;
+                renorm = 1;
+            }
+        }
+        if (o->mode == LS_SHADE_SH) {
+            ls_shade_sh_eval(o->sh, nn, s);
+            for (c = 0; c < 3; c++) ds[c] = g[c] * alb[c];
+            sh_grad(o->sh, nn, ds, dnn);
+        } else { /* Lambert */
+            uint32_t li;
+            for (c = 0; c < 3; c++) {
+                s[c] = o->ambient[c];
+                ds[c] = g[c] * alb[c];
+            }
+            dnn[0] = dnn[1] = dnn[2] = (ls_real)0;
+            for (li = 0; li < o->light_count; li++) {
+                const ls_light *lt = &o->lights[li];
+                ls_real d = nn[0] * lt->dir[0] + nn[1] * lt->dir[1] + nn[2] * lt->dir[2];
+                if (d > (ls_real)0) {
+                    ls_real w = ds[0] * lt->rgb[0] + ds[1] * lt->rgb[1] + ds[2] * lt->rgb[2];
+                    for (c = 0; c < 3; c++) {
+                        s[c] += d * lt->rgb[c];
+                        dnn[c] += w * lt->dir[c];
+                    }
+                }
+            }
+        }
+        for (c = 0; c < 3; c++) dalb[c] = g[c] * s[c];
+        if (renorm) {
+            ls_real d = nn[0] * dnn[0] + nn[1] * dnn[1] + nn[2] * dnn[2];
+            for (c = 0; c < 3; c++) dnn[c] = (dnn[c] - nn[c] * d) / l;
+        }
+        for (k = 0; k < 3; k++) {
+            gb[k] = N[k][0] * dnn[0] + N[k][1] * dnn[1] + N[k][2] * dnn[2];
+            if (bc->gn != NULL)
+                for (c = 0; c < 3; c++) bc->gn[3 * (size_t)f[k] + (size_t)c] += b[k] * dnn[c];
+        }
+    }
+    if (o->vertex_colors != NULL) {
+        for (k = 0; k < 3; k++) {
+            const ls_real *col = o->vertex_colors + 3 * (size_t)f[k];
+            gb[k] += col[0] * dalb[0] + col[1] * dalb[1] + col[2] * dalb[2];
+            if (bc->gc != NULL)
+                for (c = 0; c < 3; c++) bc->gc[3 * (size_t)f[k] + (size_t)c] += b[k] * dalb[c];
+        }
+    }
+}
+
+/* One covered sample at NDC (px, py) of triangle f, g = dL/d(sample rgb). */
+static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
+{
+    ls_real u[3], v[3], a[3], b[3], gb[3], ga[3], sum, dot;
+    int k, c;
+    for (k = 0; k < 3; k++) {
+        const ls_real *cl = bc->vis->clip + 4 * (size_t)f[k];
+        u[k] = cl[0] - px * cl[3];
+        v[k] = cl[1] - py * cl[3];
+    }
+    a[0] = u[1] * v[2] - u[2] * v[1];
+    a[1] = u[2] * v[0] - u[0] * v[2];
+    a[2] = u[0] * v[1] - u[1] * v[0];
+    sum = (a[0] + a[1]) + a[2];
+    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return; /* edge-on: no gradient */
+    for (k = 0; k < 3; k++) b[k] = a[k] / sum;
+    shading_backward(bc, f, b, g, gb);
+    if (bc->gp == NULL) return;
+    dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
+    for (k = 0; k < 3; k++) ga[k] = (gb[k] - dot) / sum;
+    for (k = 0; k < 3; k++) {
+        int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        ls_real gu = v[k1] * ga[k2] - v[k2] * ga[k1]; /* (v x ga)_k */
+        ls_real gv = ga[k1] * u[k2] - ga[k2] * u[k1]; /* (ga x u)_k */
+        ls_real gw = -(px * gu + py * gv);
+        ls_real *dp = bc->gp + 3 * (size_t)f[k];
+        for (c = 0; c < 3; c++) dp[c] += bc->m[c] * gu + bc->m[4 + c] * gv + bc->m[12 + c] * gw;
+    }
+}
+
+ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                            const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
+                            const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
+                            ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
+{
+    bctx bc;
+    uint32_t x, y, t, ss;
+    ls_real inv_n;
+    if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL) return LS_ERR_INVALID;
+    if (vis->tri == NULL || vis->clip == NULL) return LS_ERR_STATE;
+    if (vis->triangle_count != triangle_count || vis->vertex_count != vertex_count) return LS_ERR_INVALID;
+    if (opts->mode > LS_SHADE_COLOR || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
+    if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
+    if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
+    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL) return LS_ERR_INVALID;
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
+    }
+    if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
+    bc.vis = vis;
+    bc.indices = indices;
+    bc.normals = normals;
+    bc.o = opts;
+    bc.m = mvp;
+    bc.gp = grad_positions;
+    bc.gn = opts->mode == LS_SHADE_COLOR ? NULL : grad_normals;
+    bc.gc = grad_colors;
+    ss = vis->ss;
+    inv_n = (ls_real)1 / (ls_real)(ss * ss);
+    for (y = 0; y < vis->height; y++) {
+        for (x = 0; x < vis->width; x++) {
+            size_t p = (size_t)y * vis->width + x;
+            ls_real g[3];
+            uint32_t i, j;
+            g[0] = grad_image[4 * p] * inv_n;
+            g[1] = grad_image[4 * p + 1] * inv_n;
+            g[2] = grad_image[4 * p + 2] * inv_n;
+            if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
+            for (j = 0; j < ss; j++) {
+                uint32_t sy = y * ss + j;
+                ls_real py = (ls_real)1 - (ls_real)(2u * sy + 1u) / (ls_real)vis->sh;
+                for (i = 0; i < ss; i++) {
+                    uint32_t sx = x * ss + i;
+                    size_t s = (size_t)sy * vis->sw + sx;
+                    uint32_t id = vis->tri[s];
+                    ls_real px;
+                    if (id == 0 || id > triangle_count) continue;
+                    px = (ls_real)(2u * sx + 1u) / (ls_real)vis->sw - (ls_real)1;
+                    sample_backward(&bc, indices + 3 * (size_t)(id - 1u), px, py, g);
+                }
+            }
+        }
+    }
+    return LS_OK;
+}
+
+ls_status ls_vertex_normals_backward_bytes(uint32_t vertex_count, size_t *bytes)
+{
+    ls_size s;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    ls_size_init(&s);
+    ls_size_add(&s, vertex_count, 3 * sizeof(ls_real));
+    return ls_size_get(&s, bytes);
+}
+
+/* c = (p1 - p0) x (p2 - p0) of face f, edges into e1, e2; returns |c|^2. */
+static ls_real face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
+{
+    const ls_real *p0 = positions + 3 * (size_t)f[0], *p1 = positions + 3 * (size_t)f[1];
+    const ls_real *p2 = positions + 3 * (size_t)f[2];
+    int k;
+    for (k = 0; k < 3; k++) {
+        e1[k] = p1[k] - p0[k];
+        e2[k] = p2[k] - p0[k];
+    }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+}
+
+ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
+                                     uint32_t triangle_count, const ls_real *grad_normals,
+                                     ls_real *grad_positions, ls_arena *arena, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_real *m;
+    uint32_t t, v;
+    if (arena == NULL || (vertex_count > 0 && (positions == NULL || grad_normals == NULL || grad_positions == NULL)) ||
+        (triangle_count > 0 && indices == NULL))
+        return LS_ERR_INVALID;
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
+    }
+    if (vertex_count == 0) return LS_OK;
+    mark = ls_arena_save(arena);
+    m = (ls_real *)ls_arena_scratch(arena, vertex_count, 3 * sizeof(ls_real));
+    if (m == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    /* the forward's sums m_v, in the forward's order */
+    for (v = 0; v < 3 * vertex_count; v++) m[v] = (ls_real)0;
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l;
+        int k, q;
+        if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue;
+        l = R_SQRT(l2);
+        for (q = 0; q < 3; q++)
+            for (k = 0; k < 3; k++) m[3 * (size_t)f[q] + (size_t)k] += c[k] / l;
+    }
+    /* m_v becomes dL/dm_v */
+    for (v = 0; v < vertex_count; v++) {
+        ls_real *mv = m + 3 * (size_t)v;
+        const ls_real *g = grad_normals + 3 * (size_t)v;
+        ls_real l2 = mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2];
+        if (l2 > (ls_real)0) {
+            ls_real l = R_SQRT(l2), n[3], d;
+            int k;
+            for (k = 0; k < 3; k++) n[k] = mv[k] / l;
+            d = n[0] * g[0] + n[1] * g[1] + n[2] * g[2];
+            for (k = 0; k < 3; k++) mv[k] = (g[k] - n[k] * d) / l;
+        } else {
+            mv[0] = mv[1] = mv[2] = (ls_real)0;
+        }
+    }
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l, n[3], gn[3], gc[3], d;
+        ls_real *d0, *d1, *d2;
+        int k;
+        if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue;
+        l = R_SQRT(l2);
+        for (k = 0; k < 3; k++) {
+            n[k] = c[k] / l;
+            gn[k] = (m[3 * (size_t)f[0] + (size_t)k] + m[3 * (size_t)f[1] + (size_t)k]) +
+                    m[3 * (size_t)f[2] + (size_t)k];
+        }
+        d = n[0] * gn[0] + n[1] * gn[1] + n[2] * gn[2];
+        for (k = 0; k < 3; k++) gc[k] = (gn[k] - n[k] * d) / l;
+        d0 = grad_positions + 3 * (size_t)f[0];
+        d1 = grad_positions + 3 * (size_t)f[1];
+        d2 = grad_positions + 3 * (size_t)f[2];
+        for (k = 0; k < 3; k++) {
+            int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+            ls_real g1 = e2[k1] * gc[k2] - e2[k2] * gc[k1]; /* (e2 x gc)_k */
+            ls_real g2 = gc[k1] * e1[k2] - gc[k2] * e1[k1]; /* (gc x e1)_k */
+            d1[k] += g1;
+            d2[k] += g2;
+            d0[k] -= g1 + g2;
+        }
+    }
+    ls_arena_restore(arena, mark);
+    return LS_OK;
+}
