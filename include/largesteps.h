@@ -31,5 +31,6 @@
 #include <largesteps/sort.h>
 #include <largesteps/mesh.h>
 #include <largesteps/mesh_io.h>
+#include <largesteps/bvh.h>
 
 #endif /* LARGESTEPS_H */

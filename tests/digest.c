@@ -549,6 +549,14 @@ static void dg_mesh(digest *d)
     dg_status(d, ls_mesh_write_ply(&m, dg_sink, d));
 }
 
+/* Entries of the later modules, one file each (tests/digest_NAME.inc, owned
+ * by the module): it defines its static dg_ functions and a macro
+ * DG_ENTRIES_NAME expanding to its rows of `entries` (empty when it has none). */
+#include "digest_laplacian.inc"
+#include "digest_optim.inc"
+#include "digest_distance.inc"
+#include "digest_remesh.inc"
+
 typedef struct digest_entry {
     const char *name;
     void (*run)(digest *d);
@@ -574,6 +582,10 @@ static const digest_entry entries[] = {
     {"number", dg_number, "parse double/float of 30 texts (hard cases, errors), format of 300 random double/float bit patterns"},
     {"mesh", dg_mesh, "OBJ with quads, i/t/n, negative indices, CRLF: positions, triangles, face and vertex normals (3 weightings), bounds, validation, OBJ/PLY bytes"},
     {"math.rounding", dg_math_rounding, "floor, ceil, trunc, round, to_i32/u32/i64: specials, k/4, +-2^e(+0.5), e<=64"},
+    DG_ENTRIES_LAPLACIAN
+    DG_ENTRIES_OPTIM
+    DG_ENTRIES_DISTANCE
+    DG_ENTRIES_REMESH
 #endif
 };
 

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <math.h>
 #include "ls_posix.h"
+#include "commands.h"
 
 static int usage(FILE *out)
 {
@@ -158,6 +159,9 @@ int main(int argc, char **argv)
         printf("%s\n", ls_version_string());
         return 0;
     }
+    if (strcmp(argv[1], "toy1d") == 0) return ls_cmd_toy1d(argc - 1, argv + 1);
+    if (strcmp(argv[1], "metrics") == 0) return ls_cmd_metrics(argc - 1, argv + 1);
+    if (strcmp(argv[1], "remesh") == 0) return ls_cmd_remesh(argc - 1, argv + 1);
     if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0) return usage(stdout);
     fprintf(stderr, "largesteps: unknown command '%s'\n", argv[1]);
     return usage(stderr);
