@@ -32,5 +32,6 @@
 #include <largesteps/mesh.h>
 #include <largesteps/mesh_io.h>
 #include <largesteps/bvh.h>
+#include <largesteps/optim.h>
 
 #endif /* LARGESTEPS_H */

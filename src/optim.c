@@ -1,0 +1,222 @@
+/* optim.c - UniformAdam, Adam and SGD with momentum on one state layout.
+ * The formulas and their sources are in include/largesteps/optim.h. */
+#include <string.h>
+#include <largesteps/optim.h>
+#include <largesteps/math.h>
+
+static void diag_set(ls_diag *diag, ls_status st, const char *what, uint32_t index, ls_real value)
+{
+    if (diag == NULL) return;
+    ls_diag_clear(diag);
+    diag->status = st;
+    diag->what = what;
+    diag->has_index = 1;
+    diag->index = index;
+    diag->has_value = 1;
+    diag->value = value;
+}
+
+static int is_finite(ls_real x)
+{
+    return x - x == x - x; /* false for NaN and infinities */
+}
+
+/* A decay rate must lie in [0, 1). */
+static int valid_beta(ls_real b)
+{
+    return is_finite(b) && b >= (ls_real)0 && b < (ls_real)1;
+}
+
+static int valid_config(const ls_optim_config *c)
+{
+    if (c->method != LS_OPTIM_UNIFORM_ADAM && c->method != LS_OPTIM_ADAM && c->method != LS_OPTIM_SGD) return 0;
+    if (!is_finite(c->lr) || c->lr <= (ls_real)0) return 0;
+    if (!valid_beta(c->beta1)) return 0;
+    if (c->method == LS_OPTIM_SGD) return 1;
+    return valid_beta(c->beta2) && is_finite(c->eps) && c->eps >= (ls_real)0;
+}
+
+/* The sum of the block sizes, or 0 when the blocks are invalid for capacity. */
+static uint32_t blocks_total(uint32_t capacity, uint32_t block_count, const uint32_t *block_sizes)
+{
+    uint32_t b, total = 0;
+    if (block_sizes == NULL || block_count == 0 || block_count > LS_OPTIM_MAX_BLOCKS) return 0;
+    for (b = 0; b < block_count; b++) {
+        if (block_sizes[b] == 0 || block_sizes[b] > capacity - total) return 0;
+        total += block_sizes[b];
+    }
+    return total;
+}
+
+static void set_blocks(ls_optim *opt, uint32_t count, uint32_t block_count, const uint32_t *block_sizes)
+{
+    uint32_t b;
+    opt->count = count;
+    opt->block_count = block_count;
+    for (b = 0; b < LS_OPTIM_MAX_BLOCKS; b++) {
+        opt->block_size[b] = b < block_count ? block_sizes[b] : 0u;
+        opt->last_scale[b] = (ls_real)0;
+    }
+    opt->step = 0;
+    memset(opt->m1, 0, (size_t)opt->capacity * sizeof(ls_real));
+    memset(opt->m2, 0, (size_t)opt->capacity * sizeof(ls_real));
+}
+
+ls_status ls_optim_config_default(uint32_t method, ls_optim_config *config)
+{
+    if (config == NULL) return LS_ERR_INVALID;
+    switch (method) {
+    case LS_OPTIM_UNIFORM_ADAM:
+        config->lr = (ls_real)0.1;
+        break;
+    case LS_OPTIM_ADAM:
+        config->lr = (ls_real)1e-3;
+        break;
+    case LS_OPTIM_SGD:
+        config->lr = (ls_real)1e-2;
+        break;
+    default:
+        return LS_ERR_INVALID;
+    }
+    config->method = method;
+    config->beta1 = (ls_real)0.9;
+    config->beta2 = method == LS_OPTIM_SGD ? (ls_real)0 : (ls_real)0.999;
+    config->eps = method == LS_OPTIM_SGD ? (ls_real)0 : (ls_real)1e-8;
+    return LS_OK;
+}
+
+ls_status ls_optim_bytes(uint32_t capacity, size_t *bytes)
+{
+    ls_size s;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    ls_size_init(&s);
+    ls_size_add(&s, capacity, sizeof(ls_real));
+    ls_size_add(&s, capacity, sizeof(ls_real));
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_optim_init(ls_optim *opt, const ls_optim_config *config, uint32_t capacity, uint32_t block_count,
+                        const uint32_t *block_sizes, ls_arena *arena)
+{
+    ls_arena_mark mark;
+    ls_real *m1, *m2;
+    size_t bytes;
+    uint32_t total;
+    ls_status st;
+    if (opt == NULL || config == NULL || arena == NULL || !valid_config(config)) return LS_ERR_INVALID;
+    total = blocks_total(capacity, block_count, block_sizes);
+    if (total == 0) return LS_ERR_INVALID;
+    st = ls_optim_bytes(capacity, &bytes);
+    if (st != LS_OK) return st;
+    mark = ls_arena_save(arena);
+    m1 = (ls_real *)ls_arena_alloc(arena, capacity, sizeof(ls_real));
+    m2 = (ls_real *)ls_arena_alloc(arena, capacity, sizeof(ls_real));
+    if (m1 == NULL || m2 == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    opt->config = *config;
+    opt->capacity = capacity;
+    opt->m1 = m1;
+    opt->m2 = m2;
+    set_blocks(opt, total, block_count, block_sizes);
+    return LS_OK;
+}
+
+ls_status ls_optim_reset(ls_optim *opt, uint32_t block_count, const uint32_t *block_sizes)
+{
+    uint32_t total;
+    if (opt == NULL || opt->m1 == NULL || opt->m2 == NULL) return LS_ERR_INVALID;
+    total = blocks_total(opt->capacity, block_count, block_sizes);
+    if (total == 0) return LS_ERR_INVALID;
+    set_blocks(opt, total, block_count, block_sizes);
+    return LS_OK;
+}
+
+/* Both moments of Adam and UniformAdam, element by element. */
+static void update_moments(ls_optim *opt, const ls_real *grad)
+{
+    const ls_real b1 = opt->config.beta1, b2 = opt->config.beta2;
+    const ls_real a1 = (ls_real)1 - b1, a2 = (ls_real)1 - b2;
+    uint32_t i;
+    for (i = 0; i < opt->count; i++) {
+        const ls_real g = grad[i];
+        opt->m1[i] = b1 * opt->m1[i] + a1 * g;
+        opt->m2[i] = b2 * opt->m2[i] + a2 * (g * g);
+    }
+}
+
+/* UniformAdam on the block [first, first + size). */
+static ls_real uniform_adam_block(const ls_optim *opt, ls_real *params, uint32_t first, uint32_t size,
+                                  ls_real bc1, ls_real bc2)
+{
+    const ls_real lr = opt->config.lr;
+    ls_real m2max = (ls_real)0, scale, denom;
+    uint32_t i;
+    for (i = first; i < first + size; i++) {
+        const ls_real m2hat = opt->m2[i] / bc2;
+        if (m2hat > m2max) m2max = m2hat;
+    }
+    scale = LS_RSQRT(m2max);
+    denom = opt->config.eps + scale;
+    if (denom == (ls_real)0) return scale; /* eps = 0 and every m2 zero: no step (not 0/0) */
+    for (i = first; i < first + size; i++) {
+        const ls_real m1hat = opt->m1[i] / bc1;
+        params[i] = params[i] - lr * (m1hat / denom);
+    }
+    return scale;
+}
+
+static void adam(const ls_optim *opt, ls_real *params, ls_real bc1, ls_real bc2)
+{
+    const ls_real step_size = opt->config.lr / bc1, bc2_sqrt = LS_RSQRT(bc2), eps = opt->config.eps;
+    uint32_t i;
+    for (i = 0; i < opt->count; i++) {
+        const ls_real denom = LS_RSQRT(opt->m2[i]) / bc2_sqrt + eps;
+        if (denom == (ls_real)0) continue; /* eps = 0 and m2 zero: no step (not 0/0) */
+        params[i] = params[i] - step_size * (opt->m1[i] / denom);
+    }
+}
+
+static void sgd(ls_optim *opt, ls_real *params, const ls_real *grad)
+{
+    const ls_real momentum = opt->config.beta1, lr = opt->config.lr;
+    uint32_t i;
+    for (i = 0; i < opt->count; i++) {
+        opt->m1[i] = opt->step == 1 ? grad[i] : momentum * opt->m1[i] + grad[i];
+        params[i] = params[i] - lr * opt->m1[i];
+    }
+}
+
+ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag)
+{
+    ls_real bc1, bc2, t;
+    uint32_t i, b, first;
+    if (opt == NULL || params == NULL || grad == NULL || opt->m1 == NULL || opt->count == 0 ||
+        !valid_config(&opt->config))
+        return LS_ERR_INVALID;
+    for (i = 0; i < opt->count; i++) {
+        if (!is_finite(grad[i])) {
+            diag_set(diag, LS_ERR_NONFINITE, "non-finite gradient", i, grad[i]);
+            return LS_ERR_NONFINITE;
+        }
+    }
+    if (opt->step < UINT32_MAX) opt->step++;
+    if (opt->config.method == LS_OPTIM_SGD) {
+        sgd(opt, params, grad);
+        return LS_OK;
+    }
+    update_moments(opt, grad);
+    t = (ls_real)opt->step;
+    bc1 = (ls_real)1 - LS_RPOW(opt->config.beta1, t);
+    bc2 = (ls_real)1 - LS_RPOW(opt->config.beta2, t);
+    if (opt->config.method == LS_OPTIM_ADAM) {
+        adam(opt, params, bc1, bc2);
+        return LS_OK;
+    }
+    for (b = 0, first = 0; b < opt->block_count; b++) {
+        opt->last_scale[b] = uniform_adam_block(opt, params, first, opt->block_size[b], bc1, bc2);
+        first += opt->block_size[b];
+    }
+    return LS_OK;
+}
