@@ -33,5 +33,6 @@
 #include <largesteps/mesh_io.h>
 #include <largesteps/bvh.h>
 #include <largesteps/optim.h>
+#include <largesteps/primitive.h>
 
 #endif /* LARGESTEPS_H */

@@ -549,6 +549,23 @@ static void dg_mesh(digest *d)
     dg_status(d, ls_mesh_write_ply(&m, dg_sink, d));
 }
 
+/* ---- primitives ------------------------------------------------------- */
+
+/* Icosphere of level 2 (162 vertices) and a 5 x 3 grid: every position and index. */
+static void dg_primitive(digest *d)
+{
+    ls_arena arena;
+    ls_mesh m;
+    uint32_t i;
+    dg_status(d, ls_arena_init(&arena, dg_arena.bytes, sizeof dg_arena.bytes));
+    dg_status(d, ls_icosphere(2, &arena, &m));
+    for (i = 0; i < 3u * m.vertex_count; i++) dg_real(d, m.positions[i]);
+    for (i = 0; i < 3u * m.face_count; i++) dg_u32(d, m.triangles[i]);
+    dg_status(d, ls_grid_mesh(5, 3, &arena, &m));
+    for (i = 0; i < 3u * m.vertex_count; i++) dg_real(d, m.positions[i]);
+    for (i = 0; i < 3u * m.face_count; i++) dg_u32(d, m.triangles[i]);
+}
+
 /* Entries of the later modules, one file each (tests/digest_NAME.inc, owned
  * by the module): it defines its static dg_ functions and a macro
  * DG_ENTRIES_NAME expanding to its rows of `entries` (empty when it has none). */
@@ -582,6 +599,7 @@ static const digest_entry entries[] = {
     {"number", dg_number, "parse double/float of 30 texts (hard cases, errors), format of 300 random double/float bit patterns"},
     {"mesh", dg_mesh, "OBJ with quads, i/t/n, negative indices, CRLF: positions, triangles, face and vertex normals (3 weightings), bounds, validation, OBJ/PLY bytes"},
     {"math.rounding", dg_math_rounding, "floor, ceil, trunc, round, to_i32/u32/i64: specials, k/4, +-2^e(+0.5), e<=64"},
+    {"primitive", dg_primitive, "icosphere level 2, grid 5x3: positions and indices"},
     DG_ENTRIES_LAPLACIAN
     DG_ENTRIES_OPTIM
     DG_ENTRIES_DISTANCE
