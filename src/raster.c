@@ -1,6 +1,7 @@
 /* raster.c - deterministic tile rasterizer producing the visibility buffer.
  * Design and conventions: include/largesteps/raster.h. */
 #include <largesteps/raster.h>
+#include "render_internal.h"
 #include <string.h>
 
 #define VIS_MAGIC 0x56495342u /* "VISB" */
@@ -335,10 +336,48 @@ NOINLINE static int triangle_tiles(const rctx *cx, const rvert *const v[3], clip
     return 1;
 }
 
+ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
+                                    ls_diag *diag)
+{
+    uint32_t t;
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) {
+            if (diag != NULL) {
+                ls_diag_clear(diag);
+                diag->status = LS_ERR_MESH;
+                diag->has_index = 1;
+                diag->index = t;
+                diag->what = "triangle vertex index out of range";
+            }
+            return LS_ERR_MESH;
+        }
+    }
+    return LS_OK;
+}
+
+ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
+                            ls_real v[3], ls_real b[3])
+{
+    ls_real a[3], sum;
+    int k;
+    for (k = 0; k < 3; k++) {
+        const ls_real *cl = clip + 4 * (size_t)f[k];
+        u[k] = cl[0] - px * cl[3];
+        v[k] = cl[1] - py * cl[3];
+    }
+    a[0] = u[1] * v[2] - u[2] * v[1];
+    a[1] = u[2] * v[0] - u[0] * v[2];
+    a[2] = u[0] * v[1] - u[1] * v[0];
+    sum = (a[0] + a[1]) + a[2];
+    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return (ls_real)0;
+    for (k = 0; k < 3; k++) b[k] = a[k] / sum;
+    return sum;
+}
+
 static ls_status validate(const ls_real mvp[16], const ls_real *positions, uint32_t vertex_count,
                           const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
 {
-    uint32_t t;
     int i;
     if (mvp == NULL || (vertex_count > 0 && positions == NULL) || (triangle_count > 0 && indices == NULL))
         return LS_ERR_INVALID;
@@ -354,19 +393,7 @@ static ls_status validate(const ls_real mvp[16], const ls_real *positions, uint3
             return LS_ERR_NONFINITE;
         }
     }
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) {
-            if (diag != NULL) {
-                diag->status = LS_ERR_MESH;
-                diag->has_index = 1;
-                diag->index = t;
-                diag->what = "triangle vertex index out of range";
-            }
-            return LS_ERR_MESH;
-        }
-    }
-    return LS_OK;
+    return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
 static ls_status nonfinite_vertex(uint32_t i, ls_diag *diag)

@@ -1,5 +1,6 @@
 /* render_backward.c - backward of the interior shading (largesteps/render_backward.h). */
 #include <largesteps/render_backward.h>
+#include "render_internal.h"
 #include <math.h>
 
 #if LS_REAL_IS_FLOAT
@@ -19,18 +20,6 @@ typedef struct bctx {
     const ls_real *m; /* mvp */
     ls_real *gp, *gn, *gc;
 } bctx;
-
-static ls_status mesh_error(ls_diag *diag, uint32_t t)
-{
-    if (diag != NULL) {
-        ls_diag_clear(diag);
-        diag->status = LS_ERR_MESH;
-        diag->has_index = 1;
-        diag->index = t;
-        diag->what = "triangle vertex index out of range";
-    }
-    return LS_ERR_MESH;
-}
 
 /* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi. */
 static void sh_grad(const ls_real *sh, const ls_real n[3], const ls_real g[3], ls_real dn[3])
@@ -133,19 +122,10 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
 /* One covered sample at NDC (px, py) of triangle f, g = dL/d(sample rgb). */
 static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
 {
-    ls_real u[3], v[3], a[3], b[3], gb[3], ga[3], sum, dot;
+    ls_real u[3], v[3], b[3], gb[3], ga[3], sum, dot;
     int k, c;
-    for (k = 0; k < 3; k++) {
-        const ls_real *cl = bc->vis->clip + 4 * (size_t)f[k];
-        u[k] = cl[0] - px * cl[3];
-        v[k] = cl[1] - py * cl[3];
-    }
-    a[0] = u[1] * v[2] - u[2] * v[1];
-    a[1] = u[2] * v[0] - u[0] * v[2];
-    a[2] = u[0] * v[1] - u[1] * v[0];
-    sum = (a[0] + a[1]) + a[2];
-    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return; /* edge-on: no gradient */
-    for (k = 0; k < 3; k++) b[k] = a[k] / sum;
+    sum = ls_clip_barycentric(bc->vis->clip, f, px, py, u, v, b);
+    if (sum == (ls_real)0) return; /* edge-on: no gradient */
     shading_backward(bc, f, b, g, gb);
     if (bc->gp == NULL) return;
     dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
@@ -166,20 +146,16 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
 {
     bctx bc;
-    uint32_t x, y, t, ss;
+    uint32_t x, y, ss;
     ls_real inv_n;
+    uint32_t counts[2];
+    ls_status st;
     if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL) return LS_ERR_INVALID;
     if (vis->tri == NULL || vis->clip == NULL) return LS_ERR_STATE;
-    if (vis->triangle_count != triangle_count || vis->vertex_count != vertex_count) return LS_ERR_INVALID;
-    if (opts->mode > LS_SHADE_COLOR || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
-    if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL) return LS_ERR_INVALID;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
-    }
+    counts[0] = triangle_count;
+    counts[1] = vertex_count;
+    st = ls_shade_check_args(vis, counts, indices, normals, opts, diag);
+    if (st != LS_OK) return st;
     if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
     bc.vis = vis;
     bc.indices = indices;
@@ -254,10 +230,7 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
     if (arena == NULL || (vertex_count > 0 && (positions == NULL || grad_normals == NULL || grad_positions == NULL)) ||
         (triangle_count > 0 && indices == NULL))
         return LS_ERR_INVALID;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
-    }
+    if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
     if (vertex_count == 0) return LS_OK;
     mark = ls_arena_save(arena);
     m = (ls_real *)ls_arena_scratch(arena, vertex_count, 3 * sizeof(ls_real));

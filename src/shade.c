@@ -1,5 +1,6 @@
 /* shade.c - forward shading of a visibility buffer (see largesteps/shade.h). */
 #include <largesteps/shade.h>
+#include "render_internal.h"
 #include <largesteps/math.h>
 #include <string.h>
 #include <math.h>
@@ -61,22 +62,11 @@ void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
     }
 }
 
-static ls_status mesh_error(ls_diag *diag, uint32_t t)
+void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *normals, const ls_real b[3],
+                    ls_real rgb[3])
 {
-    if (diag != NULL) {
-        diag->status = LS_ERR_MESH;
-        diag->has_index = 1;
-        diag->index = t;
-        diag->what = "triangle vertex index out of range";
-    }
-    return LS_ERR_MESH;
-}
-
-/* The colour of one covered sample. */
-static void shade_sample(const ls_shade_opts *o, const uint32_t *f, const ls_real *normals, ls_real b0, ls_real b1,
-                         ls_real rgb[3])
-{
-    ls_real b2 = (ls_real)1 - b0 - b1, n[3], alb[3];
+    const ls_real b0 = b[0], b1 = b[1], b2 = b[2];
+    ls_real n[3], alb[3];
     int c;
     if (o->mode == LS_SHADE_MASK) {
         rgb[0] = rgb[1] = rgb[2] = (ls_real)1;
@@ -126,23 +116,33 @@ static void shade_sample(const ls_shade_opts *o, const uint32_t *f, const ls_rea
     for (c = 0; c < 3; c++) rgb[c] *= alb[c];
 }
 
-ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
-                   uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
+ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const uint32_t *indices,
+                              const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag)
 {
-    uint32_t x, y, t, ss;
-    ls_real inv_n;
-    if (vis == NULL || opts == NULL || out == NULL) return LS_ERR_INVALID;
-    if (vis->tri == NULL || vis->triangle_count != triangle_count || vis->vertex_count != vertex_count)
-        return vis->tri == NULL ? LS_ERR_STATE : LS_ERR_INVALID;
+    const uint32_t triangle_count = counts[0], vertex_count = counts[1];
+    if (vis == NULL || opts == NULL) return LS_ERR_INVALID;
+    if (vis->tri == NULL) return LS_ERR_STATE;
+    if (vis->triangle_count != triangle_count || vis->vertex_count != vertex_count) return LS_ERR_INVALID;
     if (opts->mode > LS_SHADE_COLOR || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
     if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
     if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
     if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
     if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL) return LS_ERR_INVALID;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
-    }
+    return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
+}
+
+ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
+                   uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
+{
+    uint32_t x, y, ss;
+    ls_real inv_n;
+    uint32_t counts[2];
+    ls_status st;
+    if (out == NULL) return LS_ERR_INVALID;
+    counts[0] = triangle_count;
+    counts[1] = vertex_count;
+    st = ls_shade_check_args(vis, counts, indices, normals, opts, diag);
+    if (st != LS_OK) return st;
     ss = vis->ss;
     inv_n = (ls_real)1 / (ls_real)(ss * ss);
     for (y = 0; y < vis->height; y++) {
@@ -163,8 +163,11 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
                         rgb[2] = bg[2];
                     } else {
                         covered++;
-                        shade_sample(opts, indices + 3 * (size_t)(id - 1u), normals, vis->bary[2 * s],
-                                     vis->bary[2 * s + 1], rgb);
+                        ls_real b[3];
+                        b[0] = vis->bary[2 * s];
+                        b[1] = vis->bary[2 * s + 1];
+                        b[2] = (ls_real)1 - b[0] - b[1];
+                        ls_shade_point(opts, indices + 3 * (size_t)(id - 1u), normals, b, rgb);
                     }
                     acc[0] += rgb[0];
                     acc[1] += rgb[1];
@@ -186,10 +189,7 @@ ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_coun
     uint32_t t, v;
     if ((vertex_count > 0 && (positions == NULL || out == NULL)) || (triangle_count > 0 && indices == NULL))
         return LS_ERR_INVALID;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) return mesh_error(diag, t);
-    }
+    if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
     for (v = 0; v < 3 * vertex_count; v++) out[v] = (ls_real)0;
     /* faces in input order: a fixed accumulation order per vertex */
     for (t = 0; t < triangle_count; t++) {

@@ -1,5 +1,6 @@
 /* silhouette.c - exact box-filter silhouette derivatives (largesteps/silhouette.h). */
 #include <largesteps/silhouette.h>
+#include "render_internal.h"
 #include <largesteps/sort.h>
 #include <largesteps/math.h>
 #include <math.h>
@@ -132,21 +133,11 @@ typedef struct sctx {
 static int tri_point(const sctx *sc, const uint32_t *f, ls_real xw, ls_real yw, ls_real b[3], ls_real *depth)
 {
     ls_real px = (ls_real)2 * xw / sc->width - (ls_real)1, py = (ls_real)1 - (ls_real)2 * yw / sc->height;
-    ls_real u[3], v[3], a[3], sum, cz = (ls_real)0, cw = (ls_real)0;
+    ls_real u[3], v[3], cz = (ls_real)0, cw = (ls_real)0;
     int k;
+    if (ls_clip_barycentric(sc->vis->clip, f, px, py, u, v, b) == (ls_real)0) return 0;
     for (k = 0; k < 3; k++) {
         const ls_real *cl = sc->vis->clip + 4 * (size_t)f[k];
-        u[k] = cl[0] - px * cl[3];
-        v[k] = cl[1] - py * cl[3];
-    }
-    a[0] = u[1] * v[2] - u[2] * v[1];
-    a[1] = u[2] * v[0] - u[0] * v[2];
-    a[2] = u[0] * v[1] - u[1] * v[0];
-    sum = (a[0] + a[1]) + a[2];
-    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
-    for (k = 0; k < 3; k++) {
-        const ls_real *cl = sc->vis->clip + 4 * (size_t)f[k];
-        b[k] = a[k] / sum;
         cz += b[k] * cl[2];
         cw += b[k] * cl[3];
     }
@@ -156,50 +147,6 @@ static int tri_point(const sctx *sc, const uint32_t *f, ls_real xw, ls_real yw, 
 }
 
 /* The surface colour of triangle f at barycentrics b (as ls_shade). */
-static void eval_color(const sctx *sc, const uint32_t *f, const ls_real b[3], ls_real rgb[3])
-{
-    const ls_shade_opts *o = sc->o;
-    ls_real alb[3], n[3];
-    int c;
-    if (o->mode == LS_SHADE_MASK) {
-        rgb[0] = rgb[1] = rgb[2] = (ls_real)1;
-        return;
-    }
-    for (c = 0; c < 3; c++) alb[c] = (ls_real)1;
-    if (o->vertex_colors != NULL)
-        for (c = 0; c < 3; c++)
-            alb[c] = b[0] * o->vertex_colors[3 * (size_t)f[0] + (size_t)c] +
-                     b[1] * o->vertex_colors[3 * (size_t)f[1] + (size_t)c] +
-                     b[2] * o->vertex_colors[3 * (size_t)f[2] + (size_t)c];
-    if (o->mode == LS_SHADE_COLOR) {
-        for (c = 0; c < 3; c++) rgb[c] = alb[c];
-        return;
-    }
-    for (c = 0; c < 3; c++)
-        n[c] = b[0] * sc->normals[3 * (size_t)f[0] + (size_t)c] + b[1] * sc->normals[3 * (size_t)f[1] + (size_t)c] +
-               b[2] * sc->normals[3 * (size_t)f[2] + (size_t)c];
-    if (o->renormalize) {
-        ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        if (l2 > (ls_real)0) {
-            ls_real l = R_SQRT(l2);
-            for (c = 0; c < 3; c++) n[c] /= l;
-        }
-    }
-    if (o->mode == LS_SHADE_SH) {
-        ls_shade_sh_eval(o->sh, n, rgb);
-    } else {
-        uint32_t l;
-        for (c = 0; c < 3; c++) rgb[c] = o->ambient[c];
-        for (l = 0; l < o->light_count; l++) {
-            const ls_light *li = &o->lights[l];
-            ls_real d = n[0] * li->dir[0] + n[1] * li->dir[1] + n[2] * li->dir[2];
-            if (d > (ls_real)0)
-                for (c = 0; c < 3; c++) rgb[c] += d * li->rgb[c];
-        }
-    }
-    for (c = 0; c < 3; c++) rgb[c] *= alb[c];
-}
-
 static ls_real r_abs(ls_real x) { return x < (ls_real)0 ? -x : x; }
 
 /* g_P . (f_inside - f_behind) at window point (xw, yw) on the edge of face
@@ -213,7 +160,7 @@ static ls_real point_term(const sctx *sc, uint32_t ft, uint32_t fu, ls_real xw, 
     int32_t sx, sy, i, j;
     ls_real fx = LS_RFLOOR(xw * (ls_real)vis->ss), fy = LS_RFLOOR(yw * (ls_real)vis->ss);
     if (!tri_point(sc, sc->indices + 3 * (size_t)ft, xw, yw, b, &ze)) return (ls_real)0;
-    eval_color(sc, sc->indices + 3 * (size_t)ft, b, rgb_in);
+    ls_shade_point(sc->o, sc->indices + 3 * (size_t)ft, sc->normals, b, rgb_in);
     tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
     sx = LS_RTO_I32(fx);
     sy = LS_RTO_I32(fy);
@@ -239,7 +186,7 @@ static ls_real point_term(const sctx *sc, uint32_t ft, uint32_t fu, ls_real xw, 
     }
     if (best_id != 0) {
         if (!tri_point(sc, sc->indices + 3 * (size_t)(best_id - 1u), xw, yw, b, &ze)) return (ls_real)0;
-        eval_color(sc, sc->indices + 3 * (size_t)(best_id - 1u), b, rgb_bh);
+        ls_shade_point(sc->o, sc->indices + 3 * (size_t)(best_id - 1u), sc->normals, b, rgb_bh);
         a_bh = (ls_real)1;
     } else {
         const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * p : sc->o->background;

@@ -1,0 +1,36 @@
+/* render_internal.h - pieces shared by the rasterizer, shading, shading
+ * backward and silhouette modules (not part of the public API). */
+#ifndef LS_RENDER_INTERNAL_H
+#define LS_RENDER_INTERNAL_H
+
+#include <largesteps/raster.h>
+#include <largesteps/shade.h>
+
+/* ls_check_triangle_indices: LS_OK when every index of the triangle_count
+ * triangles is below vertex_count, else LS_ERR_MESH with diag naming the
+ * first bad triangle. O(T). (raster.c) */
+ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
+                                    ls_diag *diag);
+
+/* ls_clip_barycentric: perspective-correct barycentrics b of the NDC point
+ * (px, py) in triangle f from the clip coordinates (4 per vertex): with
+ * u_k = x_k - px w_k and v_k = y_k - py w_k, a = u x v and b = a / sum(a).
+ * Fills u, v (for derivatives) and returns sum(a), or 0 when the triangle is
+ * edge-on there or the sum is not finite (b is then unset). O(1). (raster.c) */
+ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
+                            ls_real v[3], ls_real b[3]);
+
+/* ls_shade_point: the colour of triangle f at barycentrics b under opts (as
+ * ls_shade computes each covered sample). O(lights). (shade.c) */
+void ls_shade_point(const ls_shade_opts *opts, const uint32_t *f, const ls_real *normals, const ls_real b[3],
+                    ls_real rgb[3]);
+
+/* ls_shade_check_args: the argument checks shared by ls_shade and
+ * ls_shade_backward (the visibility buffer and its counts, the mode's
+ * required arrays and the triangle indices). O(T). Five arguments: a
+ * seventh would be passed on the stack, which the call-graph check counts as
+ * a dynamic frame. (shade.c) */
+ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const uint32_t *indices,
+                              const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag);
+
+#endif /* LS_RENDER_INTERNAL_H */
