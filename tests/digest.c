@@ -573,6 +573,8 @@ static void dg_primitive(digest *d)
 #include "digest_optim.inc"
 #include "digest_distance.inc"
 #include "digest_remesh.inc"
+#include "digest_render.inc"
+#include "digest_gradient.inc"
 
 typedef struct digest_entry {
     const char *name;
@@ -604,6 +606,8 @@ static const digest_entry entries[] = {
     DG_ENTRIES_OPTIM
     DG_ENTRIES_DISTANCE
     DG_ENTRIES_REMESH
+    DG_ENTRIES_RENDER
+    DG_ENTRIES_GRADIENT
 #endif
 };
 

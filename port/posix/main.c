@@ -162,6 +162,7 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "toy1d") == 0) return ls_cmd_toy1d(argc - 1, argv + 1);
     if (strcmp(argv[1], "metrics") == 0) return ls_cmd_metrics(argc - 1, argv + 1);
     if (strcmp(argv[1], "remesh") == 0) return ls_cmd_remesh(argc - 1, argv + 1);
+    if (strcmp(argv[1], "render") == 0) return ls_cmd_render(argc - 1, argv + 1);
     if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0) return usage(stdout);
     fprintf(stderr, "largesteps: unknown command '%s'\n", argv[1]);
     return usage(stderr);
