@@ -34,5 +34,6 @@
 #include <largesteps/bvh.h>
 #include <largesteps/optim.h>
 #include <largesteps/primitive.h>
+#include <largesteps/scene.h>
 
 #endif /* LARGESTEPS_H */

@@ -566,6 +566,35 @@ static void dg_primitive(digest *d)
     for (i = 0; i < 3u * m.face_count; i++) dg_u32(d, m.triangles[i]);
 }
 
+/* ---- scenes ------------------------------------------------------------ */
+
+/* A text scene (look-at camera, Fibonacci and ring views) and a Mitsuba
+ * sensor with rotate/translate/lookat: every camera's view matrix and fov. */
+static void dg_scene(digest *d)
+{
+    static const char text[] = "largesteps-scene 1\nresolution 64 48\nfov 50 y\ncamera 0.3 0.2 4 0 0.1 0 0 1 0\n"
+                               "views fibonacci 5 3.5 0.1 -0.2 0.3\nviews rings 2 3 2\ntarget mesh t.obj\n";
+    static const char xml[] = "<scene><sensor type=\"perspective\"><float name=\"fov\" value=\"39.3\"/>"
+                              "<transform name=\"to_world\"><rotate x=\"1\" y=\"0.5\" angle=\"33\"/>"
+                              "<translate x=\"0.5\" z=\"4\"/><lookat origin=\"1 2 3\" target=\"0 0.5 0\"/>"
+                              "</transform></sensor></scene>";
+    ls_arena arena;
+    ls_scene s;
+    uint32_t c, k;
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        dg_status(d, ls_arena_init(&arena, dg_arena.bytes, sizeof dg_arena.bytes));
+        s.camera_count = 0;
+        dg_status(d, pass == 0 ? ls_scene_parse(text, sizeof text - 1, &arena, &s, NULL)
+                               : ls_scene_parse_mitsuba(xml, sizeof xml - 1, &arena, &s, NULL));
+        dg_u32(d, s.camera_count);
+        for (c = 0; c < s.camera_count; c++) {
+            for (k = 0; k < 16; k++) dg_real(d, s.cameras[c].view[k]);
+            dg_real(d, s.cameras[c].fov);
+        }
+    }
+}
+
 /* Entries of the later modules, one file each (tests/digest_NAME.inc, owned
  * by the module): it defines its static dg_ functions and a macro
  * DG_ENTRIES_NAME expanding to its rows of `entries` (empty when it has none). */
@@ -602,6 +631,7 @@ static const digest_entry entries[] = {
     {"mesh", dg_mesh, "OBJ with quads, i/t/n, negative indices, CRLF: positions, triangles, face and vertex normals (3 weightings), bounds, validation, OBJ/PLY bytes"},
     {"math.rounding", dg_math_rounding, "floor, ceil, trunc, round, to_i32/u32/i64: specials, k/4, +-2^e(+0.5), e<=64"},
     {"primitive", dg_primitive, "icosphere level 2, grid 5x3: positions and indices"},
+    {"scene", dg_scene, "text scene (look-at, Fibonacci, rings) and Mitsuba sensor (rotate, translate, lookat): views, fovs"},
     DG_ENTRIES_LAPLACIAN
     DG_ENTRIES_OPTIM
     DG_ENTRIES_DISTANCE
