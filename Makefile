@@ -281,6 +281,7 @@ run: $(CLI)
 bench: all
 	@mkdir -p $(BUILD)/bench
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
+	BUILD=$(BUILD) sh tests/bench/run_param.sh
 	LP_NUM_THREADS=0 sh tests/stage_osmesa.sh | tee $(BUILD)/bench/raster.txt | grep -E 'bench|FAIL|passed'
 
 

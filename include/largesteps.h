@@ -35,5 +35,9 @@
 #include <largesteps/optim.h>
 #include <largesteps/primitive.h>
 #include <largesteps/scene.h>
+#include <largesteps/laplacian.h>
+#include <largesteps/cg.h>
+#include <largesteps/param.h>
+#include <largesteps/toy1d.h>
 
 #endif /* LARGESTEPS_H */

@@ -1,10 +1,162 @@
-/* cmd_toy1d.c - `largesteps toy1d` (arrives with its module). */
+/* cmd_toy1d.c - `largesteps toy1d [-o DIR] [--iters N]`: the seed's 1D toy
+ * (largesteps/toy1d.h). Prints, per iteration, every method's largest
+ * interior error |x_i - t_i| (0 < i < 31), marked '*' while the points are
+ * inverted (some x_{i+1} < x_i); then a summary per method; and writes one
+ * SVG per method, DIR/toy1d-METHOD.svg: the 32 point positions (vertical)
+ * over the iterations (horizontal), the targets dashed, the iterations with
+ * an inversion shaded red. Files are written whole (temporary name, then
+ * rename) or not at all. */
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <largesteps.h>
 #include "commands.h"
+
+#define N LS_TOY1D_N
+
+static int inverted(const ls_real *x)
+{
+    uint32_t i;
+    for (i = 0; i + 1u < N; i++)
+        if (x[i + 1u] < x[i]) return 1;
+    return 0;
+}
+
+static double interior_error(const ls_real *x, const ls_real *t)
+{
+    double e = 0;
+    uint32_t i;
+    for (i = 1; i + 1u < N; i++) {
+        double d = fabs((double)x[i] - (double)t[i]);
+        if (d > e) e = d;
+    }
+    return e;
+}
+
+static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *traj, uint32_t iters,
+                     const ls_real *target)
+{
+    char path[1024], tmp[1040];
+    const double w = 720, h = 420, left = 50, right = 20, top = 30, bottom = 40;
+    double sx = (w - left - right) / (iters > 0 ? (double)iters : 1.0), sy = (h - top - bottom) / 2.2;
+    uint32_t it, i;
+    FILE *f;
+    int ok;
+    if ((size_t)snprintf(path, sizeof path, "%s/toy1d-%s.svg", dir, m->name) >= sizeof path) return 0;
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    f = fopen(tmp, "wb");
+    if (f == NULL) return 0;
+    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n", w, h, w, h);
+    fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+    for (it = 0; it <= iters; it++) { /* inverted iterations */
+        if (!inverted(traj + (size_t)it * N)) continue;
+        fprintf(f, "<rect x=\"%.2f\" y=\"%.0f\" width=\"%.2f\" height=\"%.0f\" fill=\"#fdd\"/>\n",
+                left + ((double)it - 0.5) * sx, top, sx, h - top - bottom);
+    }
+    for (i = 0; i < N; i++) { /* targets */
+        double y = top + (1.1 - (double)target[i]) * sy;
+        fprintf(f, "<line x1=\"%.0f\" y1=\"%.2f\" x2=\"%.0f\" y2=\"%.2f\" stroke=\"#bbb\" stroke-width=\"0.5\" stroke-dasharray=\"3,3\"/>\n",
+                left, y, w - right, y);
+    }
+    for (i = 0; i < N; i++) { /* trajectories */
+        const char *colour = (i == 0 || i + 1u == N) ? "#c00" : "#236";
+        fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1\" points=\"", colour);
+        for (it = 0; it <= iters; it++)
+            fprintf(f, "%.2f,%.2f ", left + (double)it * sx, top + (1.1 - (double)traj[(size_t)it * N + i]) * sy);
+        fprintf(f, "\"/>\n");
+    }
+    fprintf(f, "<line x1=\"%.0f\" y1=\"%.0f\" x2=\"%.0f\" y2=\"%.0f\" stroke=\"black\"/>\n", left, h - bottom, w - right, h - bottom);
+    fprintf(f, "<line x1=\"%.0f\" y1=\"%.0f\" x2=\"%.0f\" y2=\"%.0f\" stroke=\"black\"/>\n", left, top, left, h - bottom);
+    fprintf(f, "<text x=\"%.0f\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\">%s: step %g, %s %g, power %u</text>\n",
+            left, m->name, (double)m->step, m->kind == LS_TOY1D_REG ? "w" : "lambda", (double)m->lambda, m->power);
+    fprintf(f, "<text x=\"%.0f\" y=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">iteration 0 .. %u</text>\n",
+            left, h - 12, iters);
+    fprintf(f, "<text x=\"4\" y=\"%.2f\" font-family=\"sans-serif\" font-size=\"12\">1</text>\n", top + 0.1 * sy + 4);
+    fprintf(f, "<text x=\"4\" y=\"%.2f\" font-family=\"sans-serif\" font-size=\"12\">-1</text>\n", top + 2.1 * sy + 4);
+    fprintf(f, "</svg>\n");
+    ok = !ferror(f);
+    if (fclose(f) != 0) ok = 0;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return 0;
+    }
+    return 1;
+}
 
 int ls_cmd_toy1d(int argc, char **argv)
 {
-    (void)argc;
-    fprintf(stderr, "largesteps: '%s' is not available yet\n", argv[0]);
-    return 2;
+    const char *dir = ".";
+    uint32_t iters = 100, it, k;
+    int a, status = 0;
+    ls_real *traj[LS_TOY1D_METHODS], target[N];
+    ls_toy1d_method m[LS_TOY1D_METHODS];
+    void *mem;
+    size_t mem_bytes = 64u * 1024u;
+    ls_arena arena;
+    for (a = 1; a < argc; a++) {
+        if (strcmp(argv[a], "-o") == 0 && a + 1 < argc) {
+            dir = argv[++a];
+        } else if (strcmp(argv[a], "--iters") == 0 && a + 1 < argc) {
+            char *end;
+            unsigned long v = strtoul(argv[++a], &end, 10);
+            if (*end != '\0' || v == 0 || v > 100000ul) {
+                fprintf(stderr, "largesteps toy1d: --iters takes 1 .. 100000\n");
+                return 2;
+            }
+            iters = (uint32_t)v;
+        } else {
+            fprintf(stderr, "usage: largesteps toy1d [-o DIR] [--iters N]\n");
+            return 2;
+        }
+    }
+    mem = malloc(mem_bytes);
+    if (mem == NULL || ls_arena_init(&arena, mem, mem_bytes) != LS_OK) {
+        free(mem);
+        fprintf(stderr, "largesteps toy1d: out of memory\n");
+        return 1;
+    }
+    ls_toy1d_points(NULL, target);
+    for (k = 0; k < LS_TOY1D_METHODS; k++) {
+        ls_status st;
+        traj[k] = (ls_real *)malloc(((size_t)iters + 1u) * N * sizeof(ls_real));
+        (void)ls_toy1d_method_get(k, &m[k]);
+        st = traj[k] == NULL ? LS_ERR_NOMEM : ls_toy1d_run(k, iters, traj[k], &arena);
+        if (st != LS_OK) {
+            fprintf(stderr, "largesteps toy1d: %s: %s\n", m[k].name, ls_status_str(st));
+            for (; k + 1u > 0; k--) free(traj[k]);
+            free(mem);
+            return 1;
+        }
+    }
+    printf("largest interior error |x_i - t_i| per method; '*' = inverted (some x[i+1] < x[i])\n%5s", "it");
+    for (k = 0; k < LS_TOY1D_METHODS; k++) printf(" %13s", m[k].name);
+    printf("\n");
+    for (it = 0; it <= iters; it++) {
+        printf("%5u", it);
+        for (k = 0; k < LS_TOY1D_METHODS; k++) {
+            const ls_real *x = traj[k] + (size_t)it * N;
+            printf(" %12.6f%c", interior_error(x, target), inverted(x) ? '*' : ' ');
+        }
+        printf("\n");
+    }
+    printf("\n%-14s %6s %7s %6s %10s %10s %10s  %s\n", "method", "step", "lambda", "power", "first_inv", "end_err",
+           "interior", "svg");
+    for (k = 0; k < LS_TOY1D_METHODS; k++) {
+        const ls_real *x = traj[k] + (size_t)iters * N;
+        long first = -1;
+        double end_err = fabs((double)x[0] - (double)target[0]);
+        if (fabs((double)x[N - 1] - (double)target[N - 1]) > end_err) end_err = fabs((double)x[N - 1] - (double)target[N - 1]);
+        for (it = 0; it <= iters && first < 0; it++)
+            if (inverted(traj[k] + (size_t)it * N)) first = (long)it;
+        int written = write_svg(dir, &m[k], traj[k], iters, target);
+        if (!written) status = 1;
+        printf("%-14s %6g %7g %6u %10ld %10.3e %10.6f  %s/toy1d-%s.svg%s\n", m[k].name, (double)m[k].step,
+               (double)m[k].lambda, m[k].power, first, end_err, interior_error(x, target), dir, m[k].name,
+               written ? "" : " (NOT WRITTEN)");
+    }
+    for (k = 0; k < LS_TOY1D_METHODS; k++) free(traj[k]);
+    free(mem);
+    if (status) fprintf(stderr, "largesteps toy1d: could not write the SVG files into %s\n", dir);
+    return status;
 }

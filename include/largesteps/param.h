@@ -1,0 +1,139 @@
+/* largesteps/param.h - the large-steps parameterization: differential
+ * coordinates u = M x with M = I + lambda L (or (1 - alpha) I + alpha L),
+ * their inverse, the adjoint, and preconditioned gradient steps.
+ *
+ * An ls_param holds a Laplacian L (borrowed: its arrays must outlive the
+ * object), the system matrix M (its own values, L's pattern), the weight and
+ * one of two solvers, chosen at init:
+ *   LS_PARAM_LDLT  a sparse LDL^T factor of M (ldlt.h), ordered with
+ *                  LS_ORDER_AUTO (AMD or geometric nested dissection) when
+ *                  vertex coordinates are given, else cfg->order;
+ *   LS_PARAM_CG    Jacobi-preconditioned CG (cg.h): memory O(nnz(M)), with
+ *                  separate warm starts for the forward solve and the
+ *                  adjoint solve (as the reference keeps them), each
+ *                  starting from the previous solution of its kind.
+ * Vectors are n x k interleaved (k = 3 for x, y, z; 1 for the 1D toy).
+ *
+ *   to_differential     u = M x
+ *   from_differential   x = M^{-1} u
+ *   adjoint             dloss/du = M^{-1} dloss/dx (M is symmetric)
+ *   step                x <- x - eta M^{-p} g, p = 1, 2, ... (the seed's
+ *                       direct preconditioned descent)
+ *   set_weight          a new lambda/alpha: M's values rewritten and the
+ *                       factor refactored numerically (no memory, the
+ *                       symbolic analysis is kept)
+ *
+ * Extremes. A weight of 0 makes M = I and every solve and product a copy:
+ * x = u bit for bit (also -0 and the payload of every value). Large weights
+ * follow laplacian.h: when the identity term rounds away (uniform mesh
+ * Laplacian: lambda >~ 3e6 in float, >~ 1.5e15 in double) init and
+ * set_weight return LS_ERR_NOT_SPD; below that, the LDL^T may still return
+ * LS_ERR_NOT_SPD for a pivot lost to rounding. Measured on the bunny
+ * (tests/test_param.c): lambda = 1e8 is LS_ERR_NOT_SPD in float (at init or
+ * set_weight) and solves in double (round-trip error ~1e-8); alpha =
+ * 0.999999 (lambda ~ 1e6) solves in double (~3e-11) and gives a finite but
+ * inaccurate result in float (round-trip error ~7e-2: kappa * eps > 1; keep
+ * lambda <= ~1e4 in float for accuracy). No call returns NaN: solves check
+ * their inputs and results (LS_ERR_NONFINITE).
+ */
+#ifndef LARGESTEPS_PARAM_H
+#define LARGESTEPS_PARAM_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+#include <largesteps/arena.h>
+#include <largesteps/sparse.h>
+#include <largesteps/ldlt.h>
+#include <largesteps/cg.h>
+#include <largesteps/laplacian.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Solvers. */
+#define LS_PARAM_LDLT 0u
+#define LS_PARAM_CG   1u
+
+typedef struct ls_param_config {
+    uint32_t solver;     /* LS_PARAM_LDLT or LS_PARAM_CG */
+    uint32_t form;       /* LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA */
+    ls_real weight;      /* lambda (>= 0) or alpha (in [0, 1)) */
+    uint32_t k;          /* columns of the vectors, 1 .. LS_CG_MAX_K */
+    uint32_t order;      /* LDL^T ordering without coordinates (LS_ORDER_AMD, _NATURAL) */
+    uint32_t cg_max_iter;/* CG iteration cap per solve */
+    ls_real cg_tol;      /* CG relative tolerance */
+} ls_param_config;
+
+typedef struct ls_param {
+    ls_csc lap;          /* the Laplacian (arrays borrowed) */
+    ls_csc m;            /* the system matrix: lap's pattern, own values */
+    uint32_t n, k, solver, form;
+    ls_real weight;
+    uint32_t identity;   /* 1 when weight = 0: M = I, solves are copies */
+    ls_ldlt f;           /* LS_PARAM_LDLT: the factor */
+    ls_cg_info cg;       /* LS_PARAM_CG: cap and tolerance, statistics of the last solve */
+    ls_real *warm_fwd;   /* LS_PARAM_CG: n k, last from_differential result */
+    ls_real *warm_adj;   /* LS_PARAM_CG: n k, last adjoint result */
+    ls_real *tmp;        /* n k: the step's direction */
+    ls_arena work;       /* the solvers' scratch, over a block the object owns */
+} ls_param;
+
+/* ls_param_bytes: exact arena bytes of ls_param_init with these arguments.
+ * For the LDL^T the factor's size depends on the ordering, so the query runs
+ * the symbolic analysis in `scratch` (it needs ls_ldlt_analyze_mesh_bytes /
+ * ls_ldlt_analyze_bytes of free space there, released before return, and
+ * costs one analysis); for CG scratch may be NULL. O(nnz) plus the analysis.
+ * Errors: LS_ERR_INVALID (NULL, a bad config), LS_ERR_TOO_LARGE,
+ * LS_ERR_NOMEM (scratch too small). */
+ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
+                         size_t *bytes);
+
+/* ls_param_init: builds *p for the Laplacian lap (square, every diagonal
+ * entry stored; upper or full storage) and cfg; xyz (n x 3, optional) are
+ * the vertex coordinates for the ordering. Builds M, analyzes and factors it
+ * (LDL^T) or prepares the CG (zero warm starts). Cost: the analysis and the
+ * factorization (LDL^T) or O(nnz) (CG). Memory: ls_param_bytes from the
+ * arena's bottom. Errors: LS_ERR_INVALID (NULL, cfg out of range: solver,
+ * form, weight, k, tol), LS_ERR_NOT_SPD (the weight is too large for the
+ * precision, or a pivot failed), LS_ERR_NONFINITE, LS_ERR_NOMEM; on failure
+ * the arena and *p are as before. */
+ls_status ls_param_init(ls_param *p, const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz,
+                        ls_arena *arena, ls_diag *diag);
+
+/* ls_param_to_differential: u = M x (n x k; u must not overlap x). O(nnz k);
+ * no memory. Errors: LS_ERR_INVALID. */
+ls_status ls_param_to_differential(const ls_param *p, const ls_real *x, ls_real *u);
+
+/* ls_param_from_differential: x = M^{-1} u (n x k; x may equal u). LDL^T:
+ * 4 nnz(L) k + O(n k); CG: warm-started from the previous result, statistics
+ * in p->cg. No arena (the object's own scratch). Errors:
+ * LS_ERR_INVALID, LS_ERR_NONFINITE (u holds a NaN or infinity: x unchanged),
+ * LS_ERR_STATE (the factor is invalid), LS_ERR_NOT_SPD (CG breakdown). */
+ls_status ls_param_from_differential(ls_param *p, const ls_real *u, ls_real *x);
+
+/* ls_param_adjoint: gu = M^{-1} gx, the gradient with respect to u of a loss
+ * whose gradient with respect to x = M^{-1} u is gx (M symmetric). Same
+ * solve and errors as ls_param_from_differential; CG keeps its own warm
+ * start for it. */
+ls_status ls_param_adjoint(ls_param *p, const ls_real *gx, ls_real *gu);
+
+/* ls_param_step: x <- x - eta M^{-power} g (power >= 1), by `power`
+ * successive solves of g's copy (warm starts are not used or changed: CG
+ * starts from zero). Cost power solves. Errors: LS_ERR_INVALID (power = 0,
+ * NULL, eta not finite), as ls_param_from_differential; on failure x is
+ * unchanged. */
+ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, uint32_t power);
+
+/* ls_param_set_weight: a new weight of the same form: M's values are
+ * rewritten and the factor refactored (ls_ldlt_refactor, no memory); CG
+ * keeps its warm starts. O(nnz) plus one numeric factorization. Errors: as
+ * ls_laplacian_system_update and ls_ldlt_refactor; on any failure the object
+ * keeps its previous weight and a valid factor (it is refactored again). */
+ls_status ls_param_set_weight(ls_param *p, ls_real weight, ls_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LARGESTEPS_PARAM_H */
