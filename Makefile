@@ -282,7 +282,7 @@ bench: all
 	@mkdir -p $(BUILD)/bench
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
-	LP_NUM_THREADS=0 sh tests/stage_osmesa.sh | tee $(BUILD)/bench/raster.txt | grep -E 'bench|FAIL|passed'
+	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
 
 
 install: $(LIB) $(CONFIG_H)

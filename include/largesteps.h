@@ -21,6 +21,7 @@
 #include <largesteps/checksum.h>
 #include <largesteps/inflate.h>
 #include <largesteps/image.h>
+#include <largesteps/contact.h>
 #include <largesteps/camera.h>
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>

@@ -241,3 +241,79 @@ ls_status ls_camera_orbit(const ls_real center[3], ls_real distance, const ls_re
     return ls_camera_look_at(eye, center, (d[1] > (ls_real)0.9999 || d[1] < (ls_real)-0.9999) ? up_z : up_y,
                              view);
 }
+
+static ls_status frame_nonfinite(uint32_t i, ls_diag *diag)
+{
+    if (diag != NULL) {
+        ls_diag_clear(diag);
+        diag->status = LS_ERR_NONFINITE;
+        diag->has_index = 1;
+        diag->index = i;
+        diag->what = "vertex with a non-finite coordinate";
+    }
+    return LS_ERR_NONFINITE;
+}
+
+ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_real fov, uint32_t fov_axis,
+                          ls_real aspect, ls_real margin, ls_camera_framing *out, ls_diag *diag)
+{
+    ls_real lo[3], hi[3], c[3], r2 = (ls_real)0, t, proj[16];
+    ls_real r, dist, near_plane, far_plane;
+    uint32_t i;
+    int k;
+    ls_status st;
+    if (positions == NULL || out == NULL || vertex_count == 0) return LS_ERR_INVALID;
+    if (!finite_r(margin) || !finite_r(fov) || !finite_r(aspect)) return LS_ERR_NONFINITE;
+    if (!(margin >= (ls_real)1)) return LS_ERR_INVALID;
+    /* a projection with a unit near plane gives the half-angle tangents */
+    st = ls_camera_perspective(fov, fov_axis, aspect, (ls_real)1, (ls_real)2, proj);
+    if (st != LS_OK) return st;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = positions[k];
+    for (i = 0; i < vertex_count; i++) {
+        const ls_real *p = positions + 3 * (size_t)i;
+        if (!finite3(p)) return frame_nonfinite(i, diag);
+        for (k = 0; k < 3; k++) {
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
+    }
+    for (k = 0; k < 3; k++) c[k] = lo[k] + (hi[k] - lo[k]) * (ls_real)0.5;
+    for (i = 0; i < vertex_count; i++) {
+        const ls_real *p = positions + 3 * (size_t)i;
+        ls_real d[3], q;
+        d[0] = p[0] - c[0];
+        d[1] = p[1] - c[1];
+        d[2] = p[2] - c[2];
+        q = dot3(d, d);
+        if (q > r2) r2 = q;
+    }
+    if (!(r2 > (ls_real)0) || !finite_r(r2)) return LS_ERR_INVALID;
+    r = R_SQRT(r2);
+    /* the smaller half-angle: the larger of proj[0] = 1 / tan(hx), proj[5] = 1 / tan(hy) */
+    t = (ls_real)1 / (proj[0] > proj[5] ? proj[0] : proj[5]);
+    dist = r * R_SQRT((ls_real)1 + t * t) / t * margin;
+    near_plane = (dist - r) * (ls_real)0.5;
+    far_plane = (dist + r) * (ls_real)2;
+    if (!finite_r(dist) || !(near_plane > (ls_real)0)) return LS_ERR_INVALID;
+    st = ls_camera_perspective(fov, fov_axis, aspect, near_plane, far_plane, out->proj);
+    if (st != LS_OK) return st;
+    for (k = 0; k < 3; k++) out->center[k] = c[k];
+    out->radius = r;
+    out->distance = dist;
+    out->near_plane = near_plane;
+    out->far_plane = far_plane;
+    return LS_OK;
+}
+
+ls_status ls_camera_framed_view(const ls_camera_framing *fr, const ls_real dir[3], ls_real view[16],
+                                ls_real mvp[16])
+{
+    ls_real v[16];
+    ls_status st;
+    if (fr == NULL || mvp == NULL) return LS_ERR_INVALID;
+    st = ls_camera_orbit(fr->center, fr->distance, dir, v);
+    if (st != LS_OK) return st;
+    if (view != NULL) memcpy(view, v, sizeof v);
+    ls_mat4_mul(fr->proj, v, mvp);
+    return LS_OK;
+}

@@ -609,6 +609,20 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
     return ls_size_get(&s, bytes);
 }
 
+/* The number of steps along a row before an edge value e, which changes by
+ * -step per sample, becomes >= 0: 0 when it already is, INT64_MAX when it
+ * never does (it does not grow along the row). */
+static int64_t first_nonneg(int64_t e, int64_t step)
+{
+    uint64_t num, den;
+    if (e >= 0) return 0;
+    if (step >= 0) return INT64_MAX;
+    num = (uint64_t)(-e) + (uint64_t)(-step) - 1u; /* ceil(-e / -step) */
+    den = (uint64_t)(-step);
+    if (num <= UINT32_MAX) return (int64_t)((uint32_t)num / (uint32_t)den); /* small triangles: a faster divide */
+    return (int64_t)(num / den);
+}
+
 /* Draws one screen triangle into the samples of rectangle r (inclusive). */
 NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *r, uint32_t id)
 {
@@ -654,12 +668,25 @@ NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *r, uint32
         const uint32_t idp = id + 1u;
         int64_t i, j;
         for (j = b.y0; j <= b.y1; j++) {
-            int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2];
-            size_t s = (size_t)j * sw + (size_t)b.x0;
-            for (i = b.x0; i <= b.x1; i++, s++, e0 -= sx0, e1 -= sx1, e2 -= sx2) {
+            /* the first sample of the row where every edge is >= 0 (exact
+             * integer arithmetic: the samples drawn are the same as testing
+             * them all); past the row when there is none */
+            int64_t k0 = first_nonneg(e_row[0], sx0), k1 = first_nonneg(e_row[1], sx1);
+            int64_t k2 = first_nonneg(e_row[2], sx2), skip = k0 > k1 ? k0 : k1, e0, e1, e2;
+            size_t s;
+            if (k2 > skip) skip = k2;
+            if (skip > b.x1 - b.x0) skip = b.x1 - b.x0 + 1;
+            e0 = e_row[0] - skip * sx0;
+            e1 = e_row[1] - skip * sx1;
+            e2 = e_row[2] - skip * sx2;
+            s = (size_t)j * sw + (size_t)(b.x0 + skip);
+            for (i = b.x0 + skip; i <= b.x1; i++, s++, e0 -= sx0, e1 -= sx1, e2 -= sx2) {
                 ls_real f1, f2, d;
                 uint32_t cur;
-                if ((e0 | e1 | e2) < 0) continue;
+                /* from `skip` on, the edges whose value grows along the row are
+                 * all >= 0: the first negative value is on an edge that only
+                 * decreases, so the rest of the row is outside too */
+                if ((e0 | e1 | e2) < 0) break;
                 /* the exact edge functions (without the fill-rule bias) */
                 f1 = (ls_real)(e1 - b1);
                 f2 = (ls_real)(e2 - b2);

@@ -131,11 +131,23 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
+/* 1 when no sample of pixel (x, y) sees a triangle (ids 0 or beyond the count). */
+static int pixel_empty(const ls_vis *vis, uint32_t x, uint32_t y, uint32_t triangle_count)
+{
+    uint32_t i, j, ss = vis->ss;
+    for (j = 0; j < ss; j++) {
+        const uint32_t *row = vis->tri + ((size_t)y * ss + j) * vis->sw + (size_t)x * ss;
+        for (i = 0; i < ss; i++)
+            if (row[i] != 0 && row[i] <= triangle_count) return 0;
+    }
+    return 1;
+}
+
 ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
                    uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
 {
     uint32_t x, y, ss;
-    ls_real inv_n;
+    ls_real inv_n, bg_pixel[4];
     uint32_t counts[2];
     ls_status st;
     if (out == NULL) return LS_ERR_INVALID;
@@ -145,12 +157,31 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
     if (st != LS_OK) return st;
     ss = vis->ss;
     inv_n = (ls_real)1 / (ls_real)(ss * ss);
+    /* a pixel that sees no surface: with a constant background, its value
+     * computed once, by the same sums the loop below would do */
+    {
+        uint32_t k;
+        bg_pixel[0] = bg_pixel[1] = bg_pixel[2] = (ls_real)0;
+        for (k = 0; k < ss * ss; k++) {
+            bg_pixel[0] += opts->background[0];
+            bg_pixel[1] += opts->background[1];
+            bg_pixel[2] += opts->background[2];
+        }
+        bg_pixel[0] *= inv_n;
+        bg_pixel[1] *= inv_n;
+        bg_pixel[2] *= inv_n;
+        bg_pixel[3] = (ls_real)0 * inv_n;
+    }
     for (y = 0; y < vis->height; y++) {
         for (x = 0; x < vis->width; x++) {
             size_t p = (size_t)y * vis->width + x;
             const ls_real *bg = opts->background_image != NULL ? opts->background_image + 3 * p : opts->background;
             ls_real acc[3] = {(ls_real)0, (ls_real)0, (ls_real)0};
             uint32_t covered = 0, i, j;
+            if (opts->background_image == NULL && pixel_empty(vis, x, y, triangle_count)) {
+                memcpy(out + 4 * p, bg_pixel, sizeof bg_pixel);
+                continue;
+            }
             /* samples of the pixel in row-major order: a fixed summation order */
             for (j = 0; j < ss; j++) {
                 for (i = 0; i < ss; i++) {

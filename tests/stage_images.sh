@@ -9,6 +9,12 @@
 #            gives exactly the floats q / M (printed %.9f) of the source's integers.
 #   idiff_*  `idiff -fail 0` passes between a source and our re-encoding of it
 #            (a few per format: each OpenImageIO start-up costs about 1 s).
+#   golden_* golden renders (fixtures/render) against fresh ones with
+#            `idiff -fail 0 -warn 0` (zero tolerance): the strips of
+#            tests/test_shade.c (golden_renders, written by the test with
+#            LS_GOLDEN_OUT=DIR) and the `largesteps render` sets listed in
+#            fixtures/render/goldens.txt (contact sheet and first view of each);
+#            plus a control that a one-step (1/65535) change fails idiff.
 # oiiotool and idiff take ~1 s to start, so files are generated and dumped in
 # batches. Prints ok/FAIL lines and "images: N passed, M failed".
 pass=0 fail=0
@@ -168,5 +174,43 @@ if idiff -fail 1e-6 $D/src/noise_rgb8.png $D/out/noise_rgb8_png_be.pfm >$D/idiff
     ok "idiff_noise_rgb8_pfm_be_within_1e-6"
 else
     bad "idiff_noise_rgb8_pfm_be_within_1e-6" "$(cat $D/idiff.txt)"
+fi
+
+# --- golden renders, zero tolerance -----------------------------------------
+# (double builds: the float goldens are checked by test_shade in float builds)
+R=$D/render
+mkdir -p $R/shade
+golden() { # name fresh golden
+    if [ ! -f "$2" ]; then bad "golden_$1" "not rendered: $2"; return; fi
+    if idiff -fail 0 -warn 0 "$2" "$3" >$D/idiff.txt 2>&1; then ok "golden_$1"
+    else bad "golden_$1" "$(cat $D/idiff.txt)"; fi
+}
+if make --no-print-directory BUILD=$B CC=gcc CXX=g++ REAL=double $B/tests/test_shade >$D/test_shade_build.log 2>&1 &&
+    LS_GOLDEN_OUT=$R/shade $B/tests/test_shade >$D/test_shade.log 2>&1; then
+    ok "golden_test_shade_runs"
+else
+    bad "golden_test_shade_runs" "$(tail -n 5 $D/test_shade_build.log $D/test_shade.log)"
+fi
+for m in mask sh lambert; do
+    golden "test_shade_bunny_${m}_double" $R/shade/bunny_${m}_double.png fixtures/render/bunny_${m}_double.png
+done
+grep -v '^#' fixtures/render/goldens.txt > $D/goldens.txt
+while read -r name mesh args; do
+    [ -n "$name" ] || continue
+    # shellcheck disable=SC2086
+    if $B/largesteps render "$mesh" $args -o $R/$name >$R/$name.log 2>&1; then ok "render_$name"
+    else bad "render_$name" "$(tail -n 5 $R/$name.log)"; continue; fi
+    for g in fixtures/render/${name}__*.png; do
+        f=${g#fixtures/render/${name}__}
+        golden "${name}_$(basename "$f" .png)" "$R/$name/$f" "$g"
+    done
+done < $D/goldens.txt
+# control: every sample one 16-bit step brighter must fail at zero tolerance
+if oiiotool --iconfig oiio:UnassociatedAlpha 1 fixtures/render/cli_bunny_sh__view_000.png --addc 0.0000152590219 \
+        -d uint16 -o $R/plus_one_step.png >$D/control.txt 2>&1 &&
+    ! idiff -fail 0 -warn 0 $R/plus_one_step.png fixtures/render/cli_bunny_sh__view_000.png >>$D/control.txt 2>&1; then
+    ok "golden_control_one_step_fails"
+else
+    bad "golden_control_one_step_fails" "$(cat $D/control.txt)"
 fi
 finish

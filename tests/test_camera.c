@@ -300,6 +300,87 @@ static void window_conventions_hold_in_the_rasterizer(void)
     }
 }
 
+/* Framing: centre, radius and distance against float64 formulas (libm tan and
+ * sin of the half angles), and every point of a cloud projects inside the
+ * image from many directions; with margin 1 a point on the bounding sphere's
+ * silhouette reaches the image border on the narrower axis. */
+static void framing_fits_the_bounding_sphere(void)
+{
+    enum { NP = 200 };
+    ls_real pts[3 * NP], dirs[3 * 40];
+    ls_camera_framing fr;
+    ls_diag dg;
+    double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30}, c[3], r = 0;
+    uint32_t seed = 7u, i, v, axis;
+    int k;
+    for (i = 0; i < 3 * NP; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        pts[i] = (ls_real)((double)(seed >> 8) / 16777216.0 * (i % 3 == 1 ? 6.0 : 2.0) + (i % 3 == 2 ? -4.0 : 1.0));
+    }
+    for (i = 0; i < NP; i++)
+        for (k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], (double)pts[3 * i + k]);
+            hi[k] = fmax(hi[k], (double)pts[3 * i + k]);
+        }
+    for (k = 0; k < 3; k++) c[k] = (lo[k] + hi[k]) / 2;
+    for (i = 0; i < NP; i++) {
+        double d0 = (double)pts[3 * i] - c[0], d1 = (double)pts[3 * i + 1] - c[1], d2 = (double)pts[3 * i + 2] - c[2];
+        r = fmax(r, sqrt(d0 * d0 + d1 * d1 + d2 * d2));
+    }
+    REQUIRE(ls_camera_fibonacci_dirs(40, dirs) == LS_OK);
+    for (axis = 0; axis < 2; axis++) {
+        const double fov = 0.7, aspect = 1.6;
+        double hx = axis == LS_FOV_X ? fov / 2 : atan(tan(fov / 2) * aspect);
+        double hy = axis == LS_FOV_Y ? fov / 2 : atan(tan(fov / 2) / aspect);
+        double h = fmin(hx, hy), want = r / sin(h) * 1.25, worst = 0;
+        REQUIRE(ls_camera_frame(pts, NP, (ls_real)fov, axis, (ls_real)aspect, (ls_real)1.25, &fr, NULL) == LS_OK);
+        for (k = 0; k < 3; k++) CHECK_NEAR((double)fr.center[k], c[k], tol(8));
+        CHECK_NEAR((double)fr.radius, r, tol(8) * 4);
+        CHECK_NEAR((double)fr.distance, want, tol(want) * 8);
+        CHECK_NEAR((double)fr.near_plane, (want - r) / 2, tol(want) * 8);
+        CHECK_NEAR((double)fr.far_plane, (want + r) * 2, tol(want) * 16);
+        for (v = 0; v < 40; v++) {
+            ls_real mvp[16], view[16];
+            double o[4], q[3];
+            REQUIRE(ls_camera_framed_view(&fr, dirs + 3 * v, view, mvp) == LS_OK);
+            for (i = 0; i < NP; i++) {
+                for (k = 0; k < 3; k++) q[k] = (double)pts[3 * i + k];
+                apply4(mvp, q, o);
+                CHECK(o[3] > (double)fr.near_plane && o[3] < (double)fr.far_plane);
+                worst = fmax(worst, fmax(fabs(o[0] / o[3]), fabs(o[1] / o[3])));
+            }
+        }
+        /* inside, and not absurdly small (the cloud is a box, not a sphere) */
+        CHECK_MSG(worst < 1 / 1.25 + 1e-5 && worst > 0.3, "axis %u: max |ndc| %.6f", axis, worst);
+        /* margin 1: the sphere's silhouette touches the border on the narrower axis */
+        REQUIRE(ls_camera_frame(pts, NP, (ls_real)fov, axis, (ls_real)aspect, 1, &fr, NULL) == LS_OK);
+        {
+            /* a point on the sphere, on the silhouette cone in the image's narrower direction */
+            ls_real mvp[16], view[16], d[3] = {0, 0, 1};
+            double dist = (double)fr.distance, rr = (double)fr.radius, o[4], q[3], tx, ty;
+            REQUIRE(ls_camera_framed_view(&fr, d, view, mvp) == LS_OK);
+            /* view looks down -z from +z: a point at height y = rr cos(h) (x = 0), z at the tangent */
+            tx = rr * rr / dist; /* distance from the centre towards the eye of the tangent circle */
+            ty = sqrt(rr * rr - tx * tx);
+            q[0] = c[0] + (hx < hy ? ty : 0);
+            q[1] = c[1] + (hx < hy ? 0 : ty);
+            q[2] = c[2] + tx;
+            apply4(mvp, q, o);
+            CHECK_NEAR(fmax(fabs(o[0] / o[3]), fabs(o[1] / o[3])), 1.0, 1e-5);
+        }
+    }
+    /* errors */
+    CHECK_STATUS(ls_camera_frame(pts, 0, 1, LS_FOV_X, 1, 1, &fr, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_camera_frame(pts, NP, 1, LS_FOV_X, 1, (ls_real)0.5, &fr, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_camera_frame(pts, 1, 1, LS_FOV_X, 1, 1, &fr, NULL), LS_ERR_INVALID); /* one point */
+    CHECK_STATUS(ls_camera_frame(pts, NP, 4, LS_FOV_X, 1, 1, &fr, NULL), LS_ERR_INVALID);
+    pts[3 * 17 + 1] = (ls_real)INFINITY;
+    ls_diag_clear(&dg);
+    CHECK_STATUS(ls_camera_frame(pts, NP, 1, LS_FOV_X, 1, 1, &fr, &dg), LS_ERR_NONFINITE);
+    CHECK(dg.has_index && dg.index == 17);
+    CHECK_STATUS(ls_camera_framed_view(NULL, dirs, NULL, dirs), LS_ERR_INVALID);
+}
+
 int main(void)
 {
     TEST_INIT("test_camera");
@@ -311,5 +392,6 @@ int main(void)
     TEST_RUN(ring_dirs_match_libm);
     TEST_RUN(orbit_looks_at_the_center);
     TEST_RUN(window_conventions_hold_in_the_rasterizer);
+    TEST_RUN(framing_fits_the_bounding_sphere);
     return TEST_END();
 }

@@ -379,6 +379,7 @@ static void golden_renders(void)
     static const uint32_t sss[3] = {4, 2, 1};
     const char *real = LS_REAL_IS_FLOAT ? "float" : "double";
     int update = getenv("LS_UPDATE_GOLDENS") != NULL && getenv("LS_UPDATE_GOLDENS")[0] == '1';
+    const char *fresh_dir = getenv("LS_GOLDEN_OUT");
     ls_real *pos = NULL, *nrm, *col, dirs[3 * GN], lo[3], hi[3], center[3], proj[16], sky[3 * 32 * 16], sh[27];
     uint32_t *f = NULL, nv, nf, i, m, view;
     size_t mem_bytes = (size_t)1 << 24;
@@ -457,6 +458,20 @@ static void golden_renders(void)
         }
         snprintf(want, sizeof want, "%s %s %016llx", names[m], real, (unsigned long long)h);
         snprintf(path, sizeof path, "fixtures/render/bunny_%s_%s.png", names[m], real);
+        if (fresh_dir != NULL) {
+            /* LS_GOLDEN_OUT=DIR: also write this run's strip (tests/stage_images.sh
+             * compares it with the golden using OpenImageIO's idiff) */
+            char fresh[512];
+            ls_image_format fmt = {LS_IMAGE_PNG, 4, 16, 0};
+            FILE *fp;
+            snprintf(fresh, sizeof fresh, "%s/bunny_%s_%s.png", fresh_dir, names[m], real);
+            fp = fopen(fresh, "wb");
+            CHECK_MSG(fp != NULL, "cannot write %s", fresh);
+            if (fp != NULL) {
+                CHECK_STATUS(ls_image_encode(&strip, &fmt, write_file_cb, fp, &a), LS_OK);
+                CHECK(fclose(fp) == 0);
+            }
+        }
         if (update) {
             ls_image_format fmt = {LS_IMAGE_PNG, 4, 16, 0};
             FILE *fp = fopen(path, "wb");

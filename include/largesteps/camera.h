@@ -38,6 +38,7 @@
 #define LARGESTEPS_CAMERA_H
 
 #include <largesteps/core.h>
+#include <largesteps/status.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -102,6 +103,39 @@ ls_status ls_camera_ring_dirs(uint32_t rings, uint32_t per_ring, ls_real *dirs);
  * O(1), no memory. */
 ls_status ls_camera_orbit(const ls_real center[3], ls_real distance, const ls_real dir[3],
                           ls_real view[16]);
+
+/* A camera framing of a mesh for a view set: every camera at `distance` from
+ * `center` sees the whole bounding sphere (center, radius) of the vertices. */
+typedef struct ls_camera_framing {
+    ls_real center[3];  /* centre of the vertices' bounding box */
+    ls_real radius;     /* largest distance of a vertex from center (> 0) */
+    ls_real distance;   /* camera distance from center */
+    ls_real near_plane; /* (distance - radius) / 2 */
+    ls_real far_plane;  /* 2 (distance + radius) */
+    ls_real proj[16];   /* ls_camera_perspective(fov, fov_axis, aspect, near_plane, far_plane) */
+} ls_camera_framing;
+
+/* ls_camera_frame: frames vertex_count points (3 ls_real each) for cameras
+ * of full field of view `fov` on axis `fov_axis` and aspect width / height:
+ * the bounding sphere is the bounding-box centre and the largest distance of
+ * a point from it; with t the tangent of the smaller half field of view (of
+ * the two image axes), a sphere of radius r fills the cone exactly at
+ * distance r sqrt(1 + t^2) / t, and the distance is that times `margin`
+ * (>= 1: 1.05 leaves 5% of free border). Then the view of direction d is
+ * ls_camera_orbit(center, distance, d) and its clip transform
+ * proj * view. Deterministic (sqrt, fixed order). Errors: LS_ERR_INVALID
+ * (NULL arguments, no points, all points equal, margin < 1, errors of
+ * ls_camera_perspective), LS_ERR_NONFINITE (a non-finite coordinate or
+ * argument; diag->index is the vertex). O(vertex_count); no memory. */
+ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_real fov, uint32_t fov_axis,
+                          ls_real aspect, ls_real margin, ls_camera_framing *out, ls_diag *diag);
+
+/* ls_camera_framed_view: the world-to-view matrix (may be NULL) and the clip
+ * transform mvp = proj * view of the camera of framing fr looking at its
+ * centre from direction dir (ls_camera_orbit). Errors as ls_camera_orbit.
+ * O(1), no memory. */
+ls_status ls_camera_framed_view(const ls_camera_framing *fr, const ls_real dir[3], ls_real view[16],
+                                ls_real mvp[16]);
 
 #ifdef __cplusplus
 }

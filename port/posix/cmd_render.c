@@ -1,10 +1,412 @@
-/* cmd_render.c - `largesteps render` (arrives with its module). */
+/* cmd_render.c - `largesteps render`: renders a mesh from a set of views into
+ * PNG files and a contact sheet.
+ *
+ *   largesteps render MESH [--views N] [--res W] [--ss S] [--shading mask|sh|lambert]
+ *                     [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR
+ *
+ * MESH is an OBJ, PLY or OFF file (ls_mesh_read). The cameras look at the
+ * mesh's bounding-box centre from N directions (a Fibonacci sphere, or rings
+ * of constant latitude: the largest divisor r of N with r^2 <= N rings of N/r
+ * views) at the distance where the bounding sphere fills the image with a 5%
+ * margin (ls_camera_frame), with a horizontal field of view of DEG degrees
+ * (default 40), square W x W images (default 256) with S x S samples per
+ * pixel (default 2). Shading (default sh): `mask` white silhouette; `sh`
+ * diffuse spherical-harmonics irradiance of a built-in sky (bright above,
+ * warm horizon, dark ground: the 9 coefficients per channel that
+ * ls_sh_from_equirect projects from a 32 x 16 map written out below), on the
+ * uniform-weight vertex normals; `lambert` two directional lights (key from
+ * upper front right, dim blue fill from below behind) plus ambient 0.05.
+ * Background black; alpha is coverage.
+ *
+ * Writes DIR/view_000.png ... (RGBA, 16 bits per sample unless --bits 8) and
+ * DIR/contact.png (every view on a near-square grid, 1-pixel grey lines
+ * between them), each written whole to a temporary name then renamed. DIR is
+ * created when missing. Prints, per view, the times of rasterization,
+ * shading and encoding, the arena bytes the view used and the file size. */
+#define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <errno.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include "ls_posix.h"
 #include "commands.h"
+
+#define SHADE_NAMES "mask|sh|lambert"
+
+typedef struct render_args {
+    const char *mesh_path, *out_dir;
+    uint32_t views, res, ss, mode, rings, bits;
+    double fov_deg;
+} render_args;
+
+static int usage(void)
+{
+    fprintf(stderr, "usage: largesteps render MESH [--views N] [--res W] [--ss 1|2|4] [--shading " SHADE_NAMES "]\n"
+                    "                         [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR\n");
+    return 2;
+}
+
+/* A positive integer argument no larger than max; 0 when it is not one. */
+static uint32_t parse_count(const char *s, uint32_t max)
+{
+    char *end;
+    unsigned long v;
+    if (s == NULL || s[0] < '0' || s[0] > '9') return 0;
+    errno = 0;
+    v = strtoul(s, &end, 10);
+    if (errno != 0 || *end != 0 || v == 0 || v > max) return 0;
+    return (uint32_t)v;
+}
+
+static int parse_args(int argc, char **argv, render_args *a)
+{
+    int i;
+    memset(a, 0, sizeof *a);
+    a->views = 8;
+    a->res = 256;
+    a->ss = 2;
+    a->mode = LS_SHADE_SH;
+    a->bits = 16;
+    a->fov_deg = 40.0;
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (o[0] != '-') {
+            if (a->mesh_path != NULL) return 0;
+            a->mesh_path = o;
+            continue;
+        }
+        if (v == NULL) return 0;
+        i++;
+        if (strcmp(o, "-o") == 0) {
+            a->out_dir = v;
+        } else if (strcmp(o, "--views") == 0) {
+            if ((a->views = parse_count(v, 100000)) == 0) return 0;
+        } else if (strcmp(o, "--res") == 0) {
+            if ((a->res = parse_count(v, LS_RASTER_MAX_DIM)) == 0) return 0;
+        } else if (strcmp(o, "--ss") == 0) {
+            a->ss = parse_count(v, 4);
+            if (a->ss != 1 && a->ss != 2 && a->ss != 4) return 0;
+        } else if (strcmp(o, "--bits") == 0) {
+            a->bits = parse_count(v, 16);
+            if (a->bits != 8 && a->bits != 16) return 0;
+        } else if (strcmp(o, "--fov") == 0) {
+            char *end;
+            a->fov_deg = strtod(v, &end);
+            if (*end != 0 || !(a->fov_deg > 0.0 && a->fov_deg < 180.0)) return 0;
+        } else if (strcmp(o, "--shading") == 0) {
+            if (strcmp(v, "mask") == 0) a->mode = LS_SHADE_MASK;
+            else if (strcmp(v, "sh") == 0) a->mode = LS_SHADE_SH;
+            else if (strcmp(v, "lambert") == 0) a->mode = LS_SHADE_LAMBERT;
+            else return 0;
+        } else if (strcmp(o, "--placement") == 0) {
+            if (strcmp(v, "fibonacci") == 0) a->rings = 0;
+            else if (strcmp(v, "rings") == 0) a->rings = 1;
+            else return 0;
+        } else {
+            return 0;
+        }
+    }
+    return a->mesh_path != NULL && a->out_dir != NULL;
+}
+
+/* The built-in sky's SH coefficients: a 32 x 16 equirectangular map, bright
+ * blue-white above, a warm horizon band, dark ground. */
+static ls_status sky_sh(ls_real sh[27])
+{
+    ls_real sky[3 * 32 * 16];
+    uint32_t i;
+    for (i = 0; i < 32 * 16; i++) {
+        ls_real t = (ls_real)(i / 32) / (ls_real)15; /* 0 top .. 1 bottom */
+        sky[3 * i] = t < (ls_real)0.5 ? (ls_real)0.6 + t : (ls_real)0.3;
+        sky[3 * i + 1] = t < (ls_real)0.5 ? (ls_real)0.7 + (ls_real)0.2 * t : (ls_real)0.25;
+        sky[3 * i + 2] = t < (ls_real)0.5 ? (ls_real)1 - (ls_real)0.6 * t : (ls_real)0.2;
+    }
+    return ls_sh_from_equirect(sky, 32, 16, sh);
+}
+
+/* Writes an image whole: to DIR/.NAME.tmp, then renamed to DIR/NAME.
+ * Returns the file size, or 0 after printing an error. */
+static size_t write_png(const char *dir, const char *name, const ls_image *img, uint32_t bits, ls_arena *arena)
+{
+    char tmp[4096], path[4096];
+    ls_image_format fmt;
+    FILE *fp;
+    ls_status st;
+    size_t size = 0;
+    int ok;
+    fmt.type = LS_IMAGE_PNG;
+    fmt.channels = 4;
+    fmt.bits = bits;
+    fmt.big_endian = 0;
+    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path ||
+        (size_t)snprintf(tmp, sizeof tmp, "%s/.%s.tmp", dir, name) >= sizeof tmp) {
+        fprintf(stderr, "largesteps: output path too long\n");
+        return 0;
+    }
+    if (ls_image_encoded_size(img->width, img->height, &fmt, &size) != LS_OK) return 0;
+    fp = fopen(tmp, "wb");
+    if (fp == NULL) {
+        fprintf(stderr, "largesteps: cannot create %s: %s\n", tmp, strerror(errno));
+        return 0;
+    }
+    st = ls_image_encode(img, &fmt, ls_posix_write_file, fp, arena);
+    ok = st == LS_OK && fflush(fp) == 0 && !ferror(fp);
+    if (fclose(fp) != 0) ok = 0;
+    if (ok && rename(tmp, path) != 0) ok = 0;
+    if (!ok) {
+        fprintf(stderr, "largesteps: cannot write %s: %s\n", path, st != LS_OK ? ls_status_str(st) : strerror(errno));
+        remove(tmp);
+        return 0;
+    }
+    return size;
+}
+
+/* Everything one run holds (memory from two arenas: the geometry with the
+ * visibility buffer, and the images with every call's scratch). */
+typedef struct render_run {
+    render_args a;
+    ls_mesh mesh;
+    ls_real *normals, *dirs, *rgba;
+    ls_camera_framing fr;
+    ls_vis vis;
+    ls_image view;
+    ls_contact sheet;
+    ls_shade_opts opts;
+    ls_light lights[2];
+    ls_real sh[27];
+    ls_arena geo, work;
+    void *geo_mem, *work_mem;
+    size_t vis_bytes, rgba_bytes;
+    int with_sheet; /* 0 when the sheet would pass the image size limits */
+} render_run;
+
+static int fail(const char *what, ls_status st, const ls_diag *d)
+{
+    fprintf(stderr, "largesteps: %s: %s", what, ls_status_name(st));
+    if (d != NULL && d->has_line) fprintf(stderr, " (line %u)", (unsigned)d->line);
+    if (d != NULL && d->has_index) fprintf(stderr, " (index %llu)", (unsigned long long)d->index);
+    fprintf(stderr, ": %s\n", d != NULL && d->what != NULL && d->what[0] != 0 ? d->what : ls_status_str(st));
+    return 1;
+}
+
+/* Reads the mesh, frames it, places the views and sizes the work arena. */
+static int setup(render_run *r)
+{
+    unsigned char *data = NULL;
+    size_t bytes = 0, mesh_bytes, geo_bytes, work_bytes, scratch = 0, sz;
+    ls_mesh_file_info info;
+    ls_diag d;
+    ls_size s;
+    ls_status st;
+    uint32_t v, cols;
+    ls_real mvp[16];
+    ls_diag_clear(&d);
+    st = ls_posix_read_file(r->a.mesh_path, &data, &bytes);
+    if (st != LS_OK) {
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.mesh_path, ls_status_str(st));
+        return 1;
+    }
+    st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &info, &d);
+    if (st == LS_OK) st = ls_mesh_read_bytes(&info, &mesh_bytes);
+    if (st == LS_OK) st = ls_vis_bytes(r->a.res, r->a.res, r->a.ss, info.vertex_count, &r->vis_bytes);
+    if (st != LS_OK) {
+        free(data);
+        return fail(r->a.mesh_path, st, &d);
+    }
+    ls_size_init(&s);
+    ls_size_add(&s, mesh_bytes, 1);
+    ls_size_add(&s, info.vertex_count, 3 * sizeof(ls_real));
+    ls_size_add(&s, r->a.views, 3 * sizeof(ls_real));
+    ls_size_add(&s, r->vis_bytes, 1);
+    st = ls_size_get(&s, &geo_bytes);
+    r->geo_mem = st == LS_OK ? malloc(geo_bytes + 8) : NULL;
+    if (r->geo_mem == NULL || ls_arena_init(&r->geo, r->geo_mem, geo_bytes) != LS_OK) {
+        free(data);
+        return fail("memory", LS_ERR_NOMEM, NULL);
+    }
+    st = ls_mesh_read(data, bytes, info.format, &r->geo, &r->mesh, &d);
+    free(data);
+    if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
+    r->normals = (ls_real *)ls_arena_alloc(&r->geo, r->mesh.vertex_count, 3 * sizeof(ls_real));
+    r->dirs = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 3 * sizeof(ls_real));
+    if (r->normals == NULL || r->dirs == NULL) return fail("memory", LS_ERR_NOMEM, NULL);
+    st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);
+    if (st == LS_OK) {
+        st = ls_camera_frame(r->mesh.positions, r->mesh.vertex_count, (ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0),
+                             LS_FOV_X, 1, (ls_real)1.05, &r->fr, &d);
+        if (st == LS_ERR_INVALID) d.what = "cannot frame the mesh: no vertices, or all at one point";
+    }
+    if (st == LS_OK && r->a.rings) {
+        uint32_t rings = 1, k;
+        for (k = 1; (uint64_t)k * k <= r->a.views; k++)
+            if (r->a.views % k == 0) rings = k;
+        st = ls_camera_ring_dirs(rings, r->a.views / rings, r->dirs);
+    } else if (st == LS_OK) {
+        st = ls_camera_fibonacci_dirs(r->a.views, r->dirs);
+    }
+    if (st == LS_OK) st = ls_vis_init(&r->vis, &r->geo, r->a.res, r->a.res, r->a.ss, r->mesh.vertex_count);
+    if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
+    /* the work arena: shaded output, the view image, the sheet, and the
+     * largest scratch of any call (each view's exact raster scratch) */
+    for (v = 0; v < r->a.views && st == LS_OK; v++) {
+        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
+        if (st == LS_OK)
+            st = ls_raster_scratch_bytes(&r->vis, mvp, r->mesh.positions, r->mesh.vertex_count, r->mesh.triangles,
+                                         r->mesh.face_count, &sz);
+        if (st == LS_OK && sz > scratch) scratch = sz;
+    }
+    if (st == LS_OK) st = ls_shade_image_bytes(r->a.res, r->a.res, &r->rgba_bytes);
+    ls_size_init(&s);
+    ls_size_add(&s, r->rgba_bytes, 1);
+    if (st == LS_OK) st = ls_image_bytes(r->a.res, r->a.res, &sz);
+    ls_size_add(&s, sz, 1);
+    if (st == LS_OK) {
+        /* a sheet beyond the image size limits is left out (with a note) */
+        ls_status cs = ls_contact_bytes(r->a.views, r->a.res, r->a.res, 0, 1, &sz);
+        r->with_sheet = cs == LS_OK;
+        if (cs == LS_ERR_TOO_LARGE) fprintf(stderr, "largesteps: note: the contact sheet would be too large; not written\n");
+        else if (cs != LS_OK) st = cs;
+        if (r->with_sheet) ls_size_add(&s, sz, 1);
+    }
+    if (st == LS_OK) {
+        ls_image_format fmt = {LS_IMAGE_PNG, 4, 16, 0};
+        st = ls_image_encode_bytes(r->a.res, r->a.res, &fmt, &sz); /* the same for the sheet */
+        if (sz > scratch) scratch = sz;
+    }
+    ls_size_add(&s, scratch, 1);
+    if (st == LS_OK) st = ls_size_get(&s, &work_bytes);
+    if (st != LS_OK) return fail("sizing", st, NULL);
+    r->work_mem = malloc(work_bytes + 8);
+    if (r->work_mem == NULL || ls_arena_init(&r->work, r->work_mem, work_bytes) != LS_OK)
+        return fail("memory", LS_ERR_NOMEM, NULL);
+    r->rgba = (ls_real *)ls_arena_alloc(&r->work, r->rgba_bytes, 1);
+    st = r->rgba == NULL ? LS_ERR_NOMEM : ls_image_create(&r->view, r->a.res, r->a.res, &r->work);
+    if (st == LS_OK && r->with_sheet) {
+        const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
+        st = ls_contact_init(&r->sheet, &r->work, r->a.views, r->a.res, r->a.res, 0, 1, grey);
+    }
+    if (st != LS_OK) return fail("memory", st, NULL);
+    cols = r->with_sheet ? r->sheet.columns : 0;
+    printf("mesh      %s: %u vertices, %u triangles\n", r->a.mesh_path, (unsigned)r->mesh.vertex_count,
+           (unsigned)r->mesh.face_count);
+    printf("views     %u (%s), %ux%u pixels, %ux%u samples each, fov %.6g deg, distance %.6g (radius %.6g)\n",
+           (unsigned)r->a.views, r->a.rings ? "rings" : "fibonacci", (unsigned)r->a.res, (unsigned)r->a.res,
+           (unsigned)r->a.ss, (unsigned)r->a.ss, r->a.fov_deg, (double)r->fr.distance, (double)r->fr.radius);
+    printf("memory    geometry %lu bytes (visibility buffer %lu), work %lu bytes (largest scratch %lu)",
+           (unsigned long)geo_bytes, (unsigned long)r->vis_bytes, (unsigned long)work_bytes, (unsigned long)scratch);
+    if (r->with_sheet)
+        printf("; contact sheet %ux%u (%u columns)", (unsigned)r->sheet.image.width, (unsigned)r->sheet.image.height,
+               (unsigned)cols);
+    printf("\n");
+    return 0;
+}
+
+static void shading_options(render_run *r)
+{
+    static const ls_real key[3] = {(ls_real)0.48, (ls_real)0.64, (ls_real)0.6};
+    static const ls_real fill[3] = {(ls_real)-0.6, (ls_real)-0.48, (ls_real)-0.64};
+    int k;
+    ls_shade_opts_init(&r->opts);
+    r->opts.mode = r->a.mode;
+    for (k = 0; k < 3; k++) {
+        r->lights[0].dir[k] = key[k];
+        r->lights[1].dir[k] = fill[k];
+        r->opts.ambient[k] = (ls_real)0.05;
+    }
+    r->lights[0].rgb[0] = (ls_real)1;
+    r->lights[0].rgb[1] = (ls_real)0.95;
+    r->lights[0].rgb[2] = (ls_real)0.9;
+    r->lights[1].rgb[0] = (ls_real)0.15;
+    r->lights[1].rgb[1] = (ls_real)0.2;
+    r->lights[1].rgb[2] = (ls_real)0.35;
+    r->opts.lights = r->lights;
+    r->opts.light_count = 2;
+    r->opts.sh = r->sh;
+}
+
+static double ms(uint64_t t0, uint64_t t1)
+{
+    return (double)(t1 - t0) * 1e-6;
+}
+
+static int render_views(render_run *r)
+{
+    uint32_t v;
+    uint64_t t_all = ls_posix_clock_ns(NULL);
+    size_t files = 0;
+    ls_diag d;
+    for (v = 0; v < r->a.views; v++) {
+        ls_real mvp[16];
+        uint64_t t0, t1, t2, t3;
+        size_t i, n = 4 * (size_t)r->a.res * r->a.res, fsize, used;
+        char name[64];
+        ls_status st;
+        ls_diag_clear(&d);
+        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
+        t0 = ls_posix_clock_ns(NULL);
+        if (st == LS_OK)
+            st = ls_raster(&r->vis, &r->work, mvp, r->mesh.positions, r->mesh.vertex_count, r->mesh.triangles,
+                           r->mesh.face_count, &d);
+        t1 = ls_posix_clock_ns(NULL);
+        if (st == LS_OK)
+            st = ls_shade(&r->vis, r->mesh.triangles, r->mesh.face_count, r->normals, r->mesh.vertex_count, &r->opts,
+                          r->rgba, &d);
+        t2 = ls_posix_clock_ns(NULL);
+        if (st != LS_OK) return fail("render", st, &d);
+        for (i = 0; i < n; i++) r->view.pixels[i] = (float)r->rgba[i];
+        st = r->with_sheet ? ls_contact_put_image(&r->sheet, v, &r->view) : LS_OK;
+        if (st != LS_OK) return fail("contact sheet", st, NULL);
+        snprintf(name, sizeof name, "view_%03u.png", (unsigned)v);
+        fsize = write_png(r->a.out_dir, name, &r->view, r->a.bits, &r->work);
+        t3 = ls_posix_clock_ns(NULL);
+        if (fsize == 0) return 1;
+        files += fsize;
+        used = r->vis_bytes + r->vis.scratch_bytes + r->rgba_bytes;
+        printf("view %03u  raster %8.3f ms  shade %8.3f ms  write %8.3f ms  %9lu bytes used "
+               "(vis %lu + raster scratch %lu + rgba %lu; %lu bin entries, %u clipped)  %s %lu bytes\n",
+               (unsigned)v, ms(t0, t1), ms(t1, t2), ms(t2, t3), (unsigned long)used, (unsigned long)r->vis_bytes,
+               (unsigned long)r->vis.scratch_bytes, (unsigned long)r->rgba_bytes, (unsigned long)r->vis.bin_entries,
+               (unsigned)r->vis.clipped_triangles, name, (unsigned long)fsize);
+    }
+    if (r->with_sheet) {
+        uint64_t t0 = ls_posix_clock_ns(NULL), t1;
+        size_t fsize = write_png(r->a.out_dir, "contact.png", &r->sheet.image, r->a.bits, &r->work);
+        t1 = ls_posix_clock_ns(NULL);
+        if (fsize == 0) return 1;
+        printf("contact   %ux%u  write %8.3f ms  contact.png %lu bytes\n", (unsigned)r->sheet.image.width,
+               (unsigned)r->sheet.image.height, ms(t0, t1), (unsigned long)fsize);
+        files += fsize;
+    }
+    printf("total     %u views in %.3f ms, %lu bytes written to %s\n", (unsigned)r->a.views,
+           ms(t_all, ls_posix_clock_ns(NULL)), (unsigned long)files, r->a.out_dir);
+    return 0;
+}
 
 int ls_cmd_render(int argc, char **argv)
 {
-    (void)argc;
-    fprintf(stderr, "largesteps: '%s' is not available yet\n", argv[0]);
-    return 2;
+    render_run r;
+    int rc;
+    struct stat sb;
+    memset(&r, 0, sizeof r);
+    if (!parse_args(argc, argv, &r.a)) return usage();
+    if (stat(r.a.out_dir, &sb) != 0) {
+        if (mkdir(r.a.out_dir, 0777) != 0) {
+            fprintf(stderr, "largesteps: cannot create %s: %s\n", r.a.out_dir, strerror(errno));
+            return 1;
+        }
+    } else if (!S_ISDIR(sb.st_mode)) {
+        fprintf(stderr, "largesteps: %s is not a directory\n", r.a.out_dir);
+        return 1;
+    }
+    if (sky_sh(r.sh) != LS_OK) return fail("sky", LS_ERR_INVALID, NULL);
+    rc = setup(&r);
+    if (rc == 0) {
+        shading_options(&r);
+        rc = render_views(&r);
+    }
+    free(r.geo_mem);
+    free(r.work_mem);
+    return rc;
 }
