@@ -244,14 +244,7 @@ ls_status ls_camera_orbit(const ls_real center[3], ls_real distance, const ls_re
 
 static ls_status frame_nonfinite(uint32_t i, ls_diag *diag)
 {
-    if (diag != NULL) {
-        ls_diag_clear(diag);
-        diag->status = LS_ERR_NONFINITE;
-        diag->has_index = 1;
-        diag->index = i;
-        diag->what = "vertex with a non-finite coordinate";
-    }
-    return LS_ERR_NONFINITE;
+    return ls_diag_set(diag, LS_ERR_NONFINITE, "vertex with a non-finite coordinate", i);
 }
 
 ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_real fov, uint32_t fov_axis,

@@ -9,14 +9,7 @@
 
 static void set_diag(ls_diag *diag, ls_status st, const char *what, uint64_t index, int has_index)
 {
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
-    if (has_index) {
-        diag->has_index = 1;
-        diag->index = index;
-    }
+    (void)ls_diag_set(diag, st, what, has_index ? index : LS_DIAG_NO_INDEX);
 }
 
 /* Entries of a Laplacian with n vertices and e edges in `storage`; 0 and

@@ -20,12 +20,7 @@
 
 static void set_diag(ls_diag *diag, ls_status st, const char *what, uint64_t index)
 {
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
-    diag->has_index = 1;
-    diag->index = index;
+    (void)ls_diag_set(diag, st, what, index);
 }
 
 static int finite3(const ls_real *p)

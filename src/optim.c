@@ -6,14 +6,10 @@
 
 static void diag_set(ls_diag *diag, ls_status st, const char *what, uint32_t index, ls_real value)
 {
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
-    diag->has_index = 1;
-    diag->index = index;
-    diag->has_value = 1;
-    diag->value = value;
+    if (ls_diag_set(diag, st, what, index) != LS_OK && diag != NULL) {
+        diag->has_value = 1;
+        diag->value = value;
+    }
 }
 
 static int is_finite(ls_real x)

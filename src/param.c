@@ -5,10 +5,7 @@
 
 static void set_diag(ls_diag *diag, ls_status st, const char *what)
 {
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
+    (void)ls_diag_set(diag, st, what, LS_DIAG_NO_INDEX);
 }
 
 static int config_ok(const ls_csc *lap, const ls_param_config *cfg)

@@ -342,16 +342,8 @@ ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_c
     uint32_t t;
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count) {
-            if (diag != NULL) {
-                ls_diag_clear(diag);
-                diag->status = LS_ERR_MESH;
-                diag->has_index = 1;
-                diag->index = t;
-                diag->what = "triangle vertex index out of range";
-            }
-            return LS_ERR_MESH;
-        }
+        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count)
+            return ls_diag_set(diag, LS_ERR_MESH, "triangle vertex index out of range", t);
     }
     return LS_OK;
 }

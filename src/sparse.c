@@ -7,14 +7,7 @@
 
 static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index, int has_index)
 {
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
-    if (has_index) {
-        diag->has_index = 1;
-        diag->index = index;
-    }
+    (void)ls_diag_set(diag, st, what, has_index ? index : LS_DIAG_NO_INDEX);
 }
 
 uint32_t ls_csc_nnz(const ls_csc *a)

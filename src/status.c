@@ -67,3 +67,16 @@ void ls_diag_clear(ls_diag *diag)
     diag->value = 0;
     diag->what = "";
 }
+
+ls_status ls_diag_set(ls_diag *diag, ls_status status, const char *what, uint64_t index)
+{
+    if (diag == NULL) return status;
+    ls_diag_clear(diag);
+    diag->status = status;
+    diag->what = what;
+    if (index != LS_DIAG_NO_INDEX) {
+        diag->has_index = 1;
+        diag->index = index;
+    }
+    return status;
+}

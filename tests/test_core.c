@@ -162,6 +162,24 @@ static int32_t fake_progress(void *user, const ls_progress *p)
     return f->calls >= f->cancel_at;
 }
 
+static void diag_set_records_status_what_and_index(void)
+{
+    ls_diag d;
+    memset(&d, 0x5A, sizeof d);
+    CHECK_STATUS(ls_diag_set(&d, LS_ERR_MESH, "face index out of range", 7), LS_ERR_MESH);
+    CHECK_EQ(d.status, LS_ERR_MESH);
+    CHECK(d.what != NULL && strcmp(d.what, "face index out of range") == 0);
+    CHECK_EQ(d.has_index, 1);
+    CHECK_EQ(d.index, 7);
+    CHECK_EQ(d.has_line, 0);
+    CHECK_EQ(d.has_offset, 0);
+    CHECK_EQ(d.has_value, 0);
+    CHECK_STATUS(ls_diag_set(&d, LS_ERR_PARSE, "bad", LS_DIAG_NO_INDEX), LS_ERR_PARSE);
+    CHECK_EQ(d.has_index, 0);
+    CHECK_EQ(d.index, 0);
+    CHECK_STATUS(ls_diag_set(NULL, LS_ERR_IO, "x", 1), LS_ERR_IO);
+}
+
 static void monitor_reports_and_cancels(void)
 {
     fake f = {5000, 0, 3, 0, 0};
@@ -196,6 +214,7 @@ int main(void)
     TEST_RUN(selftest_detects_flush_to_zero);
     TEST_RUN(status_names_and_messages);
     TEST_RUN(diag_clear_resets_every_field);
+    TEST_RUN(diag_set_records_status_what_and_index);
     TEST_RUN(monitor_reports_and_cancels);
     return TEST_END();
 }

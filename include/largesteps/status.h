@@ -60,6 +60,15 @@ typedef struct ls_diag {
 /* ls_diag_clear: resets every field to zero (what = ""). O(1). NULL is ignored. */
 void ls_diag_clear(ls_diag *diag);
 
+/* An index argument of ls_diag_set meaning "no element". */
+#define LS_DIAG_NO_INDEX UINT64_MAX
+
+/* ls_diag_set: clears *diag (NULL is ignored) and records `status`, the
+ * static description `what` and, unless index is LS_DIAG_NO_INDEX, the
+ * element index. Returns status, so that a failing call can end with
+ * `return ls_diag_set(diag, LS_ERR_MESH, "face index out of range", f);`. O(1). */
+ls_status ls_diag_set(ls_diag *diag, ls_status status, const char *what, uint64_t index);
+
 #ifdef __cplusplus
 }
 #endif
