@@ -277,12 +277,14 @@ run: $(CLI)
 	@$(CLI) info
 
 # Benchmarks against peers measured in the same run (bench-only packages:
-# libsuitesparse-dev libeigen3-dev libosmesa6-dev); tables in $(BUILD)/bench/.
+# libsuitesparse-dev libeigen3-dev libosmesa6-dev libcgal-dev); tables in $(BUILD)/bench/.
 bench: all
 	@mkdir -p $(BUILD)/bench
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
+	BUILD=$(BUILD) sh tests/bench/run_distance.sh
+	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 
 
 install: $(LIB) $(CONFIG_H)

@@ -40,5 +40,9 @@
 #include <largesteps/cg.h>
 #include <largesteps/param.h>
 #include <largesteps/toy1d.h>
+#include <largesteps/distance.h>
+#include <largesteps/tangle.h>
+#include <largesteps/halfedge.h>
+#include <largesteps/remesh.h>
 
 #endif /* LARGESTEPS_H */

@@ -13,7 +13,13 @@
  * the triangle it lies on and its barycentric coordinates; among equally
  * distant triangles the lowest index wins, whatever the traversal order.
  * Degenerate triangles (repeated or collinear corners) are handled: their
- * closest point is the closest point of their longest edge.
+ * closest point is the closest point of their longest edge. A triangle counts
+ * as degenerate when |ab x ac| <= 16 eps |ab| |ac| (eps = LS_REAL_EPSILON).
+ * The search prunes a box only when it is farther than the best distance plus
+ * a rounding slack (256 eps times the largest coordinate of the tree's box and
+ * the query), so its answer is exactly what a brute-force loop over every
+ * triangle with ls_closest_point_triangle gives (smallest dist2, then lowest
+ * index).
  *
  * The tree borrows the mesh: it keeps pointers to positions and triangles,
  * which must stay alive and unchanged while the tree is used.
@@ -65,6 +71,18 @@ typedef struct ls_bvh_hit {
  * LS_ERR_INVALID (NULL bytes), LS_ERR_TOO_LARGE. */
 ls_status ls_bvh_bytes(uint32_t face_count, size_t *bytes);
 
+/* ls_bvh_tree_bytes: the part of ls_bvh_bytes that stays allocated after a
+ * successful build (nodes and order, from the arena's bottom); the rest is the
+ * build's scratch, released before it returns. O(1). Errors as ls_bvh_bytes. */
+ls_status ls_bvh_tree_bytes(uint32_t face_count, size_t *bytes);
+
+/* ls_bvh_check_mesh: the input checks of ls_bvh_build (and of the distance
+ * and tangle metrics): at most (2^32 - 2) / 3 faces, every index below
+ * vertex_count, every coordinate finite. O(V + F); no memory. Errors:
+ * LS_ERR_INVALID (NULL), LS_ERR_TOO_LARGE, LS_ERR_MESH (diag->index = the
+ * first bad face), LS_ERR_NONFINITE (diag->index = the first bad vertex). */
+ls_status ls_bvh_check_mesh(const ls_mesh *mesh, ls_diag *diag);
+
 /* ls_bvh_build: builds the tree of every face of `mesh` (at least one face;
  * finite positions; indices in range). O(F log F) time. Memory: the nodes and
  * the order from the arena's bottom, scratch from the top. Errors:
@@ -76,9 +94,37 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
 /* ls_bvh_closest: the closest point of the tree's surface to p. Only points
  * closer than sqrt(max_dist2) are searched (pass an infinite or huge value for
  * an unbounded search); when none is, hit->face is UINT32_MAX and the
- * other fields are unspecified. Time about O(log F) for points near the surface; no memory.
- * Errors: LS_ERR_INVALID (NULL), LS_ERR_NONFINITE (p not finite). */
+ * other fields are unspecified. Time about O(log F) for points near the surface
+ * (armadillo, 52k faces: ~4 us per query 1 % of the diagonal off the surface);
+ * no memory, about 750 bytes of stack. Errors: LS_ERR_INVALID (NULL, NaN
+ * max_dist2), LS_ERR_NONFINITE (p not finite), LS_ERR_STATE (a tree deeper
+ * than ls_bvh_build makes: not built by it). */
 ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, ls_bvh_hit *hit);
+
+/* Iterator over the triangles whose boxes overlap a query box (closed
+ * intervals: touching boxes overlap), for triangle-pair tests such as
+ * self-intersection counts. Triangles come leaf by leaf, in a fixed order
+ * (depth first, first child first), each at most once. The state lives in the
+ * struct (a fixed stack, about 300 bytes); no memory. */
+typedef struct ls_bvh_overlap {
+    const ls_bvh *bvh;
+    ls_real lo[3];
+    ls_real hi[3];
+    uint32_t stack[LS_BVH_MAX_DEPTH + 2u];
+    uint32_t sp;
+    uint32_t pos; /* the current leaf's next position in bvh->order */
+    uint32_t end;
+} ls_bvh_overlap;
+
+/* ls_bvh_overlap_begin: starts an iteration over the triangles of `bvh`
+ * whose boxes overlap the box [lo, hi]. O(1). Errors: LS_ERR_INVALID
+ * (NULL), LS_ERR_NONFINITE (a NaN bound; infinite bounds are allowed). */
+ls_status ls_bvh_overlap_begin(const ls_bvh *bvh, const ls_real lo[3], const ls_real hi[3], ls_bvh_overlap *it);
+
+/* ls_bvh_overlap_next: the next triangle in *face and 1, or 0 when the
+ * iteration is over. Total cost O(log F + k) for k reported triangles on
+ * well-shaped meshes; no memory. */
+int ls_bvh_overlap_next(ls_bvh_overlap *it, uint32_t *face);
 
 /* ls_closest_point_triangle: the closest point of triangle (a, b, c) to p,
  * with its barycentric coordinates (they sum to 1) and squared distance;

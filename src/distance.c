@@ -1,0 +1,353 @@
+/* distance.c - mesh-to-mesh distances over vertex and area-uniform face
+ * samples (see largesteps/distance.h). */
+#include <largesteps/distance.h>
+#include <largesteps/math.h>
+#include <string.h>
+
+/* R2 sequence increments, round(2^32 / g) and round(2^32 / g^2) for the
+ * plastic number g = 1.3247179572447460...; the sequence starts at 1/2. */
+#define R2_A1 3242174889u
+#define R2_A2 2447445414u
+#define R2_START 2147483648u
+#define RAD_TO_DEG ((ls_real)57.295779513082320876798)
+
+static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index, int has_index)
+{
+    (void)ls_diag_set(diag, st, what, has_index ? index : LS_DIAG_NO_INDEX);
+}
+
+/* Neumaier-compensated sum. */
+typedef struct csum {
+    ls_real s;
+    ls_real c;
+} csum;
+
+static void csum_add(csum *a, ls_real x)
+{
+    ls_real t = a->s + x;
+    if (LS_RFABS(a->s) >= LS_RFABS(x)) a->c += (a->s - t) + x;
+    else a->c += (x - t) + a->s;
+    a->s = t;
+}
+
+static ls_real csum_get(const csum *a)
+{
+    return a->s + a->c;
+}
+
+typedef struct acc {
+    csum sum;
+    csum sum2;
+    ls_real max;
+    uint32_t count;
+    uint32_t argmax;
+} acc;
+
+static void acc_init(acc *a)
+{
+    memset(a, 0, sizeof *a);
+    a->argmax = UINT32_MAX;
+}
+
+static void acc_add(acc *a, ls_real x, uint32_t id)
+{
+    csum_add(&a->sum, x);
+    csum_add(&a->sum2, x * x);
+    if (a->count == 0 || x > a->max) {
+        a->max = x;
+        a->argmax = id;
+    }
+    a->count++;
+}
+
+static void acc_get(const acc *a, ls_dist_stats *s)
+{
+    s->count = a->count;
+    s->argmax = a->argmax;
+    s->max = a->max;
+    s->mean = 0;
+    s->rms = 0;
+    if (a->count > 0) {
+        ls_real m2 = csum_get(&a->sum2) / (ls_real)a->count;
+        s->mean = csum_get(&a->sum) / (ls_real)a->count;
+        s->rms = m2 > 0 ? LS_RSQRT(m2) : (ls_real)0;
+    }
+}
+
+/* Twice the area vector of face f. */
+static void tri_cross(const ls_real *pos, const uint32_t *tris, uint32_t f, ls_real n[3])
+{
+    const uint32_t *t = tris + 3u * (size_t)f;
+    const ls_real *a = pos + 3u * (size_t)t[0];
+    const ls_real *b = pos + 3u * (size_t)t[1];
+    const ls_real *c = pos + 3u * (size_t)t[2];
+    ls_real u[3], v[3];
+    uint32_t k;
+    for (k = 0; k < 3u; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+    }
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+static void face_cross(const ls_mesh *m, uint32_t f, ls_real n[3])
+{
+    tri_cross(m->positions, m->triangles, f, n);
+}
+
+static ls_real norm3(const ls_real n[3])
+{
+    return LS_RSQRT((n[0] * n[0] + n[1] * n[1]) + n[2] * n[2]);
+}
+
+static ls_real total_area2(const ls_mesh *m)
+{
+    csum s;
+    uint32_t f;
+    s.s = s.c = 0;
+    for (f = 0; f < m->face_count; f++) {
+        ls_real n[3];
+        face_cross(m, f, n);
+        csum_add(&s, norm3(n));
+    }
+    return csum_get(&s);
+}
+
+/* Walks the faces handing out sample counts: after a call for face f,
+ * *end is the number of samples in faces 0..f (round(N C_f), the last face
+ * ending at N exactly). */
+typedef struct sampler {
+    csum cum;
+    ls_real total;
+    uint32_t n;
+    uint32_t end;
+} sampler;
+
+static uint32_t sampler_next(sampler *s, ls_real area2, int last)
+{
+    uint32_t begin = s->end, e;
+    ls_real x;
+    csum_add(&s->cum, area2);
+    if (last) {
+        s->end = s->n;
+        return s->n - begin;
+    }
+    x = (ls_real)s->n * (csum_get(&s->cum) / s->total);
+    e = LS_RTO_U32(LS_RFLOOR(x + (ls_real)0.5));
+    if (e < begin) e = begin;
+    if (e > s->n) e = s->n;
+    s->end = e;
+    return e - begin;
+}
+
+/* Face sample k in face f: the R2 point of index k folded into the triangle. */
+static void sample_in_face(const ls_mesh *m, uint32_t f, uint32_t k, ls_real p[3])
+{
+    const uint32_t *t = m->triangles + 3u * (size_t)f;
+    const ls_real *a = m->positions + 3u * (size_t)t[0];
+    const ls_real *b = m->positions + 3u * (size_t)t[1];
+    const ls_real *c = m->positions + 3u * (size_t)t[2];
+    uint32_t xu = R2_START + k * R2_A1, xv = R2_START + k * R2_A2, j;
+    const ls_real scale = (ls_real)1 / (ls_real)16777216;
+    ls_real u = (ls_real)(xu >> 8) * scale, v = (ls_real)(xv >> 8) * scale;
+    if (u + v > (ls_real)1) {
+        u = (ls_real)1 - u;
+        v = (ls_real)1 - v;
+    }
+    for (j = 0; j < 3u; j++) p[j] = a[j] + u * (b[j] - a[j]) + v * (c[j] - a[j]);
+}
+
+/* ls_bvh_check_mesh, with the messages of one mesh role. */
+static ls_status check_mesh(const ls_mesh *m, const char *bad_index, const char *bad_value, ls_diag *diag)
+{
+    ls_status st = ls_bvh_check_mesh(m, diag);
+    if (diag != NULL && st == LS_ERR_MESH) diag->what = bad_index;
+    if (diag != NULL && st == LS_ERR_NONFINITE) diag->what = bad_value;
+    return st;
+}
+
+uint32_t ls_distance_default_samples(const ls_mesh *mesh)
+{
+    uint32_t v;
+    if (mesh == NULL) return 1000u;
+    v = mesh->vertex_count;
+    if (v > UINT32_MAX / 10u) return UINT32_MAX;
+    return v * 10u < 1000u ? 1000u : v * 10u;
+}
+
+/* Angle in degrees between two (unnormalised) normals; -1 when one is zero. */
+static ls_real normal_angle(const ls_real n1[3], const ls_real n2[3])
+{
+    ls_real c[3], d;
+    if ((n2[0] == 0 && n2[1] == 0 && n2[2] == 0) || (n1[0] == 0 && n1[1] == 0 && n1[2] == 0)) return -1;
+    c[0] = n1[1] * n2[2] - n1[2] * n2[1];
+    c[1] = n1[2] * n2[0] - n1[0] * n2[2];
+    c[2] = n1[0] * n2[1] - n1[1] * n2[0];
+    d = (n1[0] * n2[0] + n1[1] * n2[1]) + n1[2] * n2[2];
+    return LS_RATAN2(norm3(c), d) * RAD_TO_DEG;
+}
+
+static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samples, ls_dist_one_way *out)
+{
+    acc av, af, an;
+    sampler sm;
+    uint32_t v, f, k = 0;
+    ls_bvh_hit hit;
+    ls_status st;
+    const ls_real inf = LS_REAL_MAX;
+    acc_init(&av);
+    acc_init(&af);
+    acc_init(&an);
+    for (v = 0; v < src->vertex_count; v++) {
+        st = ls_bvh_closest(target, src->positions + 3u * (size_t)v, inf, &hit);
+        if (st != LS_OK) return st;
+        acc_add(&av, LS_RSQRT(hit.dist2), v);
+    }
+    memset(&sm, 0, sizeof sm);
+    sm.total = total_area2(src);
+    sm.n = sm.total > 0 ? samples : 0u;
+    for (f = 0; f < src->face_count && sm.n > 0; f++) {
+        ls_real n1[3], area2;
+        uint32_t c;
+        face_cross(src, f, n1);
+        area2 = norm3(n1);
+        c = sampler_next(&sm, area2, f + 1u == src->face_count);
+        for (; c > 0; c--, k++) {
+            ls_real p[3], n2[3], ang;
+            sample_in_face(src, f, k, p);
+            st = ls_bvh_closest(target, p, inf, &hit);
+            if (st != LS_OK) return st;
+            acc_add(&af, LS_RSQRT(hit.dist2), k);
+            tri_cross(target->positions, target->triangles, hit.face, n2);
+            ang = normal_angle(n1, n2);
+            if (ang >= 0) acc_add(&an, ang, k);
+        }
+    }
+    acc_get(&av, &out->vertex);
+    acc_get(&af, &out->face);
+    acc_get(&an, &out->normal);
+    return LS_OK;
+}
+
+ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samples, ls_dist_one_way *out,
+                              ls_diag *diag)
+{
+    ls_dist_one_way r;
+    ls_status st;
+    if (src == NULL || target == NULL || out == NULL || target->nodes == NULL ||
+        (src->face_count > 0 && src->triangles == NULL) || (src->vertex_count > 0 && src->positions == NULL)) {
+        diag_set(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        return LS_ERR_INVALID;
+    }
+    st = check_mesh(src, "face index out of range", "vertex coordinate not finite", diag);
+    if (st != LS_OK) return st;
+    st = one_way(src, target, samples, &r);
+    if (st != LS_OK) {
+        diag_set(diag, st, "closest-point query failed", 0, 0);
+        return st;
+    }
+    *out = r;
+    return LS_OK;
+}
+
+ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *bytes)
+{
+    size_t ta, tb, ba, bb, x;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if ((st = ls_bvh_bytes(faces_a, &ba)) != LS_OK) return st;
+    if ((st = ls_bvh_bytes(faces_b, &bb)) != LS_OK) return st;
+    if ((st = ls_bvh_tree_bytes(faces_a, &ta)) != LS_OK) return st;
+    if ((st = ls_bvh_tree_bytes(faces_b, &tb)) != LS_OK) return st;
+    (void)ta;
+    /* B's tree is built first and kept while A's is built */
+    if ((st = ls_size_sum(tb, ba, &x)) != LS_OK) return st;
+    *bytes = x > bb ? x : bb;
+    return LS_OK;
+}
+
+ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
+                           ls_arena *arena, ls_distance_report *out, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_bvh ta, tb;
+    ls_distance_report r;
+    ls_real lo[3], hi[3], d[3];
+    ls_status st;
+    uint32_t k;
+    if (a == NULL || b == NULL || arena == NULL || out == NULL || a->face_count == 0 || b->face_count == 0 ||
+        a->triangles == NULL || b->triangles == NULL || a->positions == NULL || b->positions == NULL) {
+        diag_set(diag, LS_ERR_INVALID, "NULL argument or mesh without faces", 0, 0);
+        return LS_ERR_INVALID;
+    }
+    st = check_mesh(a, "mesh A: face index out of range", "mesh A: vertex coordinate not finite", diag);
+    if (st == LS_OK) st = check_mesh(b, "mesh B: face index out of range", "mesh B: vertex coordinate not finite", diag);
+    if (st != LS_OK) return st;
+    mark = ls_arena_save(arena);
+    st = ls_bvh_build(b, arena, &tb, NULL);
+    if (st == LS_OK) st = ls_bvh_build(a, arena, &ta, NULL);
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small for the two BVHs" : "BVH build failed", 0, 0);
+        return st;
+    }
+    memset(&r, 0, sizeof r);
+    st = one_way(a, &tb, samples_a, &r.ab);
+    if (st == LS_OK) st = one_way(b, &ta, samples_b, &r.ba);
+    ls_arena_restore(arena, mark);
+    if (st != LS_OK) {
+        diag_set(diag, st, "closest-point query failed", 0, 0);
+        return st;
+    }
+    r.vertex_hausdorff = r.ab.vertex.max > r.ba.vertex.max ? r.ab.vertex.max : r.ba.vertex.max;
+    r.hausdorff = r.vertex_hausdorff;
+    if (r.ab.face.max > r.hausdorff) r.hausdorff = r.ab.face.max;
+    if (r.ba.face.max > r.hausdorff) r.hausdorff = r.ba.face.max;
+    {
+        /* face samples when there are any, else vertices */
+        const ls_dist_stats *sa = r.ab.face.count > 0 ? &r.ab.face : &r.ab.vertex;
+        const ls_dist_stats *sb = r.ba.face.count > 0 ? &r.ba.face : &r.ba.vertex;
+        r.mean = (sa->mean + sb->mean) * (ls_real)0.5;
+        r.rms = LS_RSQRT((sa->rms * sa->rms + sb->rms * sb->rms) * (ls_real)0.5);
+    }
+    ls_mesh_bounds(b, lo, hi);
+    for (k = 0; k < 3u; k++) d[k] = hi[k] - lo[k];
+    r.diag = norm3(d);
+    if (r.diag > 0) {
+        r.vertex_hausdorff_rel = r.vertex_hausdorff / r.diag;
+        r.hausdorff_rel = r.hausdorff / r.diag;
+        r.mean_rel = r.mean / r.diag;
+        r.rms_rel = r.rms / r.diag;
+    }
+    *out = r;
+    return LS_OK;
+}
+
+ls_status ls_distance_sample_point(const ls_mesh *mesh, uint32_t samples, uint32_t k, uint32_t *face, ls_real point[3])
+{
+    sampler sm;
+    uint32_t f;
+    if (mesh == NULL || face == NULL || point == NULL || k >= samples || mesh->triangles == NULL ||
+        mesh->positions == NULL)
+        return LS_ERR_INVALID;
+    if (ls_bvh_check_mesh(mesh, NULL) != LS_OK) return LS_ERR_MESH;
+    memset(&sm, 0, sizeof sm);
+    sm.total = total_area2(mesh);
+    sm.n = samples;
+    if (!(sm.total > 0)) return LS_ERR_INVALID;
+    for (f = 0; f < mesh->face_count; f++) {
+        ls_real n[3];
+        uint32_t begin = sm.end;
+        face_cross(mesh, f, n);
+        sampler_next(&sm, norm3(n), f + 1u == mesh->face_count);
+        if (k < sm.end && k >= begin) {
+            *face = f;
+            sample_in_face(mesh, f, k, point);
+            return LS_OK;
+        }
+    }
+    return LS_ERR_INVALID;
+}

@@ -1,0 +1,460 @@
+/* tangle.c - self-intersections, inverted faces, triangle shape statistics
+ * (see largesteps/tangle.h). */
+#include <largesteps/tangle.h>
+#include <largesteps/bvh.h>
+#include <largesteps/math.h>
+#include <largesteps/sort.h>
+#include <string.h>
+
+#define RAD_TO_DEG ((ls_real)57.295779513082320876798)
+
+static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index, int has_index)
+{
+    (void)ls_diag_set(diag, st, what, has_index ? index : LS_DIAG_NO_INDEX);
+}
+
+static void sub3(const ls_real *a, const ls_real *b, ls_real *o)
+{
+    o[0] = a[0] - b[0];
+    o[1] = a[1] - b[1];
+    o[2] = a[2] - b[2];
+}
+
+static void cross3(const ls_real *u, const ls_real *v, ls_real *n)
+{
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+static ls_real dot3(const ls_real *a, const ls_real *b)
+{
+    return (a[0] * b[0] + a[1] * b[1]) + a[2] * b[2];
+}
+
+/* Sign of the volume [d, a - p, b - p]. */
+static int vol_sign(const ls_real *d, const ls_real *p, const ls_real *a, const ls_real *b)
+{
+    ls_real u[3], v[3], n[3], x;
+    sub3(a, p, u);
+    sub3(b, p, v);
+    cross3(u, v, n);
+    x = dot3(d, n);
+    return (x > 0) - (x < 0);
+}
+
+static int orient2(const ls_real *a, const ls_real *b, const ls_real *c)
+{
+    ls_real x = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    return (x > 0) - (x < 0);
+}
+
+static int between(ls_real a, ls_real b, ls_real x)
+{
+    return a <= b ? (a <= x && x <= b) : (b <= x && x <= a);
+}
+
+/* Closed 2-D segments pq and ab meet. */
+static int seg_seg2(const ls_real *p, const ls_real *q, const ls_real *a, const ls_real *b)
+{
+    int o1 = orient2(p, q, a), o2 = orient2(p, q, b), o3 = orient2(a, b, p), o4 = orient2(a, b, q);
+    if (o1 * o2 < 0 && o3 * o4 < 0) return 1;
+    if (o1 == 0 && between(p[0], q[0], a[0]) && between(p[1], q[1], a[1])) return 1;
+    if (o2 == 0 && between(p[0], q[0], b[0]) && between(p[1], q[1], b[1])) return 1;
+    if (o3 == 0 && between(a[0], b[0], p[0]) && between(a[1], b[1], p[1])) return 1;
+    if (o4 == 0 && between(a[0], b[0], q[0]) && between(a[1], b[1], q[1])) return 1;
+    return 0;
+}
+
+static int in_tri2(const ls_real *t0, const ls_real *t1, const ls_real *t2, const ls_real *p)
+{
+    int s0 = orient2(t0, t1, p), s1 = orient2(t1, t2, p), s2 = orient2(t2, t0, p);
+    return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
+/* Coplanar case: drop the axis of the normal's largest component. */
+static int seg_tri_coplanar(const ls_real *p, const ls_real *q, const ls_real *const *t, const ls_real *n)
+{
+    ls_real P[2], Q[2], T[3][2];
+    uint32_t ax = 0, i, k, j;
+    ls_real m = LS_RFABS(n[0]);
+    if (LS_RFABS(n[1]) > m) {
+        m = LS_RFABS(n[1]);
+        ax = 1;
+    }
+    if (LS_RFABS(n[2]) > m) ax = 2;
+    for (k = 0, j = 0; k < 3u; k++) {
+        if (k == ax) continue;
+        P[j] = p[k];
+        Q[j] = q[k];
+        for (i = 0; i < 3u; i++) T[i][j] = t[i][k];
+        j++;
+    }
+    if (in_tri2(T[0], T[1], T[2], P) || in_tri2(T[0], T[1], T[2], Q)) return 1;
+    for (i = 0; i < 3u; i++)
+        if (seg_seg2(P, Q, T[i], T[(i + 1u) % 3u])) return 1;
+    return 0;
+}
+
+/* Sum of absolute components (a cheap norm for rounding tolerances). */
+static ls_real norm1(const ls_real *a)
+{
+    return LS_RFABS(a[0]) + LS_RFABS(a[1]) + LS_RFABS(a[2]);
+}
+
+/* The closed segment pq meets the closed triangle t (0 for a degenerate t).
+ * A point whose signed distance to t's plane is below the rounding error of
+ * computing it (64 epsilon times the magnitudes involved) counts as on the
+ * plane: nearly coplanar pairs are then decided in the plane, not by the
+ * sign of rounding noise (which made far-apart faces of a flat region look
+ * intersecting). */
+static int seg_tri(const ls_real *p, const ls_real *q, const ls_real *const *t)
+{
+    const ls_real tol = (ls_real)64 * LS_REAL_EPSILON;
+    ls_real u[3], v[3], n[3], wp[3], wq[3], d[3], dp, dq, nn;
+    int s0, s1, s2, zp, zq;
+    sub3(t[1], t[0], u);
+    sub3(t[2], t[0], v);
+    cross3(u, v, n);
+    if (n[0] == 0 && n[1] == 0 && n[2] == 0) return 0;
+    nn = norm1(n);
+    sub3(p, t[0], wp);
+    sub3(q, t[0], wq);
+    dp = dot3(n, wp);
+    dq = dot3(n, wq);
+    zp = LS_RFABS(dp) <= tol * nn * norm1(wp);
+    zq = LS_RFABS(dq) <= tol * nn * norm1(wq);
+    if (!zp && !zq && ((dp > 0 && dq > 0) || (dp < 0 && dq < 0))) return 0;
+    if (zp && zq) return seg_tri_coplanar(p, q, t, n);
+    if (zp) return seg_tri_coplanar(p, p, t, n); /* only p touches the plane */
+    if (zq) return seg_tri_coplanar(q, q, t, n);
+    sub3(q, p, d);
+    s0 = vol_sign(d, p, t[0], t[1]);
+    s1 = vol_sign(d, p, t[1], t[2]);
+    s2 = vol_sign(d, p, t[2], t[0]);
+    return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
+/* Closed axis-aligned boxes of two triangles overlap (exact comparisons). */
+static int boxes_meet(const ls_real *const *a, const ls_real *const *b)
+{
+    uint32_t k;
+    for (k = 0; k < 3u; k++) {
+        ls_real alo = a[0][k], ahi = a[0][k], blo = b[0][k], bhi = b[0][k];
+        uint32_t i;
+        for (i = 1; i < 3u; i++) {
+            if (a[i][k] < alo) alo = a[i][k];
+            if (a[i][k] > ahi) ahi = a[i][k];
+            if (b[i][k] < blo) blo = b[i][k];
+            if (b[i][k] > bhi) bhi = b[i][k];
+        }
+        if (ahi < blo || bhi < alo) return 0;
+    }
+    return 1;
+}
+
+int ls_triangles_meet(const ls_real a0[3], const ls_real a1[3], const ls_real a2[3], const ls_real b0[3],
+                      const ls_real b1[3], const ls_real b2[3])
+{
+    const ls_real *ta[3], *tb[3];
+    uint32_t i;
+    ta[0] = a0;
+    ta[1] = a1;
+    ta[2] = a2;
+    tb[0] = b0;
+    tb[1] = b1;
+    tb[2] = b2;
+    if (!boxes_meet(ta, tb)) return 0;
+    for (i = 0; i < 3u; i++) {
+        if (seg_tri(ta[i], ta[(i + 1u) % 3u], tb)) return 1;
+        if (seg_tri(tb[i], tb[(i + 1u) % 3u], ta)) return 1;
+    }
+    return 0;
+}
+
+static int pair_test(const ls_mesh *m, uint32_t f, uint32_t g)
+{
+    const uint32_t *s = m->triangles + 3u * (size_t)f, *t = m->triangles + 3u * (size_t)g;
+    const ls_real *ps[3], *pt[3];
+    uint32_t i, j, shared = 0, si = 0, tj = 0;
+    for (i = 0; i < 3u; i++) {
+        for (j = 0; j < 3u; j++) {
+            if (s[i] == t[j]) {
+                shared++;
+                si = i;
+                tj = j;
+            }
+        }
+    }
+    if (shared >= 2u) return 0;
+    for (i = 0; i < 3u; i++) {
+        ps[i] = m->positions + 3u * (size_t)s[i];
+        pt[i] = m->positions + 3u * (size_t)t[i];
+    }
+    if (shared == 0) return ls_triangles_meet(ps[0], ps[1], ps[2], pt[0], pt[1], pt[2]);
+    /* one shared vertex: the opposite edges */
+    return seg_tri(ps[(si + 1u) % 3u], ps[(si + 2u) % 3u], pt) || seg_tri(pt[(tj + 1u) % 3u], pt[(tj + 2u) % 3u], ps);
+}
+
+int ls_tangle_pair(const ls_mesh *mesh, uint32_t f, uint32_t g)
+{
+    uint32_t k;
+    if (mesh == NULL || mesh->triangles == NULL || mesh->positions == NULL || f == g || f >= mesh->face_count ||
+        g >= mesh->face_count)
+        return 0;
+    for (k = 0; k < 3u; k++)
+        if (mesh->triangles[3u * (size_t)f + k] >= mesh->vertex_count ||
+            mesh->triangles[3u * (size_t)g + k] >= mesh->vertex_count)
+            return 0;
+    return pair_test(mesh, f, g);
+}
+
+/* ---- sizing ----------------------------------------------------------- */
+
+static ls_status tangle_size(uint32_t face_count, size_t *bytes)
+{
+    ls_size s, b, sortp;
+    size_t bvh, tree, n3;
+    ls_status st;
+    if ((st = ls_bvh_bytes(face_count, &bvh)) != LS_OK) return st;
+    if ((st = ls_bvh_tree_bytes(face_count, &tree)) != LS_OK) return st;
+    n3 = (size_t)face_count * 3u;
+    /* phase 1: the tree's build */
+    ls_size_init(&s);
+    ls_size_add(&s, bvh, 1);
+    /* phase 2: tree + face flags */
+    ls_size_init(&b);
+    ls_size_add(&b, tree, 1);
+    ls_size_add(&b, (size_t)face_count / 32u + 1u, sizeof(uint32_t));
+    ls_size_max(&s, &b);
+    /* phase 3 (tree released): keys, index, sort scratch for 3F corners */
+    ls_size_init(&sortp);
+    ls_size_add(&sortp, n3, sizeof(uint64_t));
+    ls_size_add(&sortp, n3, sizeof(uint32_t));
+    ls_size_add(&sortp, n3, sizeof(uint32_t));
+    ls_size_max(&s, &sortp);
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_tangle_bytes(uint32_t face_count, size_t *bytes)
+{
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (face_count == 0) return LS_ERR_INVALID;
+    if (face_count > (UINT32_MAX - 1u) / 3u) return LS_ERR_TOO_LARGE;
+    return tangle_size(face_count, bytes);
+}
+
+/* ---- shapes ----------------------------------------------------------- */
+
+static uint64_t real_key(ls_real x)
+{
+#if LS_REAL_IS_FLOAT
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return (uint64_t)b;
+#else
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+#endif
+}
+
+static ls_real key_real(uint64_t k)
+{
+    ls_real x;
+#if LS_REAL_IS_FLOAT
+    uint32_t b = (uint32_t)k;
+    memcpy(&x, &b, sizeof b);
+#else
+    memcpy(&x, &k, sizeof k);
+#endif
+    return x;
+}
+
+/* Nearest-rank percentile p (1..100) of n sorted keys. */
+static ls_real pct(const uint64_t *keys, const uint32_t *idx, uint32_t n, uint32_t p)
+{
+    uint64_t r = ((uint64_t)n * p + 99u) / 100u;
+    if (r == 0) r = 1;
+    return key_real(keys[idx[r - 1u]]);
+}
+
+static void corner_angles(const ls_mesh *m, uint32_t f, ls_real ang[3], ls_real *quality)
+{
+    const uint32_t *t = m->triangles + 3u * (size_t)f;
+    ls_real e[3][3], n[3], len[3], den, n2;
+    uint32_t k;
+    for (k = 0; k < 3u; k++) {
+        sub3(m->positions + 3u * (size_t)t[(k + 1u) % 3u], m->positions + 3u * (size_t)t[k], e[k]);
+        len[k] = LS_RSQRT(dot3(e[k], e[k]));
+    }
+    for (k = 0; k < 3u; k++) {
+        /* corner k between e[k] and -e[k+2] */
+        ls_real u[3], c[3];
+        const ls_real *a = e[k], *b = e[(k + 2u) % 3u];
+        u[0] = -b[0];
+        u[1] = -b[1];
+        u[2] = -b[2];
+        cross3(a, u, c);
+        ang[k] = LS_RATAN2(LS_RSQRT(dot3(c, c)), dot3(a, u)) * RAD_TO_DEG;
+    }
+    cross3(e[0], e[1], n);
+    n2 = dot3(n, n);
+    den = (len[0] * len[1] * len[2]) * ((len[0] + len[1]) + len[2]);
+    *quality = (den > 0 && n2 > 0) ? (ls_real)4 * n2 / den : (ls_real)0;
+    if (!(*quality >= 0)) *quality = 0;
+    if (*quality > 1) *quality = 1;
+}
+
+static void shapes(const ls_mesh *m, uint64_t *keys, uint32_t *idx, uint32_t *scratch, ls_tangle_report *r)
+{
+    uint32_t f, k, n3 = 3u * m->face_count;
+    ls_real qsum = 0, qc = 0;
+    for (f = 0; f < m->face_count; f++) {
+        ls_real ang[3], q;
+        corner_angles(m, f, ang, &q);
+        for (k = 0; k < 3u; k++) keys[3u * f + k] = real_key(ang[k]);
+    }
+    for (k = 0; k < n3; k++) idx[k] = k;
+    ls_sort_u64(keys, idx, n3, scratch);
+    r->angle_min = key_real(keys[idx[0]]);
+    r->angle_max = key_real(keys[idx[n3 - 1u]]);
+    r->angle_p1 = pct(keys, idx, n3, 1);
+    r->angle_p5 = pct(keys, idx, n3, 5);
+    r->angle_p50 = pct(keys, idx, n3, 50);
+    for (f = 0; f < m->face_count; f++) {
+        ls_real ang[3], q, t;
+        corner_angles(m, f, ang, &q);
+        keys[f] = real_key(q);
+        idx[f] = f;
+        /* compensated sum of the qualities */
+        t = qsum + q;
+        if (LS_RFABS(qsum) >= LS_RFABS(q)) qc += (qsum - t) + q;
+        else qc += (q - t) + qsum;
+        qsum = t;
+    }
+    ls_sort_u64(keys, idx, m->face_count, scratch);
+    r->quality_min = key_real(keys[idx[0]]);
+    r->quality_p1 = pct(keys, idx, m->face_count, 1);
+    r->quality_p5 = pct(keys, idx, m->face_count, 5);
+    r->quality_p50 = pct(keys, idx, m->face_count, 50);
+    r->quality_mean = (qsum + qc) / (ls_real)m->face_count;
+}
+
+/* ---- the report ------------------------------------------------------- */
+
+static void face_normal(const ls_mesh *m, uint32_t f, ls_real n[3])
+{
+    const uint32_t *t = m->triangles + 3u * (size_t)f;
+    ls_real u[3], v[3];
+    sub3(m->positions + 3u * (size_t)t[1], m->positions + 3u * (size_t)t[0], u);
+    sub3(m->positions + 3u * (size_t)t[2], m->positions + 3u * (size_t)t[0], v);
+    cross3(u, v, n);
+}
+
+static void orientation(const ls_mesh *m, const ls_mesh *ref, ls_tangle_report *r)
+{
+    uint32_t f;
+    for (f = 0; f < m->face_count; f++) {
+        ls_real n[3], nr[3];
+        face_normal(m, f, n);
+        if (n[0] == 0 && n[1] == 0 && n[2] == 0) r->degenerate_faces++;
+        if (ref == NULL) continue;
+        face_normal(ref, f, nr);
+        if (dot3(n, nr) < 0) {
+            if (r->inverted_faces == 0) r->first_inverted = f;
+            r->inverted_faces++;
+        }
+    }
+}
+
+static void intersections(const ls_mesh *m, const ls_bvh *bvh, uint32_t *flags, ls_tangle_report *r)
+{
+    uint32_t f, g, k, a;
+    for (f = 0; f < m->face_count; f++) {
+        const uint32_t *t = m->triangles + 3u * (size_t)f;
+        ls_real lo[3], hi[3];
+        ls_bvh_overlap it;
+        for (a = 0; a < 3u; a++) {
+            lo[a] = hi[a] = m->positions[3u * (size_t)t[0] + a];
+            for (k = 1; k < 3u; k++) {
+                ls_real x = m->positions[3u * (size_t)t[k] + a];
+                if (x < lo[a]) lo[a] = x;
+                if (x > hi[a]) hi[a] = x;
+            }
+        }
+        if (ls_bvh_overlap_begin(bvh, lo, hi, &it) != LS_OK) continue;
+        while (ls_bvh_overlap_next(&it, &g)) {
+            if (g <= f || !pair_test(m, f, g)) continue;
+            if (r->intersecting_pairs == 0 || f < r->first_pair[0] ||
+                (f == r->first_pair[0] && g < r->first_pair[1])) {
+                r->first_pair[0] = f;
+                r->first_pair[1] = g;
+            }
+            r->intersecting_pairs++;
+            flags[f / 32u] |= 1u << (f % 32u);
+            flags[g / 32u] |= 1u << (g % 32u);
+        }
+    }
+    for (f = 0; f <= m->face_count / 32u; f++) {
+        uint32_t x = flags[f];
+        while (x != 0) {
+            x &= x - 1u;
+            r->intersecting_faces++;
+        }
+    }
+}
+
+ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,
+                    ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_tangle_report r;
+    ls_bvh bvh;
+    uint32_t *flags, *idx, *scratch, n3;
+    uint64_t *keys;
+    size_t bytes;
+    ls_status st;
+    if (mesh == NULL || arena == NULL || out == NULL || mesh->face_count == 0 || mesh->triangles == NULL ||
+        mesh->positions == NULL ||
+        (reference != NULL && (reference->face_count != mesh->face_count || reference->triangles == NULL ||
+                               reference->positions == NULL))) {
+        diag_set(diag, LS_ERR_INVALID, "NULL argument, no faces, or reference of another size", 0, 0);
+        return LS_ERR_INVALID;
+    }
+    st = ls_tangle_bytes(mesh->face_count, &bytes);
+    if (st == LS_OK) st = ls_bvh_check_mesh(mesh, diag);
+    else diag_set(diag, st, "too many faces", 0, 0);
+    if (st == LS_OK && reference != NULL) st = ls_bvh_check_mesh(reference, diag);
+    if (st != LS_OK) return st;
+    memset(&r, 0, sizeof r);
+    r.face_count = mesh->face_count;
+    r.first_pair[0] = r.first_pair[1] = LS_MESH_NONE;
+    r.first_inverted = LS_MESH_NONE;
+    r.has_reference = reference != NULL;
+    mark = ls_arena_save(arena);
+    st = ls_bvh_build(mesh, arena, &bvh, NULL);
+    if (st != LS_OK) goto fail;
+    flags = (uint32_t *)ls_arena_scratch(arena, mesh->face_count / 32u + 1u, sizeof(uint32_t));
+    if (flags == NULL) goto nomem;
+    memset(flags, 0, (mesh->face_count / 32u + 1u) * sizeof(uint32_t));
+    intersections(mesh, &bvh, flags, &r);
+    ls_arena_restore(arena, mark);
+    n3 = 3u * mesh->face_count;
+    keys = (uint64_t *)ls_arena_scratch(arena, n3, sizeof(uint64_t));
+    idx = (uint32_t *)ls_arena_scratch(arena, n3, sizeof(uint32_t));
+    scratch = (uint32_t *)ls_arena_scratch(arena, n3, sizeof(uint32_t));
+    if (keys == NULL || idx == NULL || scratch == NULL) goto nomem;
+    shapes(mesh, keys, idx, scratch, &r);
+    orientation(mesh, reference, &r);
+    ls_arena_restore(arena, mark);
+    *out = r;
+    return LS_OK;
+nomem:
+    st = LS_ERR_NOMEM;
+fail:
+    ls_arena_restore(arena, mark);
+    diag_set(diag, st, "arena too small for the tangle metrics", 0, 0);
+    return st;
+}
