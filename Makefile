@@ -278,14 +278,20 @@ run: $(CLI)
 
 # Benchmarks against peers measured in the same run (bench-only packages:
 # libsuitesparse-dev libeigen3-dev libosmesa6-dev libcgal-dev); tables in $(BUILD)/bench/.
-bench: all
+bench: all $(BUILD)/bench/bench_gradient
 	@mkdir -p $(BUILD)/bench
+	BENCH_OUT=$(BUILD)/bench/gradient.md $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
 	BUILD=$(BUILD) sh tests/bench/run_distance.sh
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 
+
+# Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
+$(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 install: $(LIB) $(CONFIG_H)
 	@mkdir -p $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/$(VARIANT_NAME)/largesteps

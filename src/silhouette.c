@@ -4,6 +4,7 @@
 #include <largesteps/sort.h>
 #include <largesteps/math.h>
 #include <math.h>
+#include <string.h>
 
 #if LS_REAL_IS_FLOAT
 #define R_SQRT sqrtf
@@ -116,6 +117,12 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 
 /* ---- the silhouette pass ---- */
 
+#define SIL_TILE_LOG2 1u                        /* candidate bins: 2 x 2 pixel tiles */
+#define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
+#define SIL_CAND_CAP 128u                       /* candidates kept per piece (more: the bin is scanned) */
+#define SIL_SPLIT_CAP (2u * SIL_CAND_CAP + 2u)  /* split parameters per piece */
+#define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
+
 typedef struct sctx {
     const ls_vis *vis;
     const uint32_t *indices;
@@ -123,9 +130,36 @@ typedef struct sctx {
     const ls_shade_opts *o;
     const ls_real *m;
     const ls_real *gimg;
-    uint32_t triangle_count;
-    ls_real width, height;
+    const ls_real *win;  /* [2 V] window position of the vertices in front of the near plane, or NULL */
+    const size_t *offs;  /* [tiles + 1] bin starts */
+    const uint32_t *ent; /* bin entries: triangle indices, increasing within a bin */
+    float *ebox;         /* [4 entries] box of each bin entry's triangle (float, grown outwards) */
+    uint32_t *cand;      /* [SIL_CAND_CAP] candidates of the current piece */
+    ls_real *cpoly;      /* [8 SIL_CAND_CAP] their window polygons (x0..x3, y0..y3) */
+    uint32_t *cpn;       /* [SIL_CAND_CAP] their corner counts */
+    ls_real *split;      /* [SIL_SPLIT_CAP] split parameters of the current piece */
+    uint32_t triangle_count, tiles_x, tiles_y, flat;
+    const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
+    int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
+    ls_real width, height, qtol, boost;
+    ls_real *gp;         /* [3 V] the gradient being added to */
 } sctx;
+
+/* One silhouette segment being integrated: window a + t e, t in [0, 1]. */
+typedef struct sedge {
+    uint32_t ft, fu; /* the segment's face and its twin (or LS_EDGE_NONE) */
+    ls_real a[2], e[2];
+    ls_real ka, kb;  /* integral of (1 - t) g.df and of t g.df over the visible parts */
+} sedge;
+
+/* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
+typedef struct endp {
+    uint32_t v, w, clipped;
+    ls_real s;
+    ls_real c[4];
+} endp;
+
+static ls_real r_abs(ls_real x) { return x < (ls_real)0 ? -x : x; }
 
 /* The point of triangle f on the ray through window (xw, yw): barycentrics
  * b and NDC depth; returns 0 when the triangle is edge-on there or the point
@@ -146,64 +180,362 @@ static int tri_point(const sctx *sc, const uint32_t *f, ls_real xw, ls_real yw, 
     return 1;
 }
 
-/* The surface colour of triangle f at barycentrics b (as ls_shade). */
-static ls_real r_abs(ls_real x) { return x < (ls_real)0 ? -x : x; }
-
-/* g_P . (f_inside - f_behind) at window point (xw, yw) on the edge of face
- * `ft` (twin face `fu`, or LS_EDGE_NONE) in pixel p; 0 when hidden. */
-static ls_real point_term(const sctx *sc, uint32_t ft, uint32_t fu, ls_real xw, ls_real yw, size_t p)
+/* Window position of a vertex from its clip coordinates. */
+static void window_of(const sctx *sc, const ls_real *cl, ls_real w[2])
 {
-    const ls_vis *vis = sc->vis;
-    ls_real b[3], ze, rgb_in[3], rgb_bh[3], a_bh, best = (ls_real)0, tol;
-    const ls_real *g = sc->gimg + 4 * p;
-    uint32_t seen[9], nseen = 0, best_id = 0;
-    int32_t sx, sy, i, j;
-    ls_real fx = LS_RFLOOR(xw * (ls_real)vis->ss), fy = LS_RFLOOR(yw * (ls_real)vis->ss);
-    if (!tri_point(sc, sc->indices + 3 * (size_t)ft, xw, yw, b, &ze)) return (ls_real)0;
-    ls_shade_point(sc->o, sc->indices + 3 * (size_t)ft, sc->normals, b, rgb_in);
-    tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
-    sx = LS_RTO_I32(fx);
-    sy = LS_RTO_I32(fy);
-    for (j = sy - 1; j <= sy + 1; j++) {
-        if (j < 0 || (uint32_t)j >= vis->sh) continue;
-        for (i = sx - 1; i <= sx + 1; i++) {
-            uint32_t id, q, dup = 0;
-            ls_real bc[3], zc;
-            if (i < 0 || (uint32_t)i >= vis->sw) continue;
-            id = vis->tri[(size_t)j * vis->sw + (size_t)i];
-            if (id == 0 || id > sc->triangle_count || id - 1u == ft || id - 1u == fu) continue;
-            for (q = 0; q < nseen; q++) dup |= seen[q] == id;
-            if (dup) continue;
-            seen[nseen++] = id;
-            if (!tri_point(sc, sc->indices + 3 * (size_t)(id - 1u), xw, yw, bc, &zc)) continue;
-            if (bc[0] < (ls_real)0 || bc[1] < (ls_real)0 || bc[2] < (ls_real)0) continue;
-            if (zc < ze - tol) return (ls_real)0; /* hidden */
-            if (zc > ze + tol && (best_id == 0 || zc < best || (zc == best && id < best_id))) {
-                best = zc;
-                best_id = id;
-            }
+    w[0] = (cl[0] / cl[3] + (ls_real)1) * sc->width * (ls_real)0.5;
+    w[1] = ((ls_real)1 - cl[1] / cl[3]) * sc->height * (ls_real)0.5;
+}
+
+/* Endpoint of an edge clipped at the near plane Z + W = 0: the point
+ * p + s (q - p), s = dp / (dp - dq), written to out. */
+static void near_point(const ls_real *p, const ls_real *q, ls_real s, ls_real out[4])
+{
+    int r;
+    for (r = 0; r < 4; r++) out[r] = p[r] + s * (q[r] - p[r]);
+}
+
+/* The window polygon of triangle f clipped at the near plane (3 or 4
+ * corners, 0 when nothing is in front); each clipped corner is computed
+ * from the behind vertex, as the segment ends are. */
+static int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
+{
+    const ls_real *c[3];
+    ls_real d[3], w[2], q[4];
+    int k, n = 0, front = 0;
+    for (k = 0; k < 3; k++) {
+        c[k] = sc->vis->clip + 4 * (size_t)f[k];
+        d[k] = c[k][2] + c[k][3];
+        if (d[k] >= (ls_real)0) {
+            if (!(c[k][3] > (ls_real)0)) return 0;
+            front++;
         }
     }
-    if (best_id != 0) {
-        if (!tri_point(sc, sc->indices + 3 * (size_t)(best_id - 1u), xw, yw, b, &ze)) return (ls_real)0;
-        ls_shade_point(sc->o, sc->indices + 3 * (size_t)(best_id - 1u), sc->normals, b, rgb_bh);
+    if (front == 0) return 0;
+    for (k = 0; k < 3; k++) {
+        int k1 = (k + 1) % 3;
+        if (d[k] >= (ls_real)0) {
+            if (sc->win != NULL) {
+                x[n] = sc->win[2 * (size_t)f[k]];
+                y[n] = sc->win[2 * (size_t)f[k] + 1];
+            } else {
+                window_of(sc, c[k], w);
+                x[n] = w[0];
+                y[n] = w[1];
+            }
+            n++;
+        }
+        if ((d[k] >= (ls_real)0) != (d[k1] >= (ls_real)0)) {
+            if (d[k] < (ls_real)0)
+                near_point(c[k], c[k1], d[k] / (d[k] - d[k1]), q);
+            else
+                near_point(c[k1], c[k], d[k1] / (d[k1] - d[k]), q);
+            if (!(q[3] > (ls_real)0)) return 0;
+            window_of(sc, q, w);
+            x[n] = w[0];
+            y[n] = w[1];
+            n++;
+        }
+    }
+    return n;
+}
+
+static ls_real hdet(const ls_real *a, const ls_real *b, const ls_real *c);
+
+/* Orientation of triangle f: the sign of the homogeneous determinant of its
+ * clip coordinates (X, Y, W). */
+static int tri_sign(const sctx *sc, const uint32_t *f)
+{
+    const ls_real *c = sc->vis->clip;
+    ls_real d = hdet(c + 4 * (size_t)f[0], c + 4 * (size_t)f[1], c + 4 * (size_t)f[2]);
+    return d > (ls_real)0 ? 1 : (d < (ls_real)0 ? -1 : 0);
+}
+
+/* Window box (x0, y0, x1, y1) of triangle t's visible polygon; 0 when it
+ * has none, is not finite, lies outside the image or is culled. */
+static int tri_box(const sctx *sc, uint32_t t, ls_real box[4])
+{
+    ls_real x[4], y[4];
+    int n, k;
+    if (sc->cull != 0) {
+        int sg = sc->sign != NULL ? sc->sign[t] : tri_sign(sc, sc->indices + 3 * (size_t)t);
+        if (sg == 0 || sg == sc->cull) return 0;
+    }
+    n = tri_poly(sc, sc->indices + 3 * (size_t)t, x, y);
+    if (n < 3) return 0;
+    box[0] = box[2] = x[0];
+    box[1] = box[3] = y[0];
+    for (k = 1; k < n; k++) {
+        if (x[k] < box[0]) box[0] = x[k];
+        if (x[k] > box[2]) box[2] = x[k];
+        if (y[k] < box[1]) box[1] = y[k];
+        if (y[k] > box[3]) box[3] = y[k];
+    }
+    for (k = 0; k < 4; k++)
+        if (box[k] - box[k] != (ls_real)0) return 0;
+    return !(box[2] < -SIL_MARGIN || box[0] > sc->width + SIL_MARGIN || box[3] < -SIL_MARGIN ||
+             box[1] > sc->height + SIL_MARGIN);
+}
+
+static uint32_t tile_of(ls_real v, uint32_t n)
+{
+    int32_t i = LS_RTO_I32(LS_RFLOOR(v / (ls_real)(1u << SIL_TILE_LOG2)));
+    if (i < 0) return 0;
+    if ((uint32_t)i >= n) return n - 1u;
+    return (uint32_t)i;
+}
+
+/* The tiles (x0, y0, x1, y1) triangle t's box (written to box) overlaps;
+ * 0 when it is not binned. */
+static int tri_tiles(const sctx *sc, uint32_t t, ls_real box[4], uint32_t r[4])
+{
+    if (!tri_box(sc, t, box)) return 0;
+    r[0] = tile_of(box[0] - SIL_MARGIN, sc->tiles_x);
+    r[1] = tile_of(box[1] - SIL_MARGIN, sc->tiles_y);
+    r[2] = tile_of(box[2] + SIL_MARGIN, sc->tiles_x);
+    r[3] = tile_of(box[3] + SIL_MARGIN, sc->tiles_y);
+    return 1;
+}
+
+/* Bins every triangle into the tiles its box overlaps. offs == NULL: only
+ * counts the entries (into *count; 0 on overflow of size_t, with *over set).
+ * Otherwise offs [tiles + 1], ent and sc->ebox get the bins (triangles in
+ * index order in each) and their boxes: clamped to the image and a pixel
+ * around it, grown by the margin, in float (rounding at these magnitudes is
+ * below the margin), so that the scan of a bin reads memory in order. */
+static void bin_pass(sctx *sc, size_t *offs, uint32_t *ent, size_t *count, int *over)
+{
+    uint32_t t, tx, ty, r[4];
+    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
+    ls_real box[4];
+    if (offs == NULL) {
+        *count = 0;
+        *over = 0;
+    } else {
+        for (k = 0; k <= tiles; k++) offs[k] = 0;
+    }
+    for (t = 0; t < sc->triangle_count; t++) {
+        if (!tri_tiles(sc, t, box, r)) continue;
+        if (offs == NULL) {
+            size_t add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
+            if (*count > SIZE_MAX - add) *over = 1;
+            *count += add;
+            continue;
+        }
+        for (ty = r[1]; ty <= r[3]; ty++)
+            for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
+    }
+    if (offs == NULL) return;
+    for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
+    for (t = 0; t < sc->triangle_count; t++) {
+        float fb[4];
+        int q;
+        if (!tri_tiles(sc, t, box, r)) continue;
+        for (q = 0; q < 4; q++) {
+            ls_real lim = q % 2 == 0 ? sc->width : sc->height, v = box[q];
+            v = v < (ls_real)-1 ? (ls_real)-1 : (v > lim + (ls_real)1 ? lim + (ls_real)1 : v);
+            fb[q] = (float)(q < 2 ? v - SIL_MARGIN : v + SIL_MARGIN);
+        }
+        for (ty = r[1]; ty <= r[3]; ty++)
+            for (tx = r[0]; tx <= r[2]; tx++) {
+                size_t e = offs[(size_t)ty * sc->tiles_x + tx]++;
+                ent[e] = t;
+                for (q = 0; q < 4; q++) sc->ebox[4 * e + (size_t)q] = fb[q];
+            }
+    }
+    for (k = tiles; k > 0; k--) offs[k] = offs[k - 1u];
+    offs[0] = 0;
+}
+
+/* g . (f_inside - f_behind) at parameter t of the segment, the surface
+ * behind being triangle beh - 1 (0: the background of pixel p). */
+static ls_real point_term(const sctx *sc, const sedge *ed, ls_real t, uint32_t beh, size_t p)
+{
+    ls_real b[3], z, rgb_in[3], rgb_bh[3], a_bh = (ls_real)0;
+    ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
+    const ls_real *g = sc->gimg + 4 * p;
+    if (!tri_point(sc, sc->indices + 3 * (size_t)ed->ft, xw, yw, b, &z)) return (ls_real)0;
+    ls_shade_point(sc->o, sc->indices + 3 * (size_t)ed->ft, sc->normals, b, rgb_in);
+    if (beh != 0) {
+        if (!tri_point(sc, sc->indices + 3 * (size_t)(beh - 1u), xw, yw, b, &z)) return (ls_real)0;
+        ls_shade_point(sc->o, sc->indices + 3 * (size_t)(beh - 1u), sc->normals, b, rgb_bh);
         a_bh = (ls_real)1;
     } else {
         const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * p : sc->o->background;
         rgb_bh[0] = bg[0];
         rgb_bh[1] = bg[1];
         rgb_bh[2] = bg[2];
-        a_bh = (ls_real)0;
     }
     return ((g[0] * (rgb_in[0] - rgb_bh[0]) + g[1] * (rgb_in[1] - rgb_bh[1])) + g[2] * (rgb_in[2] - rgb_bh[2])) +
            g[3] * ((ls_real)1 - a_bh);
 }
 
-/* Window position of a vertex from its clip coordinates. */
-static void window_of(const sctx *sc, const ls_real *cl, ls_real w[2])
+/* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb:
+ * one point when df is constant (mask mode), else Gauss-Legendre with 5
+ * points, the interval halved (depth first, at most SIL_DEPTH_CAP times)
+ * until the 3-point rule agrees with it to qtol. */
+static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_t beh, size_t p)
 {
-    w[0] = (cl[0] / cl[3] + (ls_real)1) * sc->width * (ls_real)0.5;
-    w[1] = ((ls_real)1 - cl[1] / cl[3]) * sc->height * (ls_real)0.5;
+    static const ls_real x3 = (ls_real)0.77459666924148337704, w3a = (ls_real)0.55555555555555555556;
+    static const ls_real w3b = (ls_real)0.88888888888888888889;
+    static const ls_real x5[2] = {(ls_real)0.90617984593866399280, (ls_real)0.53846931010568309104};
+    static const ls_real w5[3] = {(ls_real)0.23692688505618908751, (ls_real)0.47862867049936646804,
+                                  (ls_real)0.56888888888888888889};
+    ls_real slo[2 * SIL_DEPTH_CAP + 2], shi[2 * SIL_DEPTH_CAP + 2], gabs;
+    int sd[2 * SIL_DEPTH_CAP + 2], n = 1;
+    const ls_real *g = sc->gimg + 4 * p;
+    if (sc->flat) {
+        ls_real term = point_term(sc, ed, (lo + hi) * (ls_real)0.5, beh, p), len = hi - lo;
+        ls_real mb = len * (hi + lo) * (ls_real)0.5;
+        ed->ka += term * (len - mb);
+        ed->kb += term * mb;
+        return;
+    }
+    gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
+    slo[0] = lo;
+    shi[0] = hi;
+    sd[0] = 0;
+    while (n > 0) {
+        ls_real l, h, mid, half, f[7], t[7], a3, b3, a5, b5, err;
+        int d, k;
+        n--;
+        l = slo[n];
+        h = shi[n];
+        d = sd[n];
+        mid = (l + h) * (ls_real)0.5;
+        half = (h - l) * (ls_real)0.5;
+        t[0] = mid;
+        t[1] = mid - half * x3;
+        t[2] = mid + half * x3;
+        t[3] = mid - half * x5[0];
+        t[4] = mid + half * x5[0];
+        t[5] = mid - half * x5[1];
+        t[6] = mid + half * x5[1];
+        for (k = 0; k < 7; k++) f[k] = point_term(sc, ed, t[k], beh, p) * half;
+        a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
+        b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
+        a5 = ((w5[2] * ((ls_real)1 - t[0]) * f[0] + w5[0] * (((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4])) +
+              w5[1] * (((ls_real)1 - t[5]) * f[5] + ((ls_real)1 - t[6]) * f[6]));
+        b5 = ((w5[2] * t[0] * f[0] + w5[0] * (t[3] * f[3] + t[4] * f[4])) + w5[1] * (t[5] * f[5] + t[6] * f[6]));
+        err = r_abs(a5 - a3) + r_abs(b5 - b3);
+        if (d >= SIL_DEPTH_CAP || err <= sc->qtol * ((r_abs(a5) + r_abs(b5)) + (h - l) * gabs)) {
+            ed->ka += a5;
+            ed->kb += b5;
+            continue;
+        }
+        slo[n] = mid; /* the upper half waits: the lower half is done first */
+        shi[n] = h;
+        sd[n] = d + 1;
+        slo[n + 1] = l;
+        shi[n + 1] = mid;
+        sd[n + 1] = d + 1;
+        n += 2;
+    }
+}
+
+/* Whether the segment's point at t is seen (1) and, if so, the surface
+ * behind it: *beh = triangle + 1, or 0 for the background. Candidates are
+ * the first ncand of sc->cand, or the whole bin when they did not fit. */
+static int visibility(const sctx *sc, const sedge *ed, ls_real t, size_t tile, uint32_t ncand, uint32_t *beh)
+{
+    ls_real b[3], ze, zc, tol, best = (ls_real)0;
+    ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
+    uint32_t i, n, best_id = 0, overflow = ncand > SIL_CAND_CAP;
+    if (!tri_point(sc, sc->indices + 3 * (size_t)ed->ft, xw, yw, b, &ze)) return 0;
+    if (ze > (ls_real)1) return 0; /* beyond the far plane: not drawn */
+    tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
+    n = overflow ? (uint32_t)(sc->offs[tile + 1u] - sc->offs[tile]) : ncand;
+    for (i = 0; i < n; i++) {
+        uint32_t id = overflow ? sc->ent[sc->offs[tile] + i] : sc->cand[i];
+        if (id == ed->ft || id == ed->fu) continue;
+        if (!overflow) { /* quick rejection: the window polygon does not hold the point */
+            const ls_real *px = sc->cpoly + 8 * (size_t)i, *py = px + 4;
+            uint32_t q, m = sc->cpn[i], pos = 0, neg = 0;
+            for (q = 0; q < m; q++) {
+                uint32_t q1 = q + 1u == m ? 0u : q + 1u;
+                ls_real cr = (px[q1] - px[q]) * (yw - py[q]) - (py[q1] - py[q]) * (xw - px[q]);
+                pos |= cr > (ls_real)0;
+                neg |= cr < (ls_real)0;
+            }
+            if (pos && neg) continue;
+        }
+        if (!tri_point(sc, sc->indices + 3 * (size_t)id, xw, yw, b, &zc)) continue;
+        if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
+        if (zc < (ls_real)-1 || zc > (ls_real)1) continue; /* clipped away */
+        if (zc < ze - tol) return 0;                       /* hidden */
+        if (zc > ze + tol && (best_id == 0 || zc < best)) { /* ids increase: ties keep the smaller */
+            best = zc;
+            best_id = id + 1u;
+        }
+    }
+    *beh = best_id;
+    return 1;
+}
+
+/* One piece [t0, t1] of the segment, inside pixel (px, py): the candidates
+ * of the pixel's bin whose box meets the piece's box, the parameters where their
+ * polygon edges cross the segment (visibility and the surface behind are
+ * constant between two of them), each sub-piece integrated on its own. */
+static void piece(const sctx *sc, sedge *ed, ls_real t0, ls_real t1, uint32_t px, uint32_t py)
+{
+    size_t tile = (size_t)(py >> SIL_TILE_LOG2) * sc->tiles_x + (px >> SIL_TILE_LOG2), p, k;
+    ls_real *sp = sc->split, x0, y0, x1, y1, xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
+    ls_real ya = ed->a[1] + t0 * ed->e[1], yb = ed->a[1] + t1 * ed->e[1];
+    uint32_t ncand = 0, ns = 1, i, j;
+    float fx0, fx1, fy0, fy1;
+    /* the piece's box, grown by the margin */
+    x0 = (xa < xb ? xa : xb) - SIL_MARGIN;
+    x1 = (xa < xb ? xb : xa) + SIL_MARGIN;
+    y0 = (ya < yb ? ya : yb) - SIL_MARGIN;
+    y1 = (ya < yb ? yb : ya) + SIL_MARGIN;
+    fx0 = (float)x0;
+    fx1 = (float)x1;
+    fy0 = (float)y0;
+    fy1 = (float)y1;
+    p = (size_t)py * sc->vis->width + px;
+    sp[0] = t0;
+    for (k = sc->offs[tile]; k < sc->offs[tile + 1u]; k++) {
+        uint32_t id = sc->ent[k];
+        const float *bx = sc->ebox + 4 * k;
+        ls_real x[4], y[4];
+        int n, q;
+        if (bx[2] < fx0 || bx[0] > fx1 || bx[3] < fy0 || bx[1] > fy1) continue;
+        if (id == ed->ft || id == ed->fu) continue;
+        n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
+        if (n < 3) continue;
+        if (ncand < SIL_CAND_CAP) {
+            sc->cand[ncand] = id;
+            sc->cpn[ncand] = (uint32_t)n;
+            for (q = 0; q < n; q++) {
+                sc->cpoly[8 * (size_t)ncand + (size_t)q] = x[q];
+                sc->cpoly[8 * (size_t)ncand + 4u + (size_t)q] = y[q];
+            }
+        }
+        ncand++;
+        for (q = 0; q < n; q++) {
+            int q1 = (q + 1) % n;
+            ls_real dx = x[q1] - x[q], dy = y[q1] - y[q], rx = x[q] - ed->a[0], ry = y[q] - ed->a[1];
+            ls_real den = ed->e[0] * dy - ed->e[1] * dx, tt, uu;
+            if (den == (ls_real)0) continue;
+            tt = (rx * dy - ry * dx) / den;
+            uu = (rx * ed->e[1] - ry * ed->e[0]) / den;
+            if (tt > t0 && tt < t1 && uu >= (ls_real)0 && uu <= (ls_real)1 && ns + 1u < SIL_SPLIT_CAP) sp[ns++] = tt;
+        }
+    }
+    /* insertion sort of the crossings (few) */
+    for (i = 2; i < ns; i++) {
+        ls_real v = sp[i];
+        for (j = i; j > 1 && sp[j - 1u] > v; j--) sp[j] = sp[j - 1u];
+        sp[j] = v;
+    }
+    sp[ns++] = t1;
+    for (i = 0; i + 1u < ns; i++) {
+        uint32_t beh = 0;
+        ls_real lo = sp[i], hi = sp[i + 1u];
+        if (!(hi > lo)) continue;
+        if (!visibility(sc, ed, (lo + hi) * (ls_real)0.5, tile, ncand, &beh)) continue;
+        integrate(sc, ed, lo, hi, beh, p);
+    }
 }
 
 /* Liang-Barsky clip of a + t e, t in [*t0, *t1], to [0, width] x [0, height]. */
@@ -294,21 +626,18 @@ static ls_real hdet(const ls_real *a, const ls_real *b, const ls_real *c)
            a[3] * (b[0] * c[1] - b[1] * c[0]);
 }
 
-/* Endpoint of an edge clipped at the near plane Z + W = 0: the point
- * p + s (q - p), s = dp / (dp - dq), written to out. */
-static void near_point(const ls_real *p, const ls_real *q, ls_real s, ls_real out[4])
+/* Sends the gradient g (clip space) of segment end ep to the vertices: a
+ * vertex directly; a point p + s (q - p) clipped at the near plane, with
+ * s = dp / (dp - dq), d = Z + W, through (1 - s), s and s itself. */
+static void end_to_positions(const sctx *sc, const endp *ep, const ls_real g[4], ls_real *gp)
 {
+    const ls_real *p = sc->vis->clip + 4 * (size_t)ep->v, *q = sc->vis->clip + 4 * (size_t)ep->w;
+    ls_real dp = p[2] + p[3], dq = q[2] + q[3], den = dp - dq, gs, ds_dp, ds_dq, a[4], b[4], s = ep->s;
     int r;
-    for (r = 0; r < 4; r++) out[r] = p[r] + s * (q[r] - p[r]);
-}
-
-/* Sends the gradient g (clip space) of the clipped endpoint p + s (q - p),
- * s = dp / (dp - dq) with d = Z + W, to the vertices vp and vq. */
-static void clipped_to_positions(const sctx *sc, uint32_t vp, uint32_t vq, ls_real s, const ls_real g[4], ls_real *gp)
-{
-    const ls_real *p = sc->vis->clip + 4 * (size_t)vp, *q = sc->vis->clip + 4 * (size_t)vq;
-    ls_real dp = p[2] + p[3], dq = q[2] + q[3], den = dp - dq, gs, ds_dp, ds_dq, a[4], b[4];
-    int r;
+    if (!ep->clipped) {
+        clip_to_positions(sc, ep->v, g, gp);
+        return;
+    }
     gs = (g[0] * (q[0] - p[0]) + g[1] * (q[1] - p[1])) + (g[2] * (q[2] - p[2]) + g[3] * (q[3] - p[3]));
     ds_dp = -dq / (den * den);
     ds_dq = dp / (den * den);
@@ -320,61 +649,62 @@ static void clipped_to_positions(const sctx *sc, uint32_t vp, uint32_t vq, ls_re
     a[3] += gs * ds_dp;
     b[2] += gs * ds_dq;
     b[3] += gs * ds_dq;
-    clip_to_positions(sc, vp, a, gp);
-    clip_to_positions(sc, vq, b, gp);
+    clip_to_positions(sc, ep->v, a, gp);
+    clip_to_positions(sc, ep->w, b, gp);
 }
 
-/* One silhouette edge va -> vb of face ft (third vertex vc), twin face fu. */
-static void edge_pass(const sctx *sc, uint32_t ft, uint32_t fu, uint32_t va, uint32_t vb, uint32_t vc, ls_real boost,
-                      ls_real *gp)
+/* End of edge v -> w: the vertex, or (v behind the near plane) the point
+ * where the edge crosses it. */
+static void end_make(const sctx *sc, uint32_t v, uint32_t w, endp *ep)
 {
-    static const ls_real xi[3] = {(ls_real)-0.77459666924148337704, (ls_real)0, (ls_real)0.77459666924148337704};
-    static const ls_real wq[3] = {(ls_real)0.55555555555555555556, (ls_real)0.88888888888888888889,
-                                  (ls_real)0.55555555555555555556};
-    const ls_real *A = sc->vis->clip + 4 * (size_t)va, *B = sc->vis->clip + 4 * (size_t)vb;
-    const ls_real *C = sc->vis->clip + 4 * (size_t)vc;
-    ls_real ca[4], cb[4], a[2], b[2], e[2], nrm[2], t0 = (ls_real)0, t1 = (ls_real)1, tcur, ka = (ls_real)0;
-    ls_real kb = (ls_real)0, da = A[2] + A[3], db = B[2] + B[3], sa = (ls_real)0, sb = (ls_real)1, side, g[4];
+    const ls_real *p = sc->vis->clip + 4 * (size_t)v, *q = sc->vis->clip + 4 * (size_t)w;
+    ls_real dp = p[2] + p[3], dq = q[2] + q[3];
+    ep->v = v;
+    ep->w = w;
+    ep->clipped = dp < (ls_real)0;
+    ep->s = (ls_real)0;
+    if (ep->clipped) {
+        ep->s = dp / (dp - dq);
+        near_point(p, q, ep->s, ep->c);
+    } else {
+        int r;
+        for (r = 0; r < 4; r++) ep->c[r] = p[r];
+    }
+}
+
+/* One silhouette segment A -> B of face ft (twin fu); C: a point of the
+ * face off the segment's line (clip space), which tells the covered side. */
+static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *ea, const endp *eb, const ls_real *C)
+{
+    sedge ed;
+    ls_real b[2], nrm[2], t0 = (ls_real)0, t1 = (ls_real)1, tcur, side, g[4];
     lines lx, ly;
-    int r;
-    if (da < (ls_real)0 && db < (ls_real)0) return; /* behind the near plane */
-    if (da < (ls_real)0) {
-        sa = da / (da - db);
-        near_point(A, B, sa, ca);
-    } else {
-        for (r = 0; r < 4; r++) ca[r] = A[r];
-    }
-    if (db < (ls_real)0) {
-        sb = db / (db - da);
-        near_point(B, A, sb, cb);
-    } else {
-        for (r = 0; r < 4; r++) cb[r] = B[r];
-    }
-    if (!(ca[3] > (ls_real)0) || !(cb[3] > (ls_real)0)) return;
-    window_of(sc, ca, a);
-    window_of(sc, cb, b);
-    e[0] = b[0] - a[0];
-    e[1] = b[1] - a[1];
+    if (!(ea->c[3] > (ls_real)0) || !(eb->c[3] > (ls_real)0)) return;
+    ed.ft = ft;
+    ed.fu = fu;
+    ed.ka = (ls_real)0;
+    ed.kb = (ls_real)0;
+    window_of(sc, ea->c, ed.a);
+    window_of(sc, eb->c, b);
+    ed.e[0] = b[0] - ed.a[0];
+    ed.e[1] = b[1] - ed.a[1];
     /* normal scaled by |e|, pointing away from the face's side: window y
      * runs down, so the window-space side is minus the homogeneous one */
-    side = -hdet(ca, cb, C);
+    side = -hdet(ea->c, eb->c, C);
     if (side == (ls_real)0 || side - side != (ls_real)0) return;
-    nrm[0] = e[1];
-    nrm[1] = -e[0];
+    nrm[0] = ed.e[1];
+    nrm[1] = -ed.e[0];
     /* (e1, -e0) . (c - a) = -(e x (c - a)): it points towards the face when side < 0 */
     if (side < (ls_real)0) {
         nrm[0] = -nrm[0];
         nrm[1] = -nrm[1];
     }
-    if (!clip_rect(sc, a, e, &t0, &t1)) return;
-    lines_init(&lx, a[0], e[0], t0, t1);
-    lines_init(&ly, a[1], e[1], t0, t1);
+    if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
+    lines_init(&lx, ed.a[0], ed.e[0], t0, t1);
+    lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
     tcur = t0;
     while (tcur < t1) {
-        ls_real tx = lines_next(&lx, t1), ty = lines_next(&ly, t1), tn = t1, mid, half;
-        uint32_t px, py;
-        size_t p;
-        int q;
+        ls_real tx = lines_next(&lx, t1), ty = lines_next(&ly, t1), tn = t1, mid;
         if (tx < tn) tn = tx;
         if (ty < tn) tn = ty;
         if (tx <= tn && lx.left > 0) {
@@ -387,80 +717,449 @@ static void edge_pass(const sctx *sc, uint32_t ft, uint32_t fu, uint32_t va, uin
         }
         if (tn <= tcur) continue; /* a crossing at (or before) the current point */
         mid = (tcur + tn) * (ls_real)0.5;
-        half = (tn - tcur) * (ls_real)0.5;
-        px = pixel_of(a[0] + mid * e[0], sc->vis->width);
-        py = pixel_of(a[1] + mid * e[1], sc->vis->height);
-        p = (size_t)py * sc->vis->width + px;
-        for (q = 0; q < 3; q++) {
-            ls_real t = mid + half * xi[q];
-            ls_real term = point_term(sc, ft, fu, a[0] + t * e[0], a[1] + t * e[1], p) * half * wq[q];
-            ka += ((ls_real)1 - t) * term;
-            kb += t * term;
-        }
+        piece(sc, &ed, tcur, tn, pixel_of(ed.a[0] + mid * ed.e[0], sc->vis->width),
+              pixel_of(ed.a[1] + mid * ed.e[1], sc->vis->height));
         tcur = tn;
     }
-    ka *= boost;
-    kb *= boost;
-    window_to_clip(sc, ca, nrm[0] * ka, nrm[1] * ka, g);
-    if (da < (ls_real)0)
-        clipped_to_positions(sc, va, vb, sa, g, gp);
-    else
-        clip_to_positions(sc, va, g, gp);
-    window_to_clip(sc, cb, nrm[0] * kb, nrm[1] * kb, g);
-    if (db < (ls_real)0)
-        clipped_to_positions(sc, vb, va, sb, g, gp);
-    else
-        clip_to_positions(sc, vb, g, gp);
+    ed.ka *= sc->boost;
+    ed.kb *= sc->boost;
+    window_to_clip(sc, ea->c, nrm[0] * ed.ka, nrm[1] * ed.ka, g);
+    end_to_positions(sc, ea, g, sc->gp);
+    window_to_clip(sc, eb->c, nrm[0] * ed.kb, nrm[1] * ed.kb, g);
+    end_to_positions(sc, eb, g, sc->gp);
+}
+
+/* Triangle t cut by the near plane: the cut (between the two points where
+ * its edges cross the plane) bounds what is drawn of it. */
+static void cut_pass(const sctx *sc, uint32_t t)
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)t;
+    ls_real d[3];
+    endp ends[2];
+    int k, n = 0, front = 0;
+    for (k = 0; k < 3; k++) {
+        const ls_real *c = sc->vis->clip + 4 * (size_t)f[k];
+        d[k] = c[2] + c[3];
+        if (d[k] >= (ls_real)0 && (front == 0 || d[k] > d[front - 1])) front = k + 1;
+    }
+    if (front == 0 || (d[0] >= (ls_real)0 && d[1] >= (ls_real)0 && d[2] >= (ls_real)0)) return;
+    for (k = 0; k < 3; k++) {
+        uint32_t v = f[k], w = f[(k + 1) % 3];
+        if ((d[k] >= (ls_real)0) == (d[(k + 1) % 3] >= (ls_real)0)) continue;
+        if (d[k] < (ls_real)0)
+            end_make(sc, v, w, &ends[n++]);
+        else
+            end_make(sc, w, v, &ends[n++]);
+    }
+    if (n == 2) segment_pass(sc, t, LS_EDGE_NONE, &ends[0], &ends[1], sc->vis->clip + 4 * (size_t)f[front - 1]);
+}
+
+/* Orientation culling of the candidates: for a closed mesh (no boundary
+ * edge) of which nothing crosses the near plane, seen from outside, the
+ * triangles of one orientation (back faces) are never the nearest surface
+ * of the exact geometry: they can neither hide an edge nor be the surface
+ * behind one, and are left out of the bins. Seen from outside means: the
+ * samples showing the other orientation are fewer than 1/64 of those
+ * showing this one (the snapped forward shows a few back faces at the rim;
+ * an eye inside the mesh sees almost only back faces). sign: per-triangle
+ * orientation (scratch), or NULL (the sizing query: slower, no memory). */
+static void choose_cull(sctx *sc, const ls_edge_table *table, signed char *sign)
+{
+    const ls_vis *vis = sc->vis;
+    size_t s, ns = (size_t)vis->sw * vis->sh, pos = 0, neg = 0;
+    uint32_t v, t;
+    sc->cull = 0;
+    if (table->boundary_edges != 0) return;
+    for (v = 0; v < vis->vertex_count; v++) {
+        const ls_real *cl = vis->clip + 4 * (size_t)v;
+        if (!(cl[2] + cl[3] >= (ls_real)0)) return;
+    }
+    for (t = 0; sign != NULL && t < sc->triangle_count; t++)
+        sign[t] = (signed char)tri_sign(sc, sc->indices + 3 * (size_t)t);
+    for (s = 0; s < ns; s++) {
+        uint32_t id = vis->tri[s];
+        int sg;
+        if (id == 0 || id > sc->triangle_count) continue;
+        sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
+        pos += sg > 0;
+        neg += sg < 0;
+    }
+    if (neg < pos / 64u) sc->cull = -1;
+    if (pos < neg / 64u) sc->cull = 1;
+}
+
+/* Everything the pass needs: window positions, bins, work buffers. */
+static void sctx_size(const sctx *sc, uint32_t vertex_count, ls_size *s)
+{
+    ls_size_init(s);
+    ls_size_add(s, (size_t)vertex_count, 2 * sizeof(ls_real));
+    ls_size_add(s, (size_t)sc->tiles_x * sc->tiles_y + 1u, sizeof(size_t));
+    ls_size_add(s, (size_t)sc->triangle_count, 1);
+    ls_size_add(s, SIL_CAND_CAP, sizeof(uint32_t));
+    ls_size_add(s, SIL_CAND_CAP, 8 * sizeof(ls_real));
+    ls_size_add(s, SIL_CAND_CAP, sizeof(uint32_t));
+    ls_size_add(s, SIL_SPLIT_CAP, sizeof(ls_real));
+}
+
+static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                            const ls_real *normals, const ls_shade_opts *opts, const uint32_t counts[2], ls_diag *diag)
+{
+    if (vis == NULL || table == NULL || opts == NULL) return LS_ERR_INVALID;
+    if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
+    if (table->triangle_count != counts[0] || table->vertex_count != counts[1]) return LS_ERR_INVALID;
+    return ls_shade_check_args(vis, counts, indices, normals, opts, diag);
+}
+
+static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count)
+{
+    memset(sc, 0, sizeof *sc);
+    sc->vis = vis;
+    sc->indices = indices;
+    sc->triangle_count = triangle_count;
+    sc->width = (ls_real)vis->width;
+    sc->height = (ls_real)vis->height;
+    sc->tiles_x = (vis->width + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
+    sc->tiles_y = (vis->height + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
+}
+
+ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                      uint32_t triangle_count, size_t *bytes)
+{
+    sctx sc;
+    ls_size s;
+    size_t count = 0;
+    int over = 0;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (vis == NULL || table == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
+    if (vis->triangle_count != triangle_count || table->triangle_count != triangle_count) return LS_ERR_INVALID;
+    if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
+    sctx_init(&sc, vis, indices, triangle_count);
+    sctx_size(&sc, vis->vertex_count, &s);
+    choose_cull(&sc, table, NULL);
+    bin_pass(&sc, NULL, NULL, &count, &over);
+    if (over) return LS_ERR_TOO_LARGE;
+    ls_size_add(&s, count, sizeof(uint32_t));
+    ls_size_add(&s, count, 4 * sizeof(float));
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                            uint32_t triangle_count, size_t *bytes)
+{
+    ls_size s;
+    uint32_t tx, ty;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (width == 0 || height == 0) return LS_ERR_INVALID;
+    tx = (width >> SIL_TILE_LOG2) + 1u;
+    ty = (height >> SIL_TILE_LOG2) + 1u;
+    ls_size_init(&s);
+    ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
+    ls_size_add(&s, (size_t)tx * ty + 1u, sizeof(size_t));
+    ls_size_add(&s, (size_t)triangle_count, 1);
+    ls_size_add(&s, SIL_CAND_CAP, sizeof(uint32_t));
+    ls_size_add(&s, SIL_CAND_CAP, 8 * sizeof(ls_real));
+    ls_size_add(&s, SIL_CAND_CAP, sizeof(uint32_t));
+    ls_size_add(&s, SIL_SPLIT_CAP, sizeof(ls_real));
+    if ((uint64_t)tx * ty > (uint64_t)SIZE_MAX / 16u) return LS_ERR_TOO_LARGE;
+    ls_size_add(&s, (size_t)triangle_count, (size_t)tx * ty * sizeof(uint32_t));
+    ls_size_add(&s, (size_t)triangle_count, (size_t)tx * ty * 4 * sizeof(float));
+    return ls_size_get(&s, bytes);
 }
 
 ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                                  uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
                                  const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
-                                 const ls_real *grad_image, ls_real *grad_positions, ls_diag *diag)
+                                 const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
+                                 ls_diag *diag)
 {
     sctx sc;
-    uint32_t t, h;
-    if (vis == NULL || table == NULL || opts == NULL || mvp == NULL || grad_image == NULL || grad_positions == NULL)
-        return LS_ERR_INVALID;
-    if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
-    if (vis->triangle_count != triangle_count || vis->vertex_count != vertex_count ||
-        table->triangle_count != triangle_count || table->vertex_count != vertex_count)
-        return LS_ERR_INVALID;
-    if (opts->mode > LS_SHADE_COLOR || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
-    if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL) return LS_ERR_INVALID;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count)
-            return face_error(diag, t, "triangle vertex index out of range");
-    }
-    sc.vis = vis;
-    sc.indices = indices;
+    uint32_t t, h, counts[2];
+    ls_arena_mark mark;
+    size_t entries = 0;
+    int over = 0;
+    ls_real *win;
+    size_t *offs;
+    uint32_t *ent;
+    ls_status st;
+    if (mvp == NULL || grad_image == NULL || grad_positions == NULL || arena == NULL) return LS_ERR_INVALID;
+    counts[0] = triangle_count;
+    counts[1] = vertex_count;
+    st = check_args(vis, table, indices, normals, opts, counts, diag);
+    if (st != LS_OK) return st;
+    sctx_init(&sc, vis, indices, triangle_count);
     sc.normals = normals;
     sc.o = opts;
     sc.m = mvp;
     sc.gimg = grad_image;
-    sc.triangle_count = triangle_count;
-    sc.width = (ls_real)vis->width;
-    sc.height = (ls_real)vis->height;
+    sc.flat = opts->mode == LS_SHADE_MASK;
+    sc.boost = boost;
+    sc.gp = grad_positions;
+#if LS_REAL_IS_FLOAT
+    sc.qtol = 1e-4f;
+#else
+    sc.qtol = 1e-9;
+#endif
+    mark = ls_arena_save(arena);
+    win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
+    offs = win ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
+    sc.cand = offs ? (uint32_t *)ls_arena_scratch(arena, SIL_CAND_CAP, sizeof(uint32_t)) : NULL;
+    sc.cpoly = sc.cand ? (ls_real *)ls_arena_scratch(arena, SIL_CAND_CAP, 8 * sizeof(ls_real)) : NULL;
+    sc.cpn = sc.cpoly ? (uint32_t *)ls_arena_scratch(arena, SIL_CAND_CAP, sizeof(uint32_t)) : NULL;
+    sc.split = sc.cpn ? (ls_real *)ls_arena_scratch(arena, SIL_SPLIT_CAP, sizeof(ls_real)) : NULL;
+    if (sc.split == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    for (h = 0; h < vertex_count; h++) {
+        const ls_real *cl = vis->clip + 4 * (size_t)h;
+        win[2 * (size_t)h] = (ls_real)0;
+        win[2 * (size_t)h + 1] = (ls_real)0;
+        if (cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0) window_of(&sc, cl, win + 2 * (size_t)h);
+    }
+    sc.win = win;
+    {
+        signed char *sign = (signed char *)ls_arena_scratch(arena, (size_t)triangle_count, 1);
+        if (sign == NULL) {
+            ls_arena_restore(arena, mark);
+            return LS_ERR_NOMEM;
+        }
+        choose_cull(&sc, table, sign);
+        if (sc.cull != 0) sc.sign = sign;
+    }
+    bin_pass(&sc, NULL, NULL, &entries, &over);
+    if (over) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_TOO_LARGE;
+    }
+    ent = (uint32_t *)ls_arena_scratch(arena, entries, sizeof(uint32_t));
+    sc.ebox = ent ? (float *)ls_arena_scratch(arena, entries, 4 * sizeof(float)) : NULL;
+    if (sc.ebox == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    bin_pass(&sc, offs, ent, NULL, NULL);
+    sc.offs = offs;
+    sc.ent = ent;
     for (h = 0; h < 3u * triangle_count; h++) {
         uint32_t ft = h / 3u, k = h % 3u, tw = table->twin[h], fu = LS_EDGE_NONE;
         const uint32_t *f = indices + 3 * (size_t)ft;
         uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
+        endp ea, eb;
+        const ls_real *A = vis->clip + 4 * (size_t)va, *B = vis->clip + 4 * (size_t)vb;
         if (tw != LS_EDGE_NONE) {
             const uint32_t *g = indices + 3 * (size_t)(tw / 3u);
             uint32_t vd = g[(tw % 3u + 2u) % 3u];
             ls_real sc_, sd_;
             if (tw < h) continue; /* each edge once */
             /* c and d on the same side of the edge: one face front-, one back-facing */
-            sc_ = hdet(vis->clip + 4 * (size_t)va, vis->clip + 4 * (size_t)vb, vis->clip + 4 * (size_t)vc);
-            sd_ = hdet(vis->clip + 4 * (size_t)va, vis->clip + 4 * (size_t)vb, vis->clip + 4 * (size_t)vd);
+            sc_ = hdet(A, B, vis->clip + 4 * (size_t)vc);
+            sd_ = hdet(A, B, vis->clip + 4 * (size_t)vd);
             if (!((sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0))) continue;
             fu = tw / 3u;
         }
-        edge_pass(&sc, ft, fu, va, vb, vc, boost, grad_positions);
+        if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
+        end_make(&sc, va, vb, &ea);
+        end_make(&sc, vb, va, &eb);
+        segment_pass(&sc, ft, fu, &ea, &eb, vis->clip + 4 * (size_t)vc);
+    }
+    for (t = 0; t < triangle_count; t++) cut_pass(&sc, t);
+    ls_arena_restore(arena, mark);
+    return LS_OK;
+}
+
+/* ---- the pair mode (nvdiffrast-style antialiasing, deterministic) ---- */
+
+typedef struct pctx {
+    const ls_vis *vis;
+    const ls_edge_table *table;
+    const uint32_t *indices;
+    uint32_t triangle_count;
+} pctx;
+
+/* One pair of neighbouring pixels p0 -> p1 (right or down) whose triangle
+ * ids differ: the silhouette edge of the owner crossing the segment between
+ * their centres, at c (pixel units from the owner's centre, towards the
+ * neighbour when ds = 1). */
+typedef struct pitem {
+    size_t p0, p1, q;
+    uint32_t va, vb;    /* the edge's vertices */
+    ls_real x1, y1, x2, y2, c, ds, alpha; /* frame: owner's centre, x along the pair */
+    int vertical, clamped;
+} pitem;
+
+static int pair_item(const pctx *pc, size_t p0, size_t p1, int vertical, pitem *it)
+{
+    const ls_vis *vis = pc->vis;
+    uint32_t id0 = vis->tri[p0], id1 = vis->tri[p1], own, k, best = 3u;
+    size_t po;
+    ls_real x[3], y[3], cx, cy, bc = (ls_real)0, dc, hw = (ls_real)vis->width * (ls_real)0.5;
+    ls_real hh = (ls_real)vis->height * (ls_real)0.5;
+    const uint32_t *f;
+    if (id0 == id1) return 0;
+    if (id0 > pc->triangle_count || id1 > pc->triangle_count) return 0;
+    if (id0 == 0 || (id1 != 0 && vis->depth[p1] < vis->depth[p0])) {
+        own = id1 - 1u;
+        po = p1;
+        it->ds = (ls_real)-1;
+    } else {
+        own = id0 - 1u;
+        po = p0;
+        it->ds = (ls_real)1;
+    }
+    f = pc->indices + 3 * (size_t)own;
+    {
+        size_t row = po / vis->width; /* the pixel's row and column */
+        cx = (ls_real)(po - row * vis->width) + (ls_real)0.5;
+        cy = (ls_real)row + (ls_real)0.5;
+    }
+    for (k = 0; k < 3; k++) {
+        const ls_real *cl = vis->clip + 4 * (size_t)f[k];
+        ls_real wx, wy;
+        if (!(cl[2] + cl[3] >= (ls_real)0) || !(cl[3] > (ls_real)0)) return 0; /* near-clipped: skipped */
+        wx = (cl[0] / cl[3] + (ls_real)1) * hw - cx;
+        wy = ((ls_real)1 - cl[1] / cl[3]) * hh - cy;
+        x[k] = vertical ? wy : wx;
+        y[k] = vertical ? wx : wy;
+    }
+    for (k = 0; k < 3; k++) { /* the crossing farthest towards the neighbour */
+        uint32_t k1 = (k + 1u) % 3u;
+        ls_real d = y[k1] - y[k], cc;
+        if ((y[k] >= (ls_real)0) == (y[k1] >= (ls_real)0) || d == (ls_real)0) continue;
+        cc = (x[k] * y[k1] - x[k1] * y[k]) / d;
+        if (best == 3u || it->ds * cc > it->ds * bc) {
+            best = k;
+            bc = cc;
+        }
+    }
+    if (best == 3u) return 0;
+    {
+        uint32_t k1 = (best + 1u) % 3u, h = 3u * own + best, tw = pc->table->twin[h];
+        ls_real dx = x[k1] - x[best], dy = y[k1] - y[best];
+        const ls_real *A = vis->clip + 4 * (size_t)f[best], *B = vis->clip + 4 * (size_t)f[k1];
+        if (r_abs(dy) < r_abs(dx)) return 0; /* flatter than 45 degrees to the pair */
+        if (tw != LS_EDGE_NONE) {             /* the neighbour face folds behind: a silhouette */
+            const uint32_t *g = pc->indices + 3 * (size_t)(tw / 3u);
+            ls_real sc_ = hdet(A, B, vis->clip + 4 * (size_t)f[(best + 2u) % 3u]);
+            ls_real sd_ = hdet(A, B, vis->clip + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
+            if (!((sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0))) return 0;
+        }
+        it->va = f[best];
+        it->vb = f[k1];
+        it->x1 = x[best];
+        it->y1 = y[best];
+        it->x2 = x[k1];
+        it->y2 = y[k1];
+    }
+    dc = it->ds * bc;
+    if (!(dc > (ls_real)-0.0625 && dc < (ls_real)1.0625)) return 0;
+    it->clamped = dc < (ls_real)0 || dc > (ls_real)1;
+    dc = dc < (ls_real)0 ? (ls_real)0 : (dc > (ls_real)1 ? (ls_real)1 : dc);
+    it->c = bc;
+    it->alpha = it->ds * ((ls_real)0.5 - dc);
+    it->p0 = p0;
+    it->p1 = p1;
+    it->vertical = vertical;
+    return 1;
+}
+
+/* The next blending pair from cursor *k (2 pixel + direction, image
+ * order); 0 when there is none left. it->q is the pixel it modifies. */
+static int pair_next(const pctx *pc, size_t *k, pitem *it)
+{
+    const ls_vis *vis = pc->vis;
+    size_t n = 2 * (size_t)vis->width * vis->height;
+    if (vis->width == 0) return 0;
+    while (*k < n) {
+        size_t p0 = *k >> 1, row = p0 / vis->width, col = p0 - row * vis->width;
+        int dir = (int)(*k & 1u);
+        (*k)++;
+        if (dir == 0 ? col + 1u >= vis->width : row + 1u >= vis->height) continue;
+        if (pair_item(pc, p0, dir == 0 ? p0 + 1u : p0 + vis->width, dir, it)) {
+            it->q = it->alpha > (ls_real)0 ? it->p0 : it->p1;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static ls_status pair_check(pctx *pc, const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                            uint32_t triangle_count, ls_diag *diag)
+{
+    if (vis == NULL || table == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
+    if (vis->ss != 1u || vis->triangle_count != triangle_count || table->triangle_count != triangle_count ||
+        table->vertex_count != vis->vertex_count)
+        return LS_ERR_INVALID;
+    pc->vis = vis;
+    pc->table = table;
+    pc->indices = indices;
+    pc->triangle_count = triangle_count;
+    return ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, diag);
+}
+
+ls_status ls_pair_forward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                          uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
+{
+    pctx pc;
+    size_t n, p, k = 0;
+    pitem it;
+    ls_status st = pair_check(&pc, vis, table, indices, triangle_count, diag);
+    if (st != LS_OK) return st;
+    if (image_in == NULL || image_out == NULL || image_in == image_out) return LS_ERR_INVALID;
+    n = 4 * (size_t)vis->width * vis->height;
+    for (p = 0; p < n; p++) image_out[p] = image_in[p];
+    while (pair_next(&pc, &k, &it)) {
+        int c;
+        for (c = 0; c < 4; c++)
+            image_out[4 * it.q + (size_t)c] += it.alpha * (image_in[4 * it.p1 + (size_t)c] - image_in[4 * it.p0 + (size_t)c]);
+    }
+    return LS_OK;
+}
+
+ls_status ls_pair_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                           uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
+                           const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag)
+{
+    pctx pc;
+    sctx sc;
+    size_t k = 0;
+    pitem it;
+    ls_status st = pair_check(&pc, vis, table, indices, triangle_count, diag);
+    if (st != LS_OK) return st;
+    if (mvp == NULL || image_in == NULL || grad_out == NULL || grad_positions == NULL || grad_in == grad_out)
+        return LS_ERR_INVALID;
+    sctx_init(&sc, vis, indices, triangle_count);
+    sc.m = mvp;
+    if (grad_in != NULL) {
+        size_t p, n = 4 * (size_t)vis->width * vis->height;
+        for (p = 0; p < n; p++) grad_in[p] += grad_out[p];
+    }
+    while (pair_next(&pc, &k, &it)) {
+        ls_real dd = (ls_real)0, gc, gx1, gy1, gx2, gy2, D, g4[4];
+        int c;
+        for (c = 0; c < 4; c++) {
+            ls_real g = grad_out[4 * it.q + (size_t)c];
+            dd += g * (image_in[4 * it.p1 + (size_t)c] - image_in[4 * it.p0 + (size_t)c]);
+            if (grad_in != NULL) {
+                grad_in[4 * it.p0 + (size_t)c] -= it.alpha * g;
+                grad_in[4 * it.p1 + (size_t)c] += it.alpha * g;
+            }
+        }
+        if (it.clamped) continue;
+        /* alpha = ds / 2 - c: dL/dc = -dd; c = (x1 y2 - x2 y1) / (y2 - y1) */
+        gc = -dd * boost;
+        D = it.y2 - it.y1;
+        gx1 = gc * it.y2 / D;
+        gx2 = -(gc * it.y1 / D);
+        gy1 = gc * (it.c - it.x2) / D;
+        gy2 = gc * (it.x1 - it.c) / D;
+        window_to_clip(&sc, vis->clip + 4 * (size_t)it.va, it.vertical ? gy1 : gx1, it.vertical ? gx1 : gy1, g4);
+        clip_to_positions(&sc, it.va, g4, grad_positions);
+        window_to_clip(&sc, vis->clip + 4 * (size_t)it.vb, it.vertical ? gy2 : gx2, it.vertical ? gx2 : gy2, g4);
+        clip_to_positions(&sc, it.vb, g4, grad_positions);
     }
     return LS_OK;
 }
