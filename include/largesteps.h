@@ -36,6 +36,7 @@
 #include <largesteps/optim.h>
 #include <largesteps/primitive.h>
 #include <largesteps/scene.h>
+#include <largesteps/fit.h>
 #include <largesteps/laplacian.h>
 #include <largesteps/cg.h>
 #include <largesteps/param.h>

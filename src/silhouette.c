@@ -845,8 +845,8 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     return ls_size_get(&s, bytes);
 }
 
-ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
-                                            uint32_t triangle_count, size_t *bytes)
+ls_status ls_silhouette_scratch_bytes_entries(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                              uint32_t triangle_count, size_t entries, size_t *bytes)
 {
     ls_size s;
     uint32_t tx, ty;
@@ -863,10 +863,23 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
     ls_size_add(&s, SIL_CAND_CAP, 8 * sizeof(ls_real));
     ls_size_add(&s, SIL_CAND_CAP, sizeof(uint32_t));
     ls_size_add(&s, SIL_SPLIT_CAP, sizeof(ls_real));
-    if ((uint64_t)tx * ty > (uint64_t)SIZE_MAX / 16u) return LS_ERR_TOO_LARGE;
-    ls_size_add(&s, (size_t)triangle_count, (size_t)tx * ty * sizeof(uint32_t));
-    ls_size_add(&s, (size_t)triangle_count, (size_t)tx * ty * 4 * sizeof(float));
+    ls_size_add(&s, entries, sizeof(uint32_t));
+    ls_size_add(&s, entries, 4 * sizeof(float));
     return ls_size_get(&s, bytes);
+}
+
+ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                            uint32_t triangle_count, size_t *bytes)
+{
+    uint64_t tiles;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (width == 0 || height == 0) return LS_ERR_INVALID;
+    tiles = (uint64_t)((width >> SIL_TILE_LOG2) + 1u) * (uint64_t)((height >> SIL_TILE_LOG2) + 1u);
+    if (tiles > (uint64_t)SIZE_MAX / 16u || (triangle_count > 0 && tiles > (uint64_t)SIZE_MAX / triangle_count))
+        return LS_ERR_TOO_LARGE;
+    return ls_silhouette_scratch_bytes_entries(width, height, vertex_count, triangle_count,
+                                               (size_t)tiles * triangle_count, bytes);
 }
 
 ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,

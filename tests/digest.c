@@ -595,6 +595,72 @@ static void dg_scene(digest *d)
     }
 }
 
+/* ---- the fit loop ---------------------------------------------------------- */
+
+/* 20 iterations of large steps: an icosahedron fitted to renders of an
+ * ellipsoid (icosphere level 1) from 2 framed views at 8 x 8, SH shading:
+ * the loss of every iteration and the final vertices. */
+static void dg_fit(digest *d)
+{
+    static const ls_real sh[27] = {(ls_real)1.6, (ls_real)0.8, (ls_real)0.4, (ls_real)-0.3, 0, 0, 0, 0, 0,
+                                   (ls_real)1.6, (ls_real)0.8, (ls_real)0.4, (ls_real)-0.3, 0, 0, 0, 0, 0,
+                                   (ls_real)1.5, (ls_real)0.8, (ls_real)0.4, (ls_real)-0.3, 0, 0, 0, 0, 0};
+    ls_arena arena;
+    ls_mesh target, init, out;
+    ls_camera_framing fr;
+    ls_vis vis;
+    ls_fit_config c;
+    ls_fit_views views;
+    ls_fit fit;
+    ls_real mvp[32], dirs[6], *img[2], *normals, *pos;
+    const ls_real *targets[2];
+    uint32_t i, k;
+    dg_status(d, ls_arena_init(&arena, dg_arena.bytes, sizeof dg_arena.bytes));
+    dg_status(d, ls_icosphere(1, &arena, &target));
+    for (i = 0; i < target.vertex_count; i++) {
+        target.positions[3 * i] *= (ls_real)1.3;
+        target.positions[3 * i + 1] *= (ls_real)0.8;
+    }
+    ls_fit_config_default(&c);
+    c.width = c.height = 8;
+    c.shading.mode = LS_SHADE_SH;
+    c.shading.sh = sh;
+    c.optim.lr = (ls_real)0.01;
+    dg_status(d, ls_camera_frame(target.positions, target.vertex_count, (ls_real)0.8, LS_FOV_X, 1, (ls_real)1.1, &fr, NULL));
+    dg_status(d, ls_camera_fibonacci_dirs(2, dirs));
+    normals = (ls_real *)ls_arena_alloc(&arena, 3u * target.vertex_count, sizeof(ls_real));
+    for (k = 0; k < 2; k++) {
+        dg_status(d, ls_camera_framed_view(&fr, dirs + 3 * k, NULL, mvp + 16 * k));
+        img[k] = (ls_real *)ls_arena_alloc(&arena, 4u * 64u, sizeof(ls_real));
+        targets[k] = img[k];
+    }
+    {
+        ls_arena_mark mark = ls_arena_save(&arena);
+        dg_status(d, ls_shade_vertex_normals(target.positions, target.vertex_count, target.triangles, target.face_count,
+                                             normals, NULL));
+        dg_status(d, ls_vis_init(&vis, &arena, 8, 8, 2, target.vertex_count));
+        for (k = 0; k < 2; k++) {
+            dg_status(d, ls_raster(&vis, &arena, mvp + 16 * k, target.positions, target.vertex_count, target.triangles,
+                                   target.face_count, NULL));
+            dg_status(d, ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &c.shading,
+                                  img[k], NULL));
+        }
+        ls_arena_restore(&arena, mark);
+    }
+    dg_status(d, ls_icosphere(0, &arena, &init));
+    views.count = 2;
+    views.mvp = mvp;
+    views.targets = targets;
+    dg_status(d, ls_fit_init(&fit, &c, &views, &init, &arena, NULL));
+    for (i = 0; i < 20; i++) {
+        dg_status(d, ls_fit_step(&fit, NULL, NULL));
+        dg_real(d, fit.loss);
+    }
+    pos = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
+    dg_status(d, pos == NULL ? LS_ERR_NOMEM : ls_fit_mesh(&fit, pos, &out));
+    for (i = 0; pos != NULL && i < 3u * init.vertex_count; i++) dg_real(d, pos[i]);
+}
+
 /* Entries of the later modules, one file each (tests/digest_NAME.inc, owned
  * by the module): it defines its static dg_ functions and a macro
  * DG_ENTRIES_NAME expanding to its rows of `entries` (empty when it has none). */
@@ -632,6 +698,7 @@ static const digest_entry entries[] = {
     {"math.rounding", dg_math_rounding, "floor, ceil, trunc, round, to_i32/u32/i64: specials, k/4, +-2^e(+0.5), e<=64"},
     {"primitive", dg_primitive, "icosphere level 2, grid 5x3: positions and indices"},
     {"scene", dg_scene, "text scene (look-at, Fibonacci, rings) and Mitsuba sensor (rotate, translate, lookat): views, fovs"},
+    {"fit", dg_fit, "20 large-steps iterations, icosahedron to an ellipsoid, 2 views at 8x8, SH: losses, vertices"},
     DG_ENTRIES_LAPLACIAN
     DG_ENTRIES_OPTIM
     DG_ENTRIES_DISTANCE

@@ -139,6 +139,74 @@ static void job_ldlt(ls_arena *arena)
               (unsigned long long)want);
 }
 
+/* A fit on the MCU (issue 11): one view at 32 x 32 (float; 16 x 16 in double,
+ * whose buffers are twice as large) of an ellipsoid, from an icosphere of
+ * level 1 (level 0 in double), 10 iterations of large steps. The memory is
+ * sized by ls_fit_bytes on the target itself, and the fit runs in what the
+ * query said. */
+static void job_fit(ls_arena *arena)
+{
+#if LS_REAL_IS_FLOAT
+    const uint32_t res = 32, level = 1;
+#else
+    const uint32_t res = 16, level = 0;
+#endif
+    static const ls_real sh[27] = {(ls_real)1.6, (ls_real)0.8, (ls_real)0.4, 0, 0, 0, 0, 0, 0,
+                                   (ls_real)1.6, (ls_real)0.8, (ls_real)0.4, 0, 0, 0, 0, 0, 0,
+                                   (ls_real)1.6, (ls_real)0.8, (ls_real)0.4, 0, 0, 0, 0, 0, 0};
+    const ls_real dir[3] = {(ls_real)0.3, (ls_real)0.4, 1};
+    ls_mesh target, init;
+    ls_camera_framing fr;
+    ls_fit_config c;
+    ls_fit_views views;
+    ls_fit fit;
+    ls_vis vis;
+    ls_real mvp[16], *img, *normals, first = 0;
+    const ls_real *targets[1];
+    ls_arena_mark mark;
+    size_t bytes = 0, before;
+    uint32_t i;
+    REQUIRE(ls_icosphere(2, arena, &target) == LS_OK);
+    for (i = 0; i < target.vertex_count; i++) target.positions[3 * i] *= (ls_real)1.4;
+    ls_fit_config_default(&c);
+    c.width = c.height = res;
+    c.shading.mode = LS_SHADE_SH;
+    c.shading.sh = sh;
+    c.optim.lr = (ls_real)0.02;
+    REQUIRE(ls_camera_frame(target.positions, target.vertex_count, (ls_real)0.8, LS_FOV_X, 1, (ls_real)1.1, &fr, NULL) == LS_OK);
+    REQUIRE(ls_camera_framed_view(&fr, dir, NULL, mvp) == LS_OK);
+    img = (ls_real *)ls_arena_alloc(arena, 4u * res * res, sizeof(ls_real));
+    REQUIRE(img != NULL);
+    targets[0] = img;
+    mark = ls_arena_save(arena);
+    normals = (ls_real *)ls_arena_alloc(arena, 3u * target.vertex_count, sizeof(ls_real));
+    REQUIRE(normals != NULL);
+    REQUIRE(ls_shade_vertex_normals(target.positions, target.vertex_count, target.triangles, target.face_count, normals,
+                                    NULL) == LS_OK);
+    REQUIRE(ls_vis_init(&vis, arena, res, res, 1, target.vertex_count) == LS_OK);
+    REQUIRE(ls_raster(&vis, arena, mvp, target.positions, target.vertex_count, target.triangles, target.face_count,
+                      NULL) == LS_OK);
+    REQUIRE(ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &c.shading, img, NULL) ==
+            LS_OK);
+    ls_arena_restore(arena, mark);
+    REQUIRE(ls_icosphere(level, arena, &init) == LS_OK);
+    views.count = 1;
+    views.mvp = mvp;
+    views.targets = targets;
+    before = ls_arena_used(arena);
+    REQUIRE(ls_fit_bytes(&c, &views, &init, arena, &bytes, NULL) == LS_OK);
+    CHECK(bytes <= ls_arena_available(arena));
+    REQUIRE(ls_fit_init(&fit, &c, &views, &init, arena, NULL) == LS_OK);
+    CHECK_EQ(ls_arena_used(arena) - before, LS_ARENA_ROUND(bytes));
+    for (i = 0; i < 10; i++) {
+        REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+        if (i == 0) first = fit.loss;
+        CHECK(fit.loss - fit.loss == 0);
+    }
+    printf("     fit: %ux%u, %u vertices, ls_fit_bytes %lu, loss %.5g -> %.5g\n", (unsigned)res, (unsigned)res,
+           (unsigned)init.vertex_count, (unsigned long)bytes, (double)first, (double)fit.loss);
+}
+
 typedef struct mcu_job {
     const char *name;
     void (*run)(ls_arena *arena);
@@ -151,6 +219,7 @@ static const mcu_job jobs[] = {
     {"mcu_math", job_math},
 #endif
     {"mcu_ldlt", job_ldlt},
+    {"mcu_fit", job_fit},
 };
 
 static void run_job(const mcu_job *job)

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "commands.h"
+#include "report.h"
 #include "ls_posix.h"
 
 static int metrics_usage(void)
@@ -67,47 +68,6 @@ static int load(const char *path, loaded *out)
     return 1;
 }
 
-static void json_string(const char *s)
-{
-    putchar('"');
-    for (; *s != 0; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') printf("\\%c", c);
-        else if (c < 0x20) printf("\\u%04x", (unsigned)c);
-        else putchar(c);
-    }
-    putchar('"');
-}
-
-static void json_stats(const char *name, const ls_dist_stats *s, int comma)
-{
-    printf("\"%s\": {\"max\": %.9g, \"mean\": %.9g, \"rms\": %.9g, \"count\": %u, \"argmax\": %lld}%s", name,
-           (double)s->max, (double)s->mean, (double)s->rms, (unsigned)s->count,
-           s->argmax == UINT32_MAX ? -1LL : (long long)s->argmax, comma ? ", " : "");
-}
-
-static void json_one_way(const char *name, const ls_dist_one_way *w)
-{
-    printf("  \"%s\": {", name);
-    json_stats("vertex", &w->vertex, 1);
-    json_stats("face", &w->face, 1);
-    json_stats("normal_deg", &w->normal, 0);
-    printf("},\n");
-}
-
-static void json_tangle(const char *name, const ls_tangle_report *t, int comma)
-{
-    printf("  \"%s\": {\"intersecting_pairs\": %u, \"intersecting_faces\": %u, \"degenerate_faces\": %u, ", name,
-           (unsigned)t->intersecting_pairs, (unsigned)t->intersecting_faces, (unsigned)t->degenerate_faces);
-    if (t->has_reference) printf("\"inverted_faces\": %u, ", (unsigned)t->inverted_faces);
-    else printf("\"inverted_faces\": null, ");
-    printf("\"angle_deg\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"max\": %.9g}, ",
-           (double)t->angle_min, (double)t->angle_p1, (double)t->angle_p5, (double)t->angle_p50, (double)t->angle_max);
-    printf("\"quality\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"mean\": %.9g}}%s\n",
-           (double)t->quality_min, (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50,
-           (double)t->quality_mean, comma ? "," : "");
-}
-
 static void text_one_way(const char *name, const ls_dist_one_way *w, double diag)
 {
     double d = diag > 0 ? diag : 1;
@@ -119,19 +79,6 @@ static void text_one_way(const char *name, const ls_dist_one_way *w, double diag
            (double)w->face.mean / d, (double)w->face.rms / d, (unsigned)w->face.count);
     printf("%s normals   max %-9.4g deg  mean %-9.4g deg  rms %.4g deg\n", name, (double)w->normal.max,
            (double)w->normal.mean, (double)w->normal.rms);
-}
-
-static void text_tangle(const char *name, const ls_tangle_report *t)
-{
-    printf("%s self-intersecting pairs %u (%u faces)", name, (unsigned)t->intersecting_pairs,
-           (unsigned)t->intersecting_faces);
-    if (t->intersecting_pairs > 0) printf(", first %u-%u", (unsigned)t->first_pair[0], (unsigned)t->first_pair[1]);
-    printf("; degenerate faces %u", (unsigned)t->degenerate_faces);
-    if (t->has_reference) printf("; inverted vs B %u", (unsigned)t->inverted_faces);
-    printf("\n%s angles    min %.3f p1 %.3f p5 %.3f p50 %.3f max %.3f deg\n", name, (double)t->angle_min,
-           (double)t->angle_p1, (double)t->angle_p5, (double)t->angle_p50, (double)t->angle_max);
-    printf("%s quality   min %.4f p1 %.4f p5 %.4f p50 %.4f mean %.4f (2 r / R)\n", name, (double)t->quality_min,
-           (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50, (double)t->quality_mean);
 }
 
 int ls_cmd_metrics(int argc, char **argv)
@@ -195,23 +142,16 @@ int ls_cmd_metrics(int argc, char **argv)
     }
     if (json) {
         printf("{\n  \"a\": {\"path\": ");
-        json_string(pa);
+        ls_report_json_string(stdout, pa);
         printf(", \"vertices\": %u, \"faces\": %u, \"samples\": %u},\n", (unsigned)a.mesh.vertex_count,
                (unsigned)a.mesh.face_count, (unsigned)sa);
         printf("  \"b\": {\"path\": ");
-        json_string(pb);
+        ls_report_json_string(stdout, pb);
         printf(", \"vertices\": %u, \"faces\": %u, \"samples\": %u},\n", (unsigned)b.mesh.vertex_count,
                (unsigned)b.mesh.face_count, (unsigned)sb);
-        printf("  \"diag_b\": %.9g,\n", (double)d.diag);
-        printf("  \"vertex_hausdorff\": %.9g, \"vertex_hausdorff_rel\": %.9g,\n", (double)d.vertex_hausdorff,
-               (double)d.vertex_hausdorff_rel);
-        printf("  \"hausdorff\": %.9g, \"hausdorff_rel\": %.9g,\n", (double)d.hausdorff, (double)d.hausdorff_rel);
-        printf("  \"mean\": %.9g, \"mean_rel\": %.9g,\n", (double)d.mean, (double)d.mean_rel);
-        printf("  \"rms\": %.9g, \"rms_rel\": %.9g,\n", (double)d.rms, (double)d.rms_rel);
-        json_one_way("a_to_b", &d.ab);
-        json_one_way("b_to_a", &d.ba);
-        json_tangle("tangle_a", &ta, 1);
-        json_tangle("tangle_b", &tb, 1);
+        ls_report_json_distance(stdout, &d);
+        ls_report_json_tangle(stdout, "tangle_a", &ta, 1);
+        ls_report_json_tangle(stdout, "tangle_b", &tb, 1);
         printf("  \"time_ms\": {\"distance\": %.3f, \"tangle\": %.3f},\n", (double)t_dist * 1e-6,
                (double)t_tangle * 1e-6);
         printf("  \"arena_bytes\": %llu\n}\n", (unsigned long long)need);
@@ -232,8 +172,8 @@ int ls_cmd_metrics(int argc, char **argv)
         text_one_way("A->B", &d.ab, (double)d.diag);
         text_one_way("B->A", &d.ba, (double)d.diag);
         printf("\n");
-        text_tangle("A", &ta);
-        text_tangle("B", &tb);
+        ls_report_text_tangle(stdout, "A", &ta);
+        ls_report_text_tangle(stdout, "B", &tb);
         printf("\ntime: distances %.1f ms, tangle %.1f ms; arena %llu bytes\n", (double)t_dist * 1e-6,
                (double)t_tangle * 1e-6, (unsigned long long)need);
     }

@@ -9,5 +9,7 @@ int ls_cmd_toy1d(int argc, char **argv);
 int ls_cmd_metrics(int argc, char **argv);
 int ls_cmd_remesh(int argc, char **argv);
 int ls_cmd_render(int argc, char **argv);
+int ls_cmd_fit(int argc, char **argv);
+int ls_cmd_experiment(int argc, char **argv);
 
 #endif /* LS_COMMANDS_H */

@@ -1,6 +1,11 @@
-/* file.c - whole-file reading and a FILE*-backed write callback. */
+/* file.c - whole-file reading and writing, a FILE*-backed write callback,
+ * directories. */
+#define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <errno.h>
+#include <sys/stat.h>
 #include "ls_posix.h"
 
 ls_status ls_posix_read_file(const char *path, unsigned char **data, size_t *bytes)
@@ -48,4 +53,45 @@ int32_t ls_posix_write_file(void *user, const void *data, size_t bytes)
     FILE *f = (FILE *)user;
     if (f == NULL) return 1;
     return fwrite(data, 1, bytes, f) == bytes ? 0 : 1;
+}
+
+int ls_posix_mkdir_p(const char *path)
+{
+    char buf[4096];
+    size_t i, n = strlen(path);
+    if (n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, path, n + 1);
+    for (i = 1; i <= n; i++) {
+        if (buf[i] != '/' && buf[i] != '\0') continue;
+        buf[i] = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+        buf[i] = i < n ? '/' : '\0';
+    }
+    return 0;
+}
+
+int ls_posix_write_whole(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx)
+{
+    char tmp[4096], path[4096];
+    FILE *f;
+    int ok;
+    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path) return 0;
+    if ((size_t)snprintf(tmp, sizeof tmp, "%s/.%s.tmp", dir, name) >= sizeof tmp) return 0;
+    f = fopen(tmp, "wb");
+    if (f == NULL) return 0;
+    ok = body(f, ctx);
+    if (fclose(f) != 0) ok = 0;
+    if (ok && rename(tmp, path) != 0) ok = 0;
+    if (!ok) remove(tmp);
+    return ok;
+}
+
+ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag)
+{
+    unsigned char *data = NULL;
+    size_t bytes = 0;
+    ls_status st = ls_posix_read_file(path, &data, &bytes);
+    if (st == LS_OK) st = ls_mesh_read(data, bytes, LS_MESH_FORMAT_AUTO, arena, mesh, diag);
+    free(data);
+    return st;
 }

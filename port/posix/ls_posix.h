@@ -4,6 +4,7 @@
 #ifndef LS_POSIX_H
 #define LS_POSIX_H
 
+#include <stdio.h>
 #include <largesteps.h>
 
 /* Monotonic clock in nanoseconds, usable as an ls_clock_fn (user is ignored). */
@@ -16,5 +17,18 @@ ls_status ls_posix_read_file(const char *path, unsigned char **data, size_t *byt
 /* A write callback target: appends to a FILE * passed as `user`; returns 0 on
  * success, non-zero on a write error. */
 int32_t ls_posix_write_file(void *user, const void *data, size_t bytes);
+
+/* Reads an OBJ, PLY or OFF file (format from its first bytes) into *mesh
+ * from the arena: LS_ERR_IO when unreadable, else ls_mesh_read's errors. */
+ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag);
+
+/* Creates a directory and its missing parents (like mkdir -p); 0 on success. */
+int ls_posix_mkdir_p(const char *path);
+
+/* Writes DIR/NAME whole or not at all: body(f, ctx) writes into DIR/.NAME.tmp
+ * (returning non-zero on success), which is then renamed to DIR/NAME; on any
+ * failure the temporary file is removed and DIR/NAME is untouched. Returns 1
+ * on success, 0 on failure. */
+int ls_posix_write_whole(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx);
 
 #endif /* LS_POSIX_H */

@@ -5,8 +5,8 @@
  *                         of an OBJ, PLY or OFF file
  *   largesteps version    the version string
  *
- * The reconstruction commands (fit, remesh, render, ...) arrive with their
- * modules; every command reads files here and hands memory buffers to src/. */
+ * The other commands live in cmd_NAME.c (commands.h); every command reads
+ * files here and hands memory buffers to src/. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,11 +16,18 @@
 
 static int usage(FILE *out)
 {
-    fprintf(out, "usage: largesteps <command>\n"
-                 "  info      print the build configuration and run the self-test\n"
-                 "  info MESH print counts, validation findings, genus and bounding box of\n"
-                 "            an OBJ, PLY or OFF file\n"
-                 "  version   print the library version\n");
+    fprintf(out, "usage: largesteps <command> [arguments]   (each command: --help)\n"
+                 "  fit [TARGET|SCENE] -o DIR   reconstruct a mesh from renders of a target (default: the\n"
+                 "                              embedded bunny); writes result.obj, contact.png, log.csv,\n"
+                 "                              convergence.svg, metrics.json\n"
+                 "  experiment NAME -o DIR      the paper's experiments: lambda-sweep, compare, silhouettes, views\n"
+                 "  render MESH -o DIR          render views and a contact sheet\n"
+                 "  remesh IN -o OUT            isotropic remeshing\n"
+                 "  metrics A B                 distances and tangling metrics between two meshes\n"
+                 "  toy1d -o DIR                the 1D toy of large steps, with SVG plots\n"
+                 "  info                        the build configuration and the self-test\n"
+                 "  info MESH                   counts, validation findings, genus and bounding box of a mesh\n"
+                 "  version                     the library version\n");
     return out == stderr ? 2 : 0;
 }
 
@@ -163,6 +170,8 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "metrics") == 0) return ls_cmd_metrics(argc - 1, argv + 1);
     if (strcmp(argv[1], "remesh") == 0) return ls_cmd_remesh(argc - 1, argv + 1);
     if (strcmp(argv[1], "render") == 0) return ls_cmd_render(argc - 1, argv + 1);
+    if (strcmp(argv[1], "fit") == 0) return ls_cmd_fit(argc - 1, argv + 1);
+    if (strcmp(argv[1], "experiment") == 0) return ls_cmd_experiment(argc - 1, argv + 1);
     if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0) return usage(stdout);
     fprintf(stderr, "largesteps: unknown command '%s'\n", argv[1]);
     return usage(stderr);

@@ -1,0 +1,187 @@
+/* largesteps/fit.h - the reconstruction loop: a mesh fitted to target images
+ * of several views by gradient descent, with the large-steps
+ * parameterization or one of the baselines the paper compares against.
+ *
+ * Per iteration (ls_fit_step), as the reference's scripts/main.py:
+ *   x = M^{-1} u                      (large steps; the baselines keep x)
+ *   for every view, in order:         raster, vertex normals, shade, loss
+ *                                     gradient, shading backward,
+ *                                     silhouette backward (times `boost`)
+ *   dL/dx += normals backward         (through the vertex normals)
+ *   baselines: + w d/dx of mean(x . L x) or mean((L x)^2)
+ *   dL/du = M^{-1} dL/dx              (large steps)
+ *   optimizer step on u (or x), and on the global translation block when
+ *   use_translation is set (its own UniformAdam scale, as the reference's
+ *   separate `tr` tensor).
+ * The loss is the mean over views, pixels and RGBA channels (loss.h).
+ *
+ * Methods: LS_FIT_LARGE_STEPS (the paper's; UniformAdam by default),
+ * LS_FIT_NAIVE (the optimizer on x), LS_FIT_LAPLACIAN and
+ * LS_FIT_BILAPLACIAN (the optimizer on x with the reference's regularizers
+ * mean(x . L x) and mean((L x)^2) over the 3n values, weight reg_weight, L the
+ * uniform Laplacian).
+ *
+ * Memory: the object lives in one block of the caller's arena whose size
+ * ls_fit_bytes gives exactly for an initial mesh (the factor of M depends on
+ * the connectivity, so the query runs the symbolic analysis in scratch). The
+ * iteration allocates nothing: everything it needs is in the block.
+ *
+ * Errors during an iteration name what failed: a NaN or infinity in a
+ * gradient or a rendered image gives LS_ERR_NONFINITE with diag->index = the
+ * iteration and diag->what naming the stage; the mesh, u and the optimizer
+ * are then as before the iteration.
+ *
+ * Determinism: views, pixels, edges and vertices are visited in a fixed
+ * order; the same inputs give the same bits on every target.
+ */
+#ifndef LARGESTEPS_FIT_H
+#define LARGESTEPS_FIT_H
+
+#include <largesteps/core.h>
+#include <largesteps/status.h>
+#include <largesteps/arena.h>
+#include <largesteps/monitor.h>
+#include <largesteps/mesh.h>
+#include <largesteps/sparse.h>
+#include <largesteps/raster.h>
+#include <largesteps/shade.h>
+#include <largesteps/silhouette.h>
+#include <largesteps/optim.h>
+#include <largesteps/param.h>
+#include <largesteps/remesh.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Methods. */
+#define LS_FIT_LARGE_STEPS 0u
+#define LS_FIT_NAIVE       1u
+#define LS_FIT_LAPLACIAN   2u
+#define LS_FIT_BILAPLACIAN 3u
+
+typedef struct ls_fit_config {
+    uint32_t method;          /* LS_FIT_* */
+    uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
+    ls_real weight;           /* lambda or alpha (large steps) */
+    uint32_t solver;          /* LS_PARAM_LDLT or LS_PARAM_CG */
+    ls_optim_config optim;    /* optimizer of u (large steps) or x (baselines) */
+    uint32_t use_translation; /* 1: optimize a global translation too */
+    ls_real reg_weight;       /* LS_FIT_LAPLACIAN / LS_FIT_BILAPLACIAN */
+    uint32_t loss;            /* LS_LOSS_L1 or LS_LOSS_L2 */
+    ls_real boost;            /* silhouette gradient multiplier (the paper uses 3) */
+    uint32_t width, height;   /* render size */
+    uint32_t ss;              /* samples per pixel side of the fit's renders (1, 2, 4) */
+    ls_shade_opts shading;    /* mode, SH, lights, background (vertex_colors must be NULL) */
+} ls_fit_config;
+
+/* The views: view_count clip transforms (16 reals each, projection x view,
+ * camera.h) and target images [4 width height] RGBA each (borrowed: they
+ * must outlive the fit). */
+typedef struct ls_fit_views {
+    uint32_t count;
+    const ls_real *mvp;
+    const ls_real *const *targets;
+} ls_fit_views;
+
+/* Clock time of each stage, summed over the iterations (with a monitor
+ * clock; zeros without). */
+typedef struct ls_fit_timing {
+    uint64_t render_ns;         /* raster, normals, shade, loss */
+    uint64_t shade_backward_ns; /* interior shading gradient and normals backward */
+    uint64_t silhouette_ns;     /* silhouette gradient */
+    uint64_t solve_ns;          /* x = M^-1 u and the adjoint */
+    uint64_t optimizer_ns;      /* the optimizer step */
+} ls_fit_timing;
+
+typedef struct ls_fit {
+    ls_fit_config config;
+    ls_fit_views views;
+    ls_arena block;           /* the object's memory */
+    uint32_t vertex_count, face_count;
+    ls_real *x;               /* [3 n] current vertex positions (before translation) */
+    uint32_t *triangles;      /* [3 f] */
+    ls_real *u;               /* [3 n] differential coordinates (large steps) */
+    ls_real *params;          /* [3 n + 3] what the optimizer moves: u or x, then the translation */
+    ls_real *grad;            /* [3 n + 3] its gradient */
+    ls_real *gx;              /* [3 n] dL/dx */
+    ls_real *xr;              /* [3 n] rendered positions: x + translation */
+    ls_real *normals;         /* [3 n] */
+    ls_real *gnormals;        /* [3 n] */
+    ls_real *image;           /* [4 W H] */
+    ls_real *gimage;          /* [4 W H] */
+    ls_csc lap;               /* uniform Laplacian (upper triangle) */
+    ls_param param;           /* large steps: M and its solver */
+    ls_optim optim;
+    ls_edge_table edges;
+    ls_vis vis;
+    size_t scratch_bytes;     /* scratch reserved for one iteration */
+    uint32_t iteration;       /* iterations done */
+    ls_real loss;             /* image loss of the last iteration (before its step) */
+    ls_real reg_loss;         /* regularizer value of the last iteration (baselines) */
+    ls_fit_timing timing;
+    uint32_t remeshes;        /* remeshes done */
+} ls_fit;
+
+/* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
+ * LDL^T, UniformAdam lr 1e-2, L1, boost 3, translation on, 128 x 128 with
+ * S = 1, SH shading with the caller's coefficients to fill (mode
+ * LS_SHADE_MASK until then). O(1). NULL is ignored. */
+void ls_fit_config_default(ls_fit_config *config);
+
+/* ls_fit_bytes: exact arena bytes of ls_fit_init with these arguments (the
+ * block, including the worst raster scratch of an iteration). Runs the
+ * factor's symbolic analysis in `scratch` (large steps with LS_PARAM_LDLT;
+ * may be NULL otherwise). Errors: as ls_fit_init, LS_ERR_NOMEM (scratch too
+ * small). */
+ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                       ls_arena *scratch, size_t *bytes, ls_diag *diag);
+
+/* ls_fit_init: a fit starting from `initial` (copied; closed or open
+ * manifold triangle mesh with finite positions). Builds the Laplacian, M and
+ * its factor, u = M x, the optimizer, the edge table and the visibility
+ * buffer. Errors: LS_ERR_INVALID (NULL, a bad configuration: zero views or
+ * resolution, negative lambda, alpha outside [0, 1), an unknown method,
+ * solver, loss or optimizer, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
+ * (the initial mesh), LS_ERR_NOT_SPD (M), LS_ERR_NOMEM; on failure the arena
+ * is unchanged and *fit is zeroed. */
+ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                      ls_arena *arena, ls_diag *diag);
+
+/* ls_fit_step: one iteration (above). monitor (optional) gives the stage
+ * timing clock and may cancel (checked once per view). Errors:
+ * LS_ERR_NONFINITE (diag->index = iteration, what = the stage),
+ * LS_ERR_CANCELLED, and the errors of the stages; the fit is then as before
+ * the call. */
+ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
+
+/* ls_fit_remesh: the method's remeshing step: the current mesh (x plus the
+ * translation) is remeshed to h = h_factor x its mean edge length (the
+ * method: 1/2; ls_remesh_mean_edge, LS_REMESH_ITERATIONS iterations,
+ * projection onto the current surface), then the fit is rebuilt on it: the
+ * Laplacian, M and its factor, u = M x, the optimizer reset, the translation
+ * folded into x, and the learning rate multiplied by lr_factor (the method:
+ * 0.8). The iteration count and timing carry on. The fit must be the last
+ * allocation at the bottom of `arena` (as ls_fit_init leaves it); the new
+ * fit replaces it at the same place. Before anything is released the call
+ * checks that the arena can hold the remesher's work and the new fit, so a
+ * failure for lack of memory (LS_ERR_NOMEM, arena->need set) or a rejected
+ * mesh leaves the fit and the arena as they were. *info (optional) receives
+ * the remesher's counts. Errors: LS_ERR_INVALID (NULL, factors not in
+ * (0, 1] / (0, inf), the fit not last in the arena), the remesher's, and
+ * those of ls_fit_init; only an error of the final rebuild (not expected once
+ * the checks passed) leaves the fit zeroed. */
+ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
+                        ls_diag *diag);
+
+/* ls_fit_mesh: the current mesh: x = M^{-1} u (large steps; one solve) plus
+ * the translation, written into positions [3 vertex_count]; the triangles
+ * point into the fit. O(n) plus the solve. Errors: LS_ERR_INVALID, the
+ * solve's. */
+ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LARGESTEPS_FIT_H */

@@ -1,0 +1,374 @@
+/* cmd_fit.c - `largesteps fit [TARGET] [options] -o DIR`: the reconstruction.
+ *
+ * The target is a mesh (OBJ, PLY, OFF) rendered by our renderer from N views
+ * on a Fibonacci sphere framing it, with S = 4 supersampling (so the fit does
+ * not see exactly its own forward model) and SH lighting; without TARGET the
+ * bunny compiled into the program is used. The initial mesh is an icosphere
+ * fitted to the target's bounding sphere. Every file in DIR is written whole
+ * (a temporary name, then renamed): result.obj, log.csv (iteration, loss,
+ * time), convergence.svg (loss against iteration), contact.png (target,
+ * initial and final render of every view, one row each).
+ *
+ * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset)
+ * gives the cameras, the resolution, the lighting (SH coefficients, or an
+ * environment map in PFM projected to SH and scaled), the background and the
+ * target: a mesh rendered as above, or one image per camera (PNG or PFM, the
+ * scene's resolution). Paths in a scene are relative to its directory. The
+ * initial mesh is the scene's (a file, or an icosphere of the given level on
+ * the target mesh's bounding sphere; with image targets, the unit sphere).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <unistd.h>
+#include "ls_posix.h"
+#include "commands.h"
+#include "fit_job.h"
+#include "report.h"
+
+
+typedef struct fit_args {
+    const char *target, *out;
+    uint32_t views, res, iters, level, target_ss, quiet;
+    uint32_t remesh_count, remesh_at[32];
+    ls_fit_config cfg;
+} fit_args;
+
+static int usage(FILE *f)
+{
+    fprintf(f,
+            "usage: largesteps fit [TARGET.obj|.ply|.off] [options] -o DIR\n"
+            "  without TARGET: the bunny compiled into the program\n"
+            "  --views N          views on a Fibonacci sphere (default 16)\n"
+            "  --res R            render size R x R (default 128)\n"
+            "  --iters N          iterations (default 400)\n"
+            "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
+            "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha))\n"
+            "  --lr X             learning rate, in units of the target's bounding-sphere radius\n"
+            "                     (default 0.01; the paper's scenes are about unit size)\n"
+            "  --method M         large (default) | naive | laplacian | bilaplacian\n"
+            "  --reg W            regularizer weight of the laplacian/bilaplacian baselines (default 1)\n"
+            "  --optimizer O      uniform (default for large) | adam (default otherwise) | sgd\n"
+            "  --solver S         ldlt (default) | cg\n"
+            "  --loss L           l1 (default) | l2\n"
+            "  --boost B          silhouette gradient multiplier (default 3)\n"
+            "  --shading S        sh (default) | mask\n"
+            "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
+            "                     default 100,250; 'none' for no remeshing)\n"
+            "  --level K          subdivision level of the initial icosphere (default 3)\n"
+            "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
+            "  --no-translation   do not optimize a global translation\n"
+            "  --quiet            no progress line\n"
+            "  -o DIR             output directory (created if missing)\n");
+    return f == stderr ? 2 : 0;
+}
+
+static int parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out)
+{
+    char *end;
+    unsigned long v = strtoul(s, &end, 10);
+    if (*s == '\0' || *end != '\0' || v < lo || v > hi) return 0;
+    *out = (uint32_t)v;
+    return 1;
+}
+
+static int parse_real(const char *s, ls_real *out)
+{
+    double v;
+    if (ls_parse_double(s, strlen(s), &v) != LS_OK) return 0;
+    *out = (ls_real)v;
+    return 1;
+}
+
+static int parse_args(int argc, char **argv, fit_args *a)
+{
+    int i, optimizer_set = 0;
+    uint32_t optimizer = LS_OPTIM_UNIFORM_ADAM;
+    ls_real lr = (ls_real)0.01;
+    int lr_set = 0;
+    memset(a, 0, sizeof *a);
+    a->views = 16;
+    a->res = 128;
+    a->iters = 400;
+    a->remesh_count = 2;
+    a->remesh_at[0] = 100;
+    a->remesh_at[1] = 250;
+    a->level = 3;
+    a->target_ss = 4;
+    ls_fit_config_default(&a->cfg);
+    a->cfg.form = LS_SYSTEM_ALPHA;
+    a->cfg.weight = (ls_real)0.95;
+    a->cfg.reg_weight = 1;
+    a->cfg.shading.mode = LS_SHADE_SH;
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int ok = 1;
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0) return usage(stdout), -1;
+        if (strcmp(o, "--no-translation") == 0) {
+            a->cfg.use_translation = 0;
+            continue;
+        }
+        if (strcmp(o, "--quiet") == 0) {
+            a->quiet = 1;
+            continue;
+        }
+        if (o[0] != '-') {
+            if (a->target != NULL) return fprintf(stderr, "largesteps fit: more than one target\n"), 0;
+            a->target = o;
+            continue;
+        }
+        if (v == NULL) return fprintf(stderr, "largesteps fit: %s needs a value\n", o), 0;
+        i++;
+        if (strcmp(o, "-o") == 0) a->out = v;
+        else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
+        else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
+        else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->iters);
+        else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
+        else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
+        else if (strcmp(o, "--remesh") == 0 && strcmp(v, "none") == 0) a->remesh_count = 0;
+        else if (strcmp(o, "--remesh") == 0) {
+            const char *p = v;
+            a->remesh_count = 0;
+            while (ok && *p != '\0') {
+                char *end;
+                unsigned long it = strtoul(p, &end, 10);
+                ok = end != p && a->remesh_count < 32 && it < 1000000ul &&
+                     (a->remesh_count == 0 || it > a->remesh_at[a->remesh_count - 1]);
+                if (ok) a->remesh_at[a->remesh_count++] = (uint32_t)it;
+                p = *end == ',' ? end + 1 : end;
+                if (*end != ',' && *end != '\0') ok = 0;
+            }
+        } else if (strcmp(o, "--lambda") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA;
+        else if (strcmp(o, "--alpha") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA;
+        else if (strcmp(o, "--lr") == 0) ok = parse_real(v, &lr), lr_set = 1;
+        else if (strcmp(o, "--reg") == 0) ok = parse_real(v, &a->cfg.reg_weight);
+        else if (strcmp(o, "--boost") == 0) ok = parse_real(v, &a->cfg.boost);
+        else if (strcmp(o, "--method") == 0) {
+            a->cfg.method = strcmp(v, "large") == 0 ? LS_FIT_LARGE_STEPS : strcmp(v, "naive") == 0 ? LS_FIT_NAIVE
+                          : strcmp(v, "laplacian") == 0 ? LS_FIT_LAPLACIAN : strcmp(v, "bilaplacian") == 0 ? LS_FIT_BILAPLACIAN : 99u;
+            ok = a->cfg.method != 99u;
+        } else if (strcmp(o, "--optimizer") == 0) {
+            optimizer = strcmp(v, "uniform") == 0 ? LS_OPTIM_UNIFORM_ADAM : strcmp(v, "adam") == 0 ? LS_OPTIM_ADAM
+                      : strcmp(v, "sgd") == 0 ? LS_OPTIM_SGD : 99u;
+            ok = optimizer != 99u;
+            optimizer_set = 1;
+        } else if (strcmp(o, "--solver") == 0) {
+            a->cfg.solver = strcmp(v, "ldlt") == 0 ? LS_PARAM_LDLT : strcmp(v, "cg") == 0 ? LS_PARAM_CG : 99u;
+            ok = a->cfg.solver != 99u;
+        } else if (strcmp(o, "--loss") == 0) {
+            a->cfg.loss = strcmp(v, "l1") == 0 ? LS_LOSS_L1 : strcmp(v, "l2") == 0 ? LS_LOSS_L2 : 99u;
+            ok = a->cfg.loss != 99u;
+        } else if (strcmp(o, "--shading") == 0) {
+            a->cfg.shading.mode = strcmp(v, "sh") == 0 ? LS_SHADE_SH : strcmp(v, "mask") == 0 ? LS_SHADE_MASK : 99u;
+            ok = a->cfg.shading.mode != 99u;
+        } else {
+            return fprintf(stderr, "largesteps fit: unknown option %s (see --help)\n", o), 0;
+        }
+        if (!ok) return fprintf(stderr, "largesteps fit: bad value '%s' for %s (see --help)\n", v, o), 0;
+    }
+    if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
+    if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
+    (void)ls_optim_config_default(optimizer, &a->cfg.optim);
+    a->cfg.optim.lr = lr; /* scaled by the target's radius once it is loaded */
+    (void)lr_set;
+    a->cfg.width = a->cfg.height = a->res;
+    return 1;
+}
+
+typedef struct log_data {
+    const ls_real *loss;
+    const double *ms;
+    uint32_t count;
+} log_data;
+
+static int write_log(FILE *f, void *ctx)
+{
+    const log_data *l = (const log_data *)ctx;
+    uint32_t i;
+    fprintf(f, "iteration,loss,elapsed_ms\n");
+    for (i = 0; i < l->count; i++) fprintf(f, "%u,%.9g,%.3f\n", (unsigned)i, (double)l->loss[i], l->ms[i]);
+    return !ferror(f);
+}
+
+/* Loss against iteration, log scale, as a standalone SVG. */
+static int write_svg(FILE *f, void *ctx)
+{
+    const log_data *l = (const log_data *)ctx;
+    const double w = 640, h = 400, m = 50;
+    double lo = 1e300, hi = -1e300;
+    uint32_t i;
+    for (i = 0; i < l->count; i++) {
+        double v = (double)l->loss[i];
+        if (v > 0 && log10(v) < lo) lo = log10(v);
+        if (v > 0 && log10(v) > hi) hi = log10(v);
+    }
+    if (!(hi >= lo)) lo = 0, hi = 1;
+    if (hi - lo < 1e-9) hi = lo + 1;
+    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
+    fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+    fprintf(f, "<text x=\"%g\" y=\"20\">image loss (log10) against iteration</text>\n", m);
+    fprintf(f, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"black\"/>\n", m, h - m, w - m, h - m);
+    fprintf(f, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"black\"/>\n", m, m, m, h - m);
+    fprintf(f, "<text x=\"5\" y=\"%g\">%.2f</text><text x=\"5\" y=\"%g\">%.2f</text>\n", m + 4, hi, h - m, lo);
+    fprintf(f, "<text x=\"%g\" y=\"%g\">0</text><text x=\"%g\" y=\"%g\">%u</text>\n", m, h - m + 16, w - m - 20, h - m + 16,
+            (unsigned)(l->count > 0 ? l->count - 1 : 0));
+    fprintf(f, "<polyline fill=\"none\" stroke=\"#1f5fbf\" stroke-width=\"1.5\" points=\"");
+    for (i = 0; i < l->count; i++) {
+        double v = (double)l->loss[i];
+        double x = m + (w - 2 * m) * (l->count > 1 ? (double)i / (double)(l->count - 1) : 0);
+        double y = v > 0 ? h - m - (h - 2 * m) * (log10(v) - lo) / (hi - lo) : h - m;
+        fprintf(f, "%.1f,%.1f ", x, y);
+    }
+    fprintf(f, "\"/>\n</svg>\n");
+    return !ferror(f);
+}
+
+static int write_obj(FILE *f, void *ctx)
+{
+    return ls_mesh_write_obj((const ls_mesh *)ctx, ls_posix_write_file, f) == LS_OK;
+}
+
+typedef struct png_data {
+    const ls_image *image;
+    ls_arena *arena;
+} png_data;
+
+static int write_png(FILE *f, void *ctx)
+{
+    const png_data *p = (const png_data *)ctx;
+    ls_image_format fmt = {LS_IMAGE_PNG, 4, 8, 0};
+    ls_arena_mark mark = ls_arena_save(p->arena);
+    ls_status st = ls_image_encode(p->image, &fmt, ls_posix_write_file, f, p->arena);
+    ls_arena_restore(p->arena, mark);
+    return st == LS_OK;
+}
+
+typedef struct json_data {
+    const ls_job_problem *p;
+    const ls_job_run *r;
+    const fit_args *a;
+    const ls_distance_report *d;
+    const ls_tangle_report *t;
+} json_data;
+
+static int write_json(FILE *f, void *ctx)
+{
+    const json_data *j = (const json_data *)ctx;
+    const ls_fit_timing *t = &j->r->timing;
+    double n = j->r->iterations > 0 ? (double)j->r->iterations : 1.0;
+    fprintf(f, "{\n  \"target\": ");
+    ls_report_json_string(f, j->p->name);
+    fprintf(f, ",\n  \"iterations\": %u, \"remeshes\": %u, \"vertices\": %u, \"faces\": %u,\n",
+            (unsigned)j->r->iterations, (unsigned)j->r->remeshes, (unsigned)j->r->result.vertex_count,
+            (unsigned)j->r->result.face_count);
+    fprintf(f, "  \"final_loss\": %.9g,\n", j->r->iterations > 0 ? (double)j->r->loss[j->r->iterations - 1] : 0.0);
+    fprintf(f, "  \"ms_per_iteration\": {\"total\": %.4f, \"render\": %.4f, \"shading_backward\": %.4f, "
+               "\"silhouettes\": %.4f, \"solves\": %.4f, \"optimizer\": %.4f},\n",
+            j->r->total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
+            (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
+    if (j->d != NULL) {
+        ls_report_json_distance(f, j->d);
+        ls_report_json_tangle(f, "tangle", j->t, 1);
+    }
+    fprintf(f, "  \"fit_bytes\": %llu\n}\n", (unsigned long long)j->r->fit_bytes);
+    return !ferror(f);
+}
+
+int ls_cmd_fit(int argc, char **argv)
+{
+    fit_args a;
+    ls_job_options o;
+    ls_job_problem p;
+    ls_job_run run;
+    ls_distance_report dist;
+    ls_tangle_report tangle;
+    unsigned char *work;
+    size_t work_bytes = (size_t)1 << 30;
+    ls_arena arena;
+    ls_diag d;
+    ls_real **renders;
+    uint32_t v;
+    int have_metrics = 0, tty;
+    ls_status st;
+    int r = parse_args(argc, argv, &a);
+    if (r <= 0) return r < 0 ? 0 : 2;
+    work = (unsigned char *)malloc(work_bytes);
+    if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
+    memset(&o, 0, sizeof o);
+    o.target = a.target;
+    o.views = a.views;
+    o.width = o.height = a.res;
+    o.target_ss = a.target_ss;
+    o.shading = a.cfg.shading.mode;
+    o.level = a.level;
+    if (!ls_job_load(&p, &o, &arena)) return 1;
+    printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
+           p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
+           (unsigned)p.initial.vertex_count, (unsigned)p.views, (unsigned)p.width, (unsigned)p.height);
+    renders = (ls_real **)ls_arena_alloc(&arena, 2u * p.views, sizeof(ls_real *));
+    for (v = 0; renders != NULL && v < 2u * p.views; v++) {
+        renders[v] = (ls_real *)ls_arena_alloc(&arena, 4u * (size_t)p.width * p.height, sizeof(ls_real));
+        if (renders[v] == NULL) renders = NULL;
+    }
+    if (renders == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL), 1;
+    ls_diag_clear(&d);
+    st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
+    if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
+    tty = isatty(1);
+    a.cfg.optim.lr = a.cfg.optim.lr * p.framing.radius;
+    if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1, &arena, &run)) return 1;
+    {
+        const ls_fit_timing *t = &run.timing;
+        double n = run.iterations > 0 ? run.iterations : 1;
+        printf("fit memory %.2f MiB at start; set-up %.1f ms; %u remeshes; %u vertices at the end\n",
+               (double)run.fit_bytes / 1048576.0, run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count);
+        printf("time per iteration %.2f ms: render %.2f, shading backward %.2f, silhouettes %.2f, solves %.2f, "
+               "optimizer %.2f\n",
+               run.total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
+               (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
+    }
+    st = ls_job_render(&p, &run.result, 1, renders + p.views, &arena, &d);
+    if (st != LS_OK) return ls_job_fail("rendering the result", st, &d), 1;
+    if (p.have_mesh) {
+        have_metrics = ls_job_metrics(&p, &run.result, &arena, &dist, &tangle);
+        if (!have_metrics) return 1;
+        ls_report_text_distance(stdout, &dist);
+        ls_report_text_tangle(stdout, "result", &tangle);
+    }
+    {
+        log_data l;
+        json_data j;
+        ls_contact sheet;
+        png_data pd;
+        l.loss = run.loss;
+        l.ms = run.ms;
+        l.count = run.iterations;
+        j.p = &p;
+        j.r = &run;
+        j.a = &a;
+        j.d = have_metrics ? &dist : NULL;
+        j.t = &tangle;
+        if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps fit: cannot create %s\n", a.out), 1;
+        st = ls_contact_init(&sheet, &arena, 3u * p.views, p.width, p.height, p.views, 1, NULL);
+        for (v = 0; v < p.views && st == LS_OK; v++) {
+            st = ls_contact_put_rgba(&sheet, v, p.targets[v]);
+            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, p.views + v, renders[v]);
+            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * p.views + v, renders[p.views + v]);
+        }
+        if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
+        pd.image = &sheet.image;
+        pd.arena = &arena;
+        if (!ls_posix_write_whole(a.out, "result.obj", write_obj, &run.result) ||
+            !ls_posix_write_whole(a.out, "log.csv", write_log, &l) ||
+            !ls_posix_write_whole(a.out, "convergence.svg", write_svg, &l) ||
+            !ls_posix_write_whole(a.out, "contact.png", write_png, &pd) ||
+            !ls_posix_write_whole(a.out, "metrics.json", write_json, &j))
+            return fprintf(stderr, "largesteps fit: cannot write into %s\n", a.out), 1;
+    }
+    printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json}\n",
+           run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out);
+    free(work);
+    return 0;
+}

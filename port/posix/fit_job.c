@@ -1,0 +1,327 @@
+/* fit_job.c - fitting problems and measured runs (see fit_job.h). */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "ls_posix.h"
+#include "fit_job.h"
+
+extern const unsigned char ls_embedded_bunny_obj[];
+extern const size_t ls_embedded_bunny_obj_size;
+
+/* The SH lighting of mesh targets: a soft sky from above plus a key light
+ * from the front right (9 coefficients per channel, shade.h's order). */
+static const ls_real default_sh[27] = {
+    (ls_real)1.70, (ls_real)0.55, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
+    (ls_real)1.65, (ls_real)0.55, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
+    (ls_real)1.55, (ls_real)0.60, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
+};
+
+double ls_job_now_ms(void) { return (double)ls_posix_clock_ns(NULL) * 1e-6; }
+
+int ls_job_fail(const char *what, ls_status st, const ls_diag *d)
+{
+    fprintf(stderr, "largesteps: %s: %s%s%s\n", what, ls_status_str(st),
+            d != NULL && d->what != NULL && d->what[0] ? ": " : "", d != NULL && d->what != NULL ? d->what : "");
+    return 0;
+}
+
+/* dir of `file` + rel (rel unchanged when absolute or when file has no dir). */
+static void join_path(const char *file, const char *rel, char *out, size_t cap)
+{
+    const char *slash = strrchr(file, '/');
+    size_t n = slash != NULL && rel[0] != '/' ? (size_t)(slash - file) + 1u : 0u;
+    if (n >= cap) n = 0;
+    memcpy(out, file, n);
+    out[n] = '\0';
+    strncat(out, rel, cap - n - 1u);
+}
+
+static int has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+static ls_status load_image(const char *path, ls_arena *arena, ls_image *img, ls_diag *d)
+{
+    unsigned char *data = NULL;
+    size_t bytes = 0;
+    ls_status st = ls_posix_read_file(path, &data, &bytes);
+    if (st == LS_OK) st = ls_image_decode(data, bytes, img, arena, d);
+    free(data);
+    return st;
+}
+
+/* The scene's cameras, lighting and background. */
+static int apply_scene(ls_job_problem *p, const ls_scene *sc, const char *scene_path, ls_arena *arena)
+{
+    char path[4096];
+    ls_diag d;
+    uint32_t v, i, k;
+    ls_status st = LS_OK;
+    ls_diag_clear(&d);
+    p->views = sc->camera_count;
+    p->width = sc->width;
+    p->height = sc->height;
+    p->mvps = (ls_real *)ls_arena_alloc(arena, 16u * p->views, sizeof(ls_real));
+    if (p->mvps == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    for (v = 0; v < p->views && st == LS_OK; v++) {
+        ls_real proj[16];
+        st = ls_scene_projection(sc, v, proj);
+        if (st == LS_OK) ls_mat4_mul(proj, sc->cameras[v].view, p->mvps + 16u * v);
+    }
+    if (st != LS_OK) return ls_job_fail("scene camera", st, NULL);
+    for (k = 0; k < 3; k++) p->shading.background[k] = sc->background[k];
+    if (sc->lighting == LS_SCENE_LIGHT_MASK) {
+        p->shading.mode = LS_SHADE_MASK;
+    } else if (sc->lighting == LS_SCENE_LIGHT_SH) {
+        memcpy(p->sh, sc->sh, sizeof p->sh);
+    } else {
+        ls_arena_mark mark = ls_arena_save(arena);
+        ls_image env;
+        ls_real *rgb;
+        join_path(scene_path, sc->envmap, path, sizeof path);
+        st = load_image(path, arena, &env, &d);
+        if (st != LS_OK) return ls_job_fail(path, st, &d);
+        rgb = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)env.width * env.height, sizeof(ls_real));
+        if (rgb == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+        for (i = 0; i < env.width * env.height; i++)
+            for (k = 0; k < 3; k++) rgb[3u * i + k] = (ls_real)env.pixels[4u * i + k];
+        st = ls_sh_from_equirect(rgb, env.width, env.height, p->sh);
+        if (st != LS_OK) return ls_job_fail("projecting the environment map", st, NULL);
+        for (i = 0; i < 27; i++) p->sh[i] *= sc->envmap_scale;
+        ls_arena_restore(arena, mark);
+    }
+    return 1;
+}
+
+/* Decodes every camera's target image into p->targets[v]. */
+static int load_targets(ls_job_problem *p, const ls_scene *sc, const char *scene_path, ls_arena *arena)
+{
+    char path[4096];
+    ls_diag d;
+    uint32_t v, i;
+    for (v = 0; v < p->views; v++) {
+        ls_arena_mark mark = ls_arena_save(arena);
+        ls_image img;
+        ls_status st;
+        join_path(scene_path, sc->cameras[v].image, path, sizeof path);
+        ls_diag_clear(&d);
+        st = load_image(path, arena, &img, &d);
+        if (st != LS_OK) return ls_job_fail(path, st, &d);
+        if (img.width != sc->width || img.height != sc->height) {
+            fprintf(stderr, "largesteps: %s is %ux%u, the scene's resolution is %ux%u\n", path, (unsigned)img.width,
+                    (unsigned)img.height, (unsigned)sc->width, (unsigned)sc->height);
+            return 0;
+        }
+        for (i = 0; i < 4u * img.width * img.height; i++) p->targets[v][i] = (ls_real)img.pixels[i];
+        ls_arena_restore(arena, mark);
+    }
+    return 1;
+}
+
+ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, ls_real **rgba, ls_arena *arena,
+                        ls_diag *d)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_vis vis;
+    ls_real *normals = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)m->vertex_count, sizeof(ls_real));
+    ls_status st = normals == NULL ? LS_ERR_NOMEM : LS_OK;
+    uint32_t v;
+    if (st == LS_OK) st = ls_shade_vertex_normals(m->positions, m->vertex_count, m->triangles, m->face_count, normals, d);
+    if (st == LS_OK) st = ls_vis_init(&vis, arena, p->width, p->height, ss, m->vertex_count);
+    for (v = 0; v < p->views && st == LS_OK; v++) {
+        st = ls_raster(&vis, arena, p->mvps + 16u * v, m->positions, m->vertex_count, m->triangles, m->face_count, d);
+        if (st == LS_OK) st = ls_shade(&vis, m->triangles, m->face_count, normals, m->vertex_count, &p->shading, rgba[v], d);
+    }
+    ls_arena_restore(arena, mark);
+    return st;
+}
+
+int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
+{
+    ls_scene scene;
+    ls_diag d;
+    uint32_t v, i;
+    size_t px;
+    int is_scene;
+    ls_status st;
+    memset(p, 0, sizeof *p);
+    memset(&scene, 0, sizeof scene);
+    ls_diag_clear(&d);
+    memcpy(p->sh, default_sh, sizeof p->sh);
+    ls_shade_opts_init(&p->shading);
+    p->shading.mode = o->shading;
+    p->views = o->views;
+    p->width = o->width;
+    p->height = o->height;
+    p->have_mesh = 1;
+    p->name = o->target != NULL ? o->target : "embedded bunny";
+    is_scene = o->target != NULL && (has_suffix(o->target, ".txt") || has_suffix(o->target, ".scene") ||
+                                     has_suffix(o->target, ".xml"));
+    if (is_scene) {
+        unsigned char *text = NULL;
+        size_t bytes = 0;
+        char path[4096];
+        st = ls_posix_read_file(o->target, &text, &bytes);
+        if (st != LS_OK) return ls_job_fail(o->target, st, NULL);
+        st = has_suffix(o->target, ".xml") ? ls_scene_parse_mitsuba((const char *)text, bytes, arena, &scene, &d)
+                                           : ls_scene_parse((const char *)text, bytes, arena, &scene, &d);
+        free(text);
+        if (st != LS_OK) {
+            fprintf(stderr, "largesteps: %s:%u:%u: %s\n", o->target, (unsigned)d.line, (unsigned)d.column, d.what);
+            return 0;
+        }
+        if (!apply_scene(p, &scene, o->target, arena)) return 0;
+        p->have_mesh = scene.target == LS_SCENE_TARGET_MESH;
+        if (p->have_mesh) {
+            join_path(o->target, scene.target_mesh, path, sizeof path);
+            st = ls_posix_load_mesh(path, arena, &p->target, &d);
+            if (st != LS_OK) return ls_job_fail(path, st, &d);
+        }
+    } else if (o->target != NULL) {
+        st = ls_posix_load_mesh(o->target, arena, &p->target, &d);
+        if (st != LS_OK) return ls_job_fail(o->target, st, &d);
+    } else {
+        st = ls_mesh_read(ls_embedded_bunny_obj, ls_embedded_bunny_obj_size, LS_MESH_FORMAT_AUTO, arena, &p->target, &d);
+        if (st != LS_OK) return ls_job_fail("the embedded bunny", st, &d);
+    }
+    p->shading.sh = p->sh;
+    if (p->have_mesh) {
+        st = ls_camera_frame(p->target.positions, p->target.vertex_count, (ls_real)(45.0 * 3.14159265358979323846 / 180.0),
+                             LS_FOV_X, (ls_real)p->width / (ls_real)p->height, (ls_real)1.1, &p->framing, &d);
+        if (st != LS_OK) return ls_job_fail("framing the target", st, &d);
+    } else {
+        p->framing.radius = 1;
+    }
+    if (p->mvps == NULL) { /* views on a Fibonacci sphere framing the target */
+        ls_real *dirs = (ls_real *)ls_arena_alloc(arena, 3u * p->views, sizeof(ls_real));
+        p->mvps = (ls_real *)ls_arena_alloc(arena, 16u * p->views, sizeof(ls_real));
+        if (p->mvps == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+        (void)ls_camera_fibonacci_dirs(p->views, dirs);
+        for (v = 0; v < p->views; v++) (void)ls_camera_framed_view(&p->framing, dirs + 3u * v, NULL, p->mvps + 16u * v);
+    }
+    px = 4u * (size_t)p->width * p->height;
+    p->targets = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
+    if (p->targets == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    for (v = 0; v < p->views; v++) {
+        p->targets[v] = (ls_real *)ls_arena_alloc(arena, px, sizeof(ls_real));
+        if (p->targets[v] == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    }
+    if (p->have_mesh) {
+        st = ls_job_render(p, &p->target, o->target_ss, p->targets, arena, &d);
+        if (st != LS_OK) return ls_job_fail("rendering the target", st, &d);
+    } else if (!load_targets(p, &scene, o->target, arena)) {
+        return 0;
+    }
+    if (is_scene && scene.initial == LS_SCENE_INITIAL_MESH) {
+        char path[4096];
+        join_path(o->target, scene.initial_mesh, path, sizeof path);
+        st = ls_posix_load_mesh(path, arena, &p->initial, &d);
+        if (st != LS_OK) return ls_job_fail(path, st, &d);
+    } else {
+        /* an icosphere on the target's bounding sphere */
+        st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);
+        if (st != LS_OK) return ls_job_fail("initial icosphere", st, NULL);
+        for (i = 0; i < p->initial.vertex_count; i++)
+            for (v = 0; v < 3; v++)
+                p->initial.positions[3u * i + v] = p->framing.center[v] + p->framing.radius * p->initial.positions[3u * i + v];
+    }
+    return 1;
+}
+
+int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, ls_arena *arena, ls_job_run *r)
+{
+    ls_fit_config c = *cfg;
+    ls_fit_views fv;
+    ls_fit fit;
+    ls_monitor mon;
+    ls_diag d;
+    ls_real *pos;
+    uint32_t it, next = 0;
+    double t0;
+    ls_status st;
+    memset(r, 0, sizeof *r);
+    ls_diag_clear(&d);
+    c.width = p->width;
+    c.height = p->height;
+    c.shading = p->shading;
+    r->loss = (ls_real *)ls_arena_alloc(arena, iterations + 1u, sizeof(ls_real));
+    r->ms = (double *)ls_arena_alloc(arena, iterations + 1u, sizeof(double));
+    if (r->ms == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    fv.count = p->views;
+    fv.mvp = p->mvps;
+    fv.targets = (const ls_real *const *)p->targets;
+    t0 = ls_job_now_ms();
+    st = ls_fit_init(&fit, &c, &fv, &p->initial, arena, &d);
+    if (st != LS_OK) return ls_job_fail("setting up the fit", st, &d);
+    r->setup_ms = ls_job_now_ms() - t0;
+    r->fit_bytes = fit.block.capacity;
+    memset(&mon, 0, sizeof mon);
+    mon.clock = ls_posix_clock_ns;
+    t0 = ls_job_now_ms();
+    for (it = 0; it < iterations; it++) {
+        if (next < remesh_count && remesh_at[next] == it) {
+            ls_remesh_info ri;
+            double tr = ls_job_now_ms();
+            uint32_t before = fit.vertex_count;
+            st = ls_fit_remesh(&fit, arena, (ls_real)0.5, (ls_real)0.8, &ri, &d);
+            if (st != LS_OK) return ls_job_fail("remeshing", st, &d);
+            next++;
+            if (progress)
+                printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
+                       (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
+        }
+        st = ls_fit_step(&fit, &mon, &d);
+        if (st != LS_OK) {
+            fprintf(stderr, "largesteps: iteration %u: ", (unsigned)it);
+            return ls_job_fail("fit step", st, &d);
+        }
+        r->loss[it] = fit.loss;
+        r->ms[it] = ls_job_now_ms() - t0;
+        r->iterations = it + 1u;
+        if (progress && (progress == 2 || (it + 1) % (iterations / 10u + 1u) == 0 || it + 1 == iterations)) {
+            double eta = r->ms[it] / (it + 1) * (iterations - it - 1);
+            printf("%siteration %u/%u  loss %.6g  elapsed %.1f s  eta %.1f s%s", progress == 2 ? "\r" : "",
+                   (unsigned)(it + 1), (unsigned)iterations, (double)fit.loss, r->ms[it] / 1000.0, eta / 1000.0,
+                   progress == 2 ? "   " : "\n");
+            fflush(stdout);
+        }
+        if (time_budget_ms > 0 && r->ms[it] >= time_budget_ms) break;
+    }
+    if (progress == 2) printf("\n");
+    r->total_ms = r->iterations > 0 ? r->ms[r->iterations - 1] : 0.0;
+    r->timing = fit.timing;
+    r->remeshes = fit.remeshes;
+    /* the result outlives the fit: copied above it */
+    pos = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)fit.vertex_count, sizeof(ls_real));
+    r->result.triangles = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)fit.face_count, sizeof(uint32_t));
+    if (r->result.triangles == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    {
+        ls_mesh m;
+        st = ls_fit_mesh(&fit, pos, &m);
+        if (st != LS_OK) return ls_job_fail("final mesh", st, &d);
+        memcpy(r->result.triangles, m.triangles, 3u * (size_t)m.face_count * sizeof(uint32_t));
+        r->result.positions = pos;
+        r->result.vertex_count = m.vertex_count;
+        r->result.face_count = m.face_count;
+    }
+    return 1;
+}
+
+int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *arena, ls_distance_report *dist,
+                   ls_tangle_report *tangle)
+{
+    ls_diag d;
+    ls_status st;
+    if (!p->have_mesh) return 0;
+    ls_diag_clear(&d);
+    st = ls_mesh_distance(result, &p->target, ls_distance_default_samples(result), ls_distance_default_samples(&p->target),
+                          arena, dist, &d);
+    if (st != LS_OK) return ls_job_fail("distances", st, &d);
+    st = ls_tangle(result, NULL, arena, tangle, &d);
+    if (st != LS_OK) return ls_job_fail("tangling metrics", st, &d);
+    return 1;
+}

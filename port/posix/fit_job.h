@@ -1,0 +1,72 @@
+/* fit_job.h - what `largesteps fit` and `largesteps experiment` share: a
+ * fitting problem (target, views, target images, lighting, initial mesh)
+ * loaded from a mesh, a scene or the embedded bunny, and runs of the fit loop
+ * on it with a remesh schedule, measured. Errors are reported on stderr;
+ * functions return 1 on success, 0 on failure. */
+#ifndef LS_FIT_JOB_H
+#define LS_FIT_JOB_H
+
+#include <stdio.h>
+#include <largesteps.h>
+
+#define LS_JOB_MAX_REMESH 32u
+
+typedef struct ls_job_options {
+    const char *target;     /* mesh or scene path; NULL: the embedded bunny */
+    uint32_t views;         /* views on a Fibonacci sphere (mesh targets) */
+    uint32_t width, height; /* render size (mesh targets) */
+    uint32_t target_ss;     /* supersampling of the target renders */
+    uint32_t shading;       /* LS_SHADE_SH or LS_SHADE_MASK (mesh targets) */
+    uint32_t level;         /* initial icosphere level */
+} ls_job_options;
+
+typedef struct ls_job_problem {
+    uint32_t views, width, height;
+    ls_real *mvps;           /* 16 per view */
+    ls_real **targets;       /* [4 W H] per view */
+    ls_shade_opts shading;   /* lighting and background of targets and fit */
+    ls_real sh[27];
+    int have_mesh;           /* the target is a mesh (metrics need it) */
+    ls_mesh target;
+    ls_camera_framing framing;
+    ls_mesh initial;         /* the initial mesh */
+    const char *name;        /* for reports */
+} ls_job_problem;
+
+typedef struct ls_job_run {
+    uint32_t iterations;     /* done */
+    ls_real *loss;           /* per iteration (capacity iterations + 1) */
+    double *ms;              /* elapsed at the end of each iteration */
+    ls_mesh result;          /* final mesh (positions in the arena) */
+    ls_fit_timing timing;
+    uint32_t remeshes;
+    double setup_ms, total_ms;
+    size_t fit_bytes;        /* the fit's block at the start */
+} ls_job_run;
+
+/* Loads the problem into the arena (everything stays allocated). */
+int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena);
+
+/* Renders mesh m from every view with S = ss into rgba[v]. */
+ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, ls_real **rgba, ls_arena *arena,
+                        ls_diag *d);
+
+/* Runs the fit from p->initial: `iterations` iterations (stopping early when
+ * time_budget_ms > 0 is exceeded), remeshing before the listed iterations;
+ * progress: 0 none, 1 lines, 2 a line updated in place. The run's arrays and
+ * result are left in the arena (roll back with a mark to reuse it). */
+int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, ls_arena *arena, ls_job_run *r);
+
+/* Distances (both ways, vertex and dense samples) and tangling of a result
+ * against the problem's target mesh. */
+int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *arena, ls_distance_report *dist,
+                   ls_tangle_report *tangle);
+
+/* Wall clock in milliseconds. */
+double ls_job_now_ms(void);
+
+/* Prints "largesteps: WHAT: status: detail" to stderr; returns 0. */
+int ls_job_fail(const char *what, ls_status st, const ls_diag *d);
+
+#endif /* LS_FIT_JOB_H */

@@ -1,0 +1,82 @@
+/* report.c - metrics reports shared by the commands (see report.h). */
+#include <stdio.h>
+#include <stdint.h>
+#include "report.h"
+
+void ls_report_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s != 0; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
+        else if (c < 0x20) fprintf(f, "\\u%04x", (unsigned)c);
+        else fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+static void json_stats(FILE *f, const char *name, const ls_dist_stats *s, int comma)
+{
+    fprintf(f, "\"%s\": {\"max\": %.9g, \"mean\": %.9g, \"rms\": %.9g, \"count\": %u, \"argmax\": %lld}%s", name,
+            (double)s->max, (double)s->mean, (double)s->rms, (unsigned)s->count,
+            s->argmax == UINT32_MAX ? -1LL : (long long)s->argmax, comma ? ", " : "");
+}
+
+static void json_one_way(FILE *f, const char *name, const ls_dist_one_way *w)
+{
+    fprintf(f, "  \"%s\": {", name);
+    json_stats(f, "vertex", &w->vertex, 1);
+    json_stats(f, "face", &w->face, 1);
+    json_stats(f, "normal_deg", &w->normal, 0);
+    fprintf(f, "},\n");
+}
+
+void ls_report_json_distance(FILE *f, const ls_distance_report *d)
+{
+    fprintf(f, "  \"diag_b\": %.9g,\n", (double)d->diag);
+    fprintf(f, "  \"vertex_hausdorff\": %.9g, \"vertex_hausdorff_rel\": %.9g,\n", (double)d->vertex_hausdorff,
+            (double)d->vertex_hausdorff_rel);
+    fprintf(f, "  \"hausdorff\": %.9g, \"hausdorff_rel\": %.9g,\n", (double)d->hausdorff, (double)d->hausdorff_rel);
+    fprintf(f, "  \"mean\": %.9g, \"mean_rel\": %.9g,\n", (double)d->mean, (double)d->mean_rel);
+    fprintf(f, "  \"rms\": %.9g, \"rms_rel\": %.9g,\n", (double)d->rms, (double)d->rms_rel);
+    json_one_way(f, "a_to_b", &d->ab);
+    json_one_way(f, "b_to_a", &d->ba);
+}
+
+void ls_report_json_tangle(FILE *f, const char *name, const ls_tangle_report *t, int comma)
+{
+    fprintf(f, "  \"%s\": {\"intersecting_pairs\": %u, \"intersecting_faces\": %u, \"degenerate_faces\": %u, ", name,
+            (unsigned)t->intersecting_pairs, (unsigned)t->intersecting_faces, (unsigned)t->degenerate_faces);
+    if (t->has_reference)
+        fprintf(f, "\"inverted_faces\": %u, ", (unsigned)t->inverted_faces);
+    else
+        fprintf(f, "\"inverted_faces\": null, ");
+    fprintf(f, "\"angle_deg\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"max\": %.9g}, ",
+            (double)t->angle_min, (double)t->angle_p1, (double)t->angle_p5, (double)t->angle_p50, (double)t->angle_max);
+    fprintf(f, "\"quality\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"mean\": %.9g}}%s\n",
+            (double)t->quality_min, (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50,
+            (double)t->quality_mean, comma ? "," : "");
+}
+
+void ls_report_text_distance(FILE *f, const ls_distance_report *d)
+{
+    fprintf(f, "symmetric            absolute      / diag(target)\n");
+    fprintf(f, "  H vertices         %-13.6g %.6g   (= igl::hausdorff)\n", (double)d->vertex_hausdorff,
+            (double)d->vertex_hausdorff_rel);
+    fprintf(f, "  H (all samples)    %-13.6g %.6g\n", (double)d->hausdorff, (double)d->hausdorff_rel);
+    fprintf(f, "  mean               %-13.6g %.6g\n", (double)d->mean, (double)d->mean_rel);
+    fprintf(f, "  rms                %-13.6g %.6g\n", (double)d->rms, (double)d->rms_rel);
+}
+
+void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t)
+{
+    fprintf(f, "%s self-intersecting pairs %u (%u faces)", name, (unsigned)t->intersecting_pairs,
+            (unsigned)t->intersecting_faces);
+    if (t->intersecting_pairs > 0) fprintf(f, ", first %u-%u", (unsigned)t->first_pair[0], (unsigned)t->first_pair[1]);
+    fprintf(f, "; degenerate faces %u", (unsigned)t->degenerate_faces);
+    if (t->has_reference) fprintf(f, "; inverted %u", (unsigned)t->inverted_faces);
+    fprintf(f, "\n%s angles    min %.3f p1 %.3f p5 %.3f p50 %.3f max %.3f deg\n", name, (double)t->angle_min,
+            (double)t->angle_p1, (double)t->angle_p5, (double)t->angle_p50, (double)t->angle_max);
+    fprintf(f, "%s quality   min %.4f p1 %.4f p5 %.4f p50 %.4f mean %.4f (2 r / R)\n", name, (double)t->quality_min,
+            (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50, (double)t->quality_mean);
+}

@@ -1,0 +1,104 @@
+#!/bin/sh
+# stage_cli.sh - the command-line program end to end (a stage of `make test`):
+# `largesteps fit` on the embedded bunny (a shortened version of issue 11's
+# acceptance run: 200 iterations at 64 x 64, 12 views, two remeshes; the
+# metrics it writes must show a close, untangled reconstruction), on a mesh
+# file and on a text scene; every output file present and complete; bad
+# options, unreadable and malformed inputs give the documented exit status
+# and message and leave no file behind; `largesteps experiment` writes its
+# table. Native gcc double build only.
+jobs=${JOBS:-2}
+build=build/cli
+out=$build/out
+pass=0 fail=0
+mkdir -p build/logs "$build"
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; }
+check() { # name, command...
+    name=$1
+    shift
+    if "$@" > "$build/$name.log" 2>&1; then ok "$name"; else bad "$name"; tail -n 5 "$build/$name.log"; fi
+}
+if ! make --no-print-directory -j"$jobs" BUILD="$build" CC=gcc REAL=double all > build/logs/cli-build.log 2>&1; then
+    tail -n 20 build/logs/cli-build.log
+    bad "cli_build"
+    echo "cli: $pass passed, $fail failed"
+    exit 1
+fi
+ls=$build/largesteps
+rm -rf "$out"
+mkdir -p "$out"
+
+# A JSON number field (first occurrence) from a metrics.json.
+field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
+# awk comparison: less A B
+less() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
+
+# 1. the embedded bunny, shortened acceptance run
+if "$ls" fit --iters 200 --res 64 --views 12 --remesh 60,140 --quiet -o "$out/bunny" > "$build/fit_bunny.log" 2>&1; then
+    ok "fit_embedded_bunny_runs"
+    for f in result.obj log.csv convergence.svg contact.png metrics.json; do
+        if [ -s "$out/bunny/$f" ]; then ok "fit_writes_$f"; else bad "fit_writes_$f"; fi
+    done
+    if ls -a "$out/bunny" | grep -q '\.tmp$'; then bad "fit_leaves_no_temporary_file"; else ok "fit_leaves_no_temporary_file"; fi
+    m=$out/bunny/metrics.json
+    rms=$(field "$m" rms_rel)
+    h=$(field "$m" vertex_hausdorff_rel)
+    pairs=$(field "$m" intersecting_pairs)
+    its=$(field "$m" iterations)
+    echo "     bunny 64x64, 12 views, 200 iterations: H/diag $h, RMS/diag $rms, self-intersecting pairs $pairs"
+    if less "$rms" 0.025 && less "$h" 0.25; then ok "fit_bunny_close (RMS/diag $rms < 0.025, H/diag $h < 0.25)"; else bad "fit_bunny_close (RMS/diag $rms, H/diag $h)"; fi
+    if [ "$pairs" = 0 ]; then ok "fit_bunny_untangled"; else bad "fit_bunny_untangled ($pairs pairs)"; fi
+    if [ "$its" = 200 ] && [ "$(wc -l < "$out/bunny/log.csv")" = 201 ]; then ok "fit_log_has_every_iteration"; else bad "fit_log_has_every_iteration"; fi
+    if grep -q '^v ' "$out/bunny/result.obj" && grep -q '^f ' "$out/bunny/result.obj"; then ok "fit_result_obj"; else bad "fit_result_obj"; fi
+    if grep -q '</svg>' "$out/bunny/convergence.svg"; then ok "fit_svg_complete"; else bad "fit_svg_complete"; fi
+    if grep -q 'time per iteration' "$build/fit_bunny.log" && grep -q 'H vertices' "$build/fit_bunny.log"; then
+        ok "fit_prints_stage_times_and_metrics"; else bad "fit_prints_stage_times_and_metrics"; fi
+else
+    bad "fit_embedded_bunny_runs"
+    tail -n 5 "$build/fit_bunny.log"
+fi
+
+# 2. a mesh file and a text scene (cameras, SH lighting, mesh target)
+check fit_mesh_file "$ls" fit fixtures/meshes/elephant.obj --iters 10 --res 32 --views 4 --level 2 --remesh none --quiet -o "$out/elephant"
+mkdir -p "$out/scene"
+cp fixtures/meshes/bunny.obj "$out/scene/"
+cat > "$out/scene/scene.txt" <<'EOF'
+largesteps-scene 1
+resolution 40 30
+fov 40
+clip 1 100
+views fibonacci 5 25 0 4.8 0
+lighting sh 1.7 0.5 0.3 -0.2 0 0 0 0 0  1.7 0.5 0.3 -0.2 0 0 0 0 0  1.6 0.5 0.3 -0.2 0 0 0 0 0
+background 0.1 0.1 0.2
+target mesh bunny.obj
+initial icosphere 2
+EOF
+check fit_text_scene "$ls" fit "$out/scene/scene.txt" --iters 10 --remesh 5 --quiet -o "$out/scene/result"
+if grep -q '"vertices"' "$out/scene/result/metrics.json" 2>/dev/null; then ok "fit_scene_metrics"; else bad "fit_scene_metrics"; fi
+
+# 3. errors: exit status 2 for usage, 1 for bad input, a message, no output
+expect() { # name, status, pattern, command...
+    name=$1 want=$2 pattern=$3
+    shift 3
+    "$@" > "$build/$name.log" 2>&1
+    got=$?
+    if [ "$got" = "$want" ] && grep -q -e "$pattern" "$build/$name.log"; then ok "$name"; else bad "$name (status $got, wanted $want)"; cat "$build/$name.log"; fi
+}
+expect fit_unknown_option 2 "unknown option" "$ls" fit --frobnicate -o "$out/x"
+expect fit_bad_value 2 "bad value" "$ls" fit --views 0 -o "$out/x"
+expect fit_needs_output 2 "-o DIR" "$ls" fit --iters 3
+expect fit_bad_alpha 1 "argument" "$ls" fit --alpha 1 --iters 1 --res 16 --views 1 -o "$out/x"
+expect fit_missing_target 1 "nothing.obj" "$ls" fit "$out/nothing.obj" -o "$out/x"
+printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' > "$out/broken.obj"
+expect fit_malformed_mesh 1 "broken.obj" "$ls" fit "$out/broken.obj" -o "$out/x"
+printf 'largesteps-scene 1\nresolution 32 32\ncamera 0 0 3 0 0 0\nlighting sun\ntarget mesh bunny.obj\n' > "$out/scene/bad.txt"
+expect fit_malformed_scene 1 "bad.txt:4:10" "$ls" fit "$out/scene/bad.txt" -o "$out/x"
+if [ -e "$out/x" ] && [ -n "$(ls -A "$out/x")" ]; then bad "fit_failures_write_nothing"; else ok "fit_failures_write_nothing"; fi
+
+# 4. an experiment table
+check experiment_silhouettes "$ls" experiment silhouettes --iters 8 --res 24 --views 3 --level 1 -o "$out/exp"
+if grep -q '^| large steps, lambda 99 |' "$out/exp/silhouettes.md" 2>/dev/null; then ok "experiment_table_written"; else bad "experiment_table_written"; fi
+
+echo "cli: $pass passed, $fail failed"
+[ "$fail" = 0 ]
