@@ -537,6 +537,59 @@ static void open_mesh_keeps_boundary(void)
 
 /* A sphere whose vertices are pushed around until faces fold over: the
  * result is valid or a named error, never a crash or a hang. */
+/* Remeshes a tangled mesh to factor x its mean edge: a valid manifold
+ * result with the input's genus and components, or a named error; the input
+ * is never changed. */
+static void remesh_tangled(const heap_mesh *in, double factor, double label)
+{
+    ls_remesh_params p;
+    run_result r;
+    ls_mesh_report ri = validate(&in->m), ro;
+    uint64_t before = test_hash_reals(in->m.positions, 3u * in->m.vertex_count, TEST_HASH_SEED);
+    ls_remesh_params_default(&p, (ls_real)(factor * mean_edge_ref(&in->m)));
+    r = run_remesh(&in->m, &p);
+    CHECK(before == test_hash_reals(in->m.positions, 3u * in->m.vertex_count, TEST_HASH_SEED));
+    if (r.st == LS_OK) {
+        ro = validate(&r.out);
+        CHECK_EQ(ro.nonmanifold_edges + ro.nonmanifold_vertices + ro.orientation_conflicts, 0);
+        CHECK_EQ(ro.degenerate_faces + ro.zero_area_faces + ro.unreferenced_vertices, 0);
+        CHECK_EQ(ro.boundary_edges, 0);
+        CHECK_EQ(ro.genus, ri.genus);
+        CHECK_EQ(ro.components, ri.components);
+        printf("     tangled %.1f, h %.1f x mean: ok, V %u -> %u\n", label, factor, in->m.vertex_count, r.out.vertex_count);
+    } else {
+        CHECK(r.st == LS_ERR_MESH || r.st == LS_ERR_NOMEM);
+        CHECK(r.diag.what != NULL && r.diag.what[0] != 0);
+        printf("     tangled %.1f, h %.1f x mean: %s (%s)\n", label, factor, ls_status_name(r.st),
+               r.diag.what ? r.diag.what : "");
+    }
+    free(r.buf);
+}
+
+/* What the method really remeshes: meshes from a fit's early iterations.
+ * fixtures/meshes/tangled_naive_bunny_{a,b}.obj are the results of 40
+ * iterations of the naive method (Adam on the vertices) from an icosphere of
+ * level 3 towards the bunny (`largesteps fit --method naive --iters 40
+ * --remesh none --level 3 --res 64 --views 8`, lr 0.02 and 0.05): 1387 and
+ * 22532 self-intersecting face pairs. */
+static void fit_tangled_fixtures(void)
+{
+    static const char *const files[2] = {"fixtures/meshes/tangled_naive_bunny_a.obj",
+                                         "fixtures/meshes/tangled_naive_bunny_b.obj"};
+    int i;
+    for (i = 0; i < 2; i++) {
+        heap_mesh in;
+        long si;
+        REQUIRE(load_mesh(files[i], &in));
+        si = self_intersections(&in.m);
+        printf("     %s: %u vertices, %ld self-intersecting pairs\n", files[i], in.m.vertex_count, si);
+        CHECK(si > 0);
+        remesh_tangled(&in, 0.5, (double)i);
+        if (!emulated()) remesh_tangled(&in, 1.0, (double)i);
+        free_mesh(&in);
+    }
+}
+
 static void tangled_input(void)
 {
     double amp;
@@ -559,31 +612,7 @@ static void tangled_input(void)
             printf("     tangled amp %.1f: %ld self-intersecting pairs in the input\n", amp, si);
             if (amp > 0.5) CHECK(si > 0);
         }
-        for (factor = 0.5; factor <= 2.0; factor *= 2) {
-            ls_remesh_params p;
-            run_result r;
-            ls_mesh_report ri = validate(&in.m), ro;
-            uint64_t before = test_hash_reals(in.m.positions, 3u * in.m.vertex_count, TEST_HASH_SEED);
-            ls_remesh_params_default(&p, (ls_real)(factor * mean_edge_ref(&in.m)));
-            r = run_remesh(&in.m, &p);
-            CHECK(before == test_hash_reals(in.m.positions, 3u * in.m.vertex_count, TEST_HASH_SEED));
-            if (r.st == LS_OK) {
-                ro = validate(&r.out);
-                CHECK_EQ(ro.nonmanifold_edges + ro.nonmanifold_vertices + ro.orientation_conflicts, 0);
-                CHECK_EQ(ro.degenerate_faces + ro.zero_area_faces + ro.unreferenced_vertices, 0);
-                CHECK_EQ(ro.boundary_edges, 0);
-                CHECK_EQ(ro.genus, ri.genus);
-                CHECK_EQ(ro.components, ri.components);
-                printf("     tangled amp %.1f, h %.1f x mean: ok, V %u -> %u\n", amp, factor, in.m.vertex_count,
-                       r.out.vertex_count);
-            } else {
-                CHECK(r.st == LS_ERR_MESH || r.st == LS_ERR_NOMEM);
-                CHECK(r.diag.what != NULL && r.diag.what[0] != 0);
-                printf("     tangled amp %.1f, h %.1f x mean: %s (%s)\n", amp, factor, ls_status_name(r.st),
-                       r.diag.what ? r.diag.what : "");
-            }
-            free(r.buf);
-        }
+        for (factor = 0.5; factor <= 2.0; factor *= 2) remesh_tangled(&in, factor, amp);
         free_mesh(&in);
     }
 }
@@ -740,6 +769,7 @@ int main(void)
     TEST_RUN(elephant_double);
     TEST_RUN(open_mesh_keeps_boundary);
     TEST_RUN(tangled_input);
+    TEST_RUN(fit_tangled_fixtures);
     TEST_RUN(capacity_exceeded);
     TEST_RUN(deterministic);
     TEST_RUN(arena_sweep);

@@ -40,6 +40,10 @@ else
     PEER=0
 fi
 raw=$OUT/distance.raw
+# the armadillo against its own remesh (h = half the mean edge), with the command-line tools
+make -s BUILD="$BUILD" all
+"$BUILD/largesteps" remesh "$MESH" --factor 0.5 -o "$OUT/armadillo_remesh.obj" > "$OUT/remesh_for_metrics.txt"
+"$BUILD/largesteps" metrics "$MESH" "$OUT/armadillo_remesh.obj" --json > "$OUT/metrics_vs_remesh.json"
 "$OUT/bench_distance" "$MESH" "$BUNNY" --out "$OUT" --repeat "$REPEAT" --queries "$QUERIES" > "$raw"
 if [ $PEER = 1 ]; then
     "$OUT/peer_cgal_distance" "$MESH" "$OUT" "$REPEAT" >> "$raw"
@@ -79,6 +83,17 @@ fi
     awk '$1=="metric" { printf "| **ours** ls_mesh_distance, %s | %s | %.1f | %s | %s | %s | %s | %s | %s |\n", $2, $4, $6, $8, $10, $12, $14, $16, $18 }' "$raw"
     awk '$1=="cgal_metric" { printf "| CGAL, vertices (two trees + queries) | 0 | %.1f | - | %s | - | - | - | - |\n", $4, $6 }' "$raw"
     awk '$1=="tangle" { printf "| **ours** ls_tangle (perturbed copy, reference = original) | - | %.1f | %s | %s intersecting pairs (%s faces), %s inverted, angle p1 %s, p50 %s, quality p1 %s | | | | |\n", $4, $6, $8, $10, $12, $14, $16, $18 }' "$raw"
+    echo
+    echo "## Metrics, $(basename "$MESH") vs its remesh (h = half its mean edge length)"
+    echo
+    j=$OUT/metrics_vs_remesh.json
+    v=$(sed -n 's/.*"b": {"path": "[^"]*", "vertices": \([0-9]*\).*/\1/p' "$j")
+    t=$(sed -n 's/.*"time_ms": {"distance": \([0-9.]*\), "tangle": \([0-9.]*\)}.*/\1 ms distances, \2 ms tangling/p' "$j")
+    b=$(sed -n 's/.*"arena_bytes": \([0-9]*\).*/\1/p' "$j")
+    h=$(sed -n 's/.*"vertex_hausdorff_rel": \([0-9.e+-]*\).*/\1/p' "$j")
+    r=$(sed -n 's/.*"rms_rel": \([0-9.e+-]*\).*/\1/p' "$j")
+    echo "Remesh: $v vertices. \`largesteps metrics\` (dense, default samples, both ways, and ls_tangle of both): $t;"
+    echo "arena $b bytes; H_vertex / diag $h, RMS / diag $r (wall time of one run, from its JSON)."
     echo
     echo "Both directions are included in every metric time (two BVH builds, then vertex and face samples"
     echo "of A against B and of B against A). H_vertex is libigl's igl::hausdorff (vertex-sampled, symmetric);"
