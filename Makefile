@@ -309,6 +309,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
 	BUILD=$(BUILD) sh tests/bench/run_distance.sh
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
+	BUILD=$(BUILD) sh tests/bench/run_fit.sh
 
 
 # Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
