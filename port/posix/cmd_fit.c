@@ -360,11 +360,11 @@ int ls_cmd_fit(int argc, char **argv)
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
         pd.image = &sheet.image;
         pd.arena = &arena;
-        if (!ls_posix_write_whole(a.out, "result.obj", write_obj, &run.result) ||
-            !ls_posix_write_whole(a.out, "log.csv", write_log, &l) ||
-            !ls_posix_write_whole(a.out, "convergence.svg", write_svg, &l) ||
-            !ls_posix_write_whole(a.out, "contact.png", write_png, &pd) ||
-            !ls_posix_write_whole(a.out, "metrics.json", write_json, &j))
+        if (!ls_posix_write_whole_in(a.out, "result.obj", write_obj, &run.result) ||
+            !ls_posix_write_whole_in(a.out, "log.csv", write_log, &l) ||
+            !ls_posix_write_whole_in(a.out, "convergence.svg", write_svg, &l) ||
+            !ls_posix_write_whole_in(a.out, "contact.png", write_png, &pd) ||
+            !ls_posix_write_whole_in(a.out, "metrics.json", write_json, &j))
             return fprintf(stderr, "largesteps fit: cannot write into %s\n", a.out), 1;
     }
     printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json}\n",

@@ -95,29 +95,24 @@ static void print_stats(const ls_mesh *m, double h)
     free(ang);
 }
 
+typedef struct mesh_file {
+    const ls_mesh *mesh;
+    int ply;
+} mesh_file;
+
+static int mesh_body(FILE *f, void *ctx)
+{
+    const mesh_file *m = (const mesh_file *)ctx;
+    return (m->ply ? ls_mesh_write_ply(m->mesh, ls_posix_write_file, f) : ls_mesh_write_obj(m->mesh, ls_posix_write_file, f)) ==
+           LS_OK;
+}
+
 static int write_mesh(const char *path, const ls_mesh *m)
 {
-    size_t n = strlen(path);
-    char *tmp = (char *)malloc(n + 16);
-    FILE *f;
-    ls_status st;
-    if (tmp == NULL) return 0;
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmp", 5);
-    f = fopen(tmp, "wb");
-    if (f == NULL) {
-        free(tmp);
-        return 0;
-    }
-    st = ends_with(path, ".ply") ? ls_mesh_write_ply(m, ls_posix_write_file, f)
-                                 : ls_mesh_write_obj(m, ls_posix_write_file, f);
-    if (fclose(f) != 0 || st != LS_OK || rename(tmp, path) != 0) {
-        remove(tmp);
-        free(tmp);
-        return 0;
-    }
-    free(tmp);
-    return 1;
+    mesh_file mf;
+    mf.mesh = m;
+    mf.ply = ends_with(path, ".ply");
+    return ls_posix_write_whole(path, mesh_body, &mf);
 }
 
 int ls_cmd_remesh(int argc, char **argv)

@@ -392,7 +392,7 @@ int ls_cmd_render(int argc, char **argv)
     memset(&r, 0, sizeof r);
     if (!parse_args(argc, argv, &r.a)) return usage();
     if (stat(r.a.out_dir, &sb) != 0) {
-        if (mkdir(r.a.out_dir, 0777) != 0) {
+        if (ls_posix_mkdir_p(r.a.out_dir) != 0) {
             fprintf(stderr, "largesteps: cannot create %s: %s\n", r.a.out_dir, strerror(errno));
             return 1;
         }

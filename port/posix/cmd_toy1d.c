@@ -12,6 +12,7 @@
 #include <math.h>
 #include <largesteps.h>
 #include "commands.h"
+#include "ls_posix.h"
 
 #define N LS_TOY1D_N
 
@@ -34,19 +35,21 @@ static double interior_error(const ls_real *x, const ls_real *t)
     return e;
 }
 
-static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *traj, uint32_t iters,
-                     const ls_real *target)
+typedef struct svg_plot {
+    const ls_toy1d_method *m;
+    const ls_real *traj, *target;
+    uint32_t iters;
+} svg_plot;
+
+static int svg_body(FILE *f, void *ctx)
 {
-    char path[1024], tmp[1040];
+    const svg_plot *p = (const svg_plot *)ctx;
+    const ls_toy1d_method *m = p->m;
+    const ls_real *traj = p->traj, *target = p->target;
+    const uint32_t iters = p->iters;
     const double w = 720, h = 420, left = 50, right = 20, top = 30, bottom = 40;
     double sx = (w - left - right) / (iters > 0 ? (double)iters : 1.0), sy = (h - top - bottom) / 2.2;
     uint32_t it, i;
-    FILE *f;
-    int ok;
-    if ((size_t)snprintf(path, sizeof path, "%s/toy1d-%s.svg", dir, m->name) >= sizeof path) return 0;
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    f = fopen(tmp, "wb");
-    if (f == NULL) return 0;
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n", w, h, w, h);
     fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
     for (it = 0; it <= iters; it++) { /* inverted iterations */
@@ -75,13 +78,20 @@ static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *t
     fprintf(f, "<text x=\"4\" y=\"%.2f\" font-family=\"sans-serif\" font-size=\"12\">1</text>\n", top + 0.1 * sy + 4);
     fprintf(f, "<text x=\"4\" y=\"%.2f\" font-family=\"sans-serif\" font-size=\"12\">-1</text>\n", top + 2.1 * sy + 4);
     fprintf(f, "</svg>\n");
-    ok = !ferror(f);
-    if (fclose(f) != 0) ok = 0;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        return 0;
-    }
-    return 1;
+    return !ferror(f);
+}
+
+static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *traj, uint32_t iters,
+                     const ls_real *target)
+{
+    char name[256];
+    svg_plot p;
+    if ((size_t)snprintf(name, sizeof name, "toy1d-%s.svg", m->name) >= sizeof name) return 0;
+    p.m = m;
+    p.traj = traj;
+    p.target = target;
+    p.iters = iters;
+    return ls_posix_write_whole_in(dir, name, svg_body, &p);
 }
 
 int ls_cmd_toy1d(int argc, char **argv)
@@ -142,6 +152,10 @@ int ls_cmd_toy1d(int argc, char **argv)
     }
     printf("\n%-14s %6s %7s %6s %10s %10s %10s  %s\n", "method", "step", "lambda", "power", "first_inv", "end_err",
            "interior", "svg");
+    if (ls_posix_mkdir_p(dir) != 0) {
+        fprintf(stderr, "largesteps toy1d: cannot create %s\n", dir);
+        status = 1;
+    }
     for (k = 0; k < LS_TOY1D_METHODS; k++) {
         const ls_real *x = traj[k] + (size_t)iters * N;
         long first = -1;

@@ -70,20 +70,26 @@ int ls_posix_mkdir_p(const char *path)
     return 0;
 }
 
-int ls_posix_write_whole(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx)
+int ls_posix_write_whole(const char *path, int (*body)(FILE *f, void *ctx), void *ctx)
 {
-    char tmp[4096], path[4096];
+    char tmp[4096];
     FILE *f;
     int ok;
-    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path) return 0;
-    if ((size_t)snprintf(tmp, sizeof tmp, "%s/.%s.tmp", dir, name) >= sizeof tmp) return 0;
+    if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp) return 0;
     f = fopen(tmp, "wb");
     if (f == NULL) return 0;
-    ok = body(f, ctx);
+    ok = body(f, ctx) && fflush(f) == 0 && !ferror(f);
     if (fclose(f) != 0) ok = 0;
     if (ok && rename(tmp, path) != 0) ok = 0;
     if (!ok) remove(tmp);
     return ok;
+}
+
+int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx)
+{
+    char path[4096];
+    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path) return 0;
+    return ls_posix_write_whole(path, body, ctx);
 }
 
 ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag)

@@ -25,10 +25,13 @@ ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, l
 /* Creates a directory and its missing parents (like mkdir -p); 0 on success. */
 int ls_posix_mkdir_p(const char *path);
 
-/* Writes DIR/NAME whole or not at all: body(f, ctx) writes into DIR/.NAME.tmp
- * (returning non-zero on success), which is then renamed to DIR/NAME; on any
- * failure the temporary file is removed and DIR/NAME is untouched. Returns 1
- * on success, 0 on failure. */
-int ls_posix_write_whole(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx);
+/* Writes PATH whole or not at all: body(f, ctx) writes into PATH.tmp
+ * (returning non-zero on success), which is then renamed to PATH; on any
+ * failure the temporary file is removed and PATH is untouched. Returns 1 on
+ * success, 0 on failure. */
+int ls_posix_write_whole(const char *path, int (*body)(FILE *f, void *ctx), void *ctx);
+
+/* The same for DIR/NAME. */
+int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx);
 
 #endif /* LS_POSIX_H */
