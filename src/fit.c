@@ -210,7 +210,7 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
     ls_param_config pc;
     size_t bytes, reserve;
     void *mem;
-    uint32_t n, nf, i, blocks[2];
+    uint32_t n, nf, i;
     ls_status st;
     if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
     memset(fit, 0, sizeof *fit);
@@ -246,6 +246,7 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
         if (st == LS_OK) st = ls_param_to_differential(&fit->param, fit->x, fit->u);
     }
     if (st == LS_OK) {
+        uint32_t blocks[2];
         blocks[0] = 3u * n;
         blocks[1] = 3u;
         st = ls_optim_init(&fit->optim, &config->optim, 3u * n + 3u, config->use_translation ? 2u : 1u, blocks, &fit->block);
@@ -264,7 +265,7 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
         return st;
     }
     memcpy(fit->params, config->method == LS_FIT_LARGE_STEPS ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
-    fit->params[3u * n] = fit->params[3u * n + 1u] = fit->params[3u * n + 2u] = (ls_real)0;
+    fit->params[3u * (size_t)n] = fit->params[3u * (size_t)n + 1u] = fit->params[3u * (size_t)n + 2u] = (ls_real)0;
     return LS_OK;
 }
 
@@ -291,7 +292,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     ls_loss_acc acc;
     uint32_t v;
-    uint64_t t0, t1, t2, t3;
+    uint64_t t0;
     ls_status st;
     memset(fit->gx, 0, 3u * (size_t)n * sizeof(ls_real));
     memset(fit->gnormals, 0, 3u * (size_t)n * sizeof(ls_real));
@@ -304,6 +305,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     if (st != LS_OK) return st;
     for (v = 0; v < fit->views.count; v++) {
         const ls_real *mvp = fit->views.mvp + 16u * (size_t)v;
+        uint64_t t1, t2, t3;
         st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
         if (st == LS_OK) st = ls_raster(&fit->vis, &fit->block, mvp, fit->xr, n, fit->triangles, nf, diag);
         if (st == LS_OK) st = ls_shade(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, fit->image, diag);
@@ -398,11 +400,10 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
 {
     uint32_t i, k, n;
-    ls_status st;
     if (fit == NULL || positions == NULL || mesh == NULL || fit->x == NULL) return LS_ERR_INVALID;
     n = fit->vertex_count;
     if (fit->config.method == LS_FIT_LARGE_STEPS) {
-        st = ls_param_from_differential(&fit->param, fit->params, fit->x);
+        ls_status st = ls_param_from_differential(&fit->param, fit->params, fit->x);
         if (st != LS_OK) return st;
     }
     for (i = 0; i < n; i++)
@@ -425,7 +426,7 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     ls_remesh_params params;
     ls_mesh cur, out, copy;
     ls_real *pos, mean;
-    size_t start, new_bytes, copy_bytes, need;
+    size_t start, new_bytes, copy_bytes;
     uint32_t iteration, remeshes;
     ls_status st;
     if (fit == NULL || arena == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)1) ||
@@ -450,7 +451,7 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
         /* after the swap: [start, start + new fit) at the bottom, the copy of the
          * remeshed mesh at the top, with the caller's top use above it */
         size_t during = arena->bottom + copy_bytes + mark.top; /* the copy while the output still exists */
-        need = start + new_bytes + copy_bytes + mark.top;
+        size_t need = start + new_bytes + copy_bytes + mark.top;
         if (during > need) need = during;
         if (need > arena->capacity || need < start) {
             arena->need = need;

@@ -51,7 +51,7 @@ static uint32_t find_edge(const ls_mesh_edges *edges, uint32_t a, uint32_t b)
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        uint32_t ma = edges->v[2u * mid], mb = edges->v[2u * mid + 1u];
+        uint32_t ma = edges->v[2u * (size_t)mid], mb = edges->v[2u * (size_t)mid + 1u];
         if (ma < a || (ma == a && mb <= b))
             lo = mid;
         else
@@ -76,8 +76,8 @@ static void subdivide(ls_mesh *m, uint32_t vertices, uint32_t faces, const ls_me
 {
     uint32_t e, f;
     for (e = 0; e < edges->count; e++) {
-        const ls_real *a = m->positions + 3u * (size_t)edges->v[2u * e];
-        const ls_real *b = m->positions + 3u * (size_t)edges->v[2u * e + 1u];
+        const ls_real *a = m->positions + 3u * (size_t)edges->v[2u * (size_t)e];
+        const ls_real *b = m->positions + 3u * (size_t)edges->v[2u * (size_t)e + 1u];
         set_unit(m->positions + 3u * ((size_t)vertices + e), a[0] + b[0], a[1] + b[1], a[2] + b[2]);
     }
     for (f = faces; f-- > 0;) {
@@ -109,10 +109,10 @@ ls_status ls_icosphere(uint32_t level, ls_arena *arena, ls_mesh *mesh)
         ls_real c[3];
         for (k = 0; k < 3u; k++)
             c[k] = ico_vertex[i][k] == 2 ? phi : ico_vertex[i][k] == -2 ? -phi : (ls_real)ico_vertex[i][k];
-        set_unit(m.positions + 3u * i, c[0], c[1], c[2]);
+        set_unit(m.positions + 3u * (size_t)i, c[0], c[1], c[2]);
     }
     for (i = 0; i < 20u; i++)
-        for (k = 0; k < 3u; k++) m.triangles[3u * i + k] = ico_face[i][k];
+        for (k = 0; k < 3u; k++) m.triangles[3u * (size_t)i + k] = ico_face[i][k];
     for (l = 0; l < level; l++) {
         ls_arena_mark level_mark = ls_arena_save(arena);
         ls_mesh cur = m;

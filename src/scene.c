@@ -297,7 +297,7 @@ static ls_status views_statement(ls_scene_builder *b, text_state *ts, const char
         (void)ls_camera_fibonacci_dirs(p, dirs);
     for (i = 0; i < count && st == LS_OK; i++) {
         ls_real view[16];
-        if (ls_camera_orbit(center, dist, dirs + 3u * i, view) != LS_OK)
+        if (ls_camera_orbit(center, dist, dirs + 3u * (size_t)i, view) != LS_OK)
             st = ls_scene_error(b, text + tok[0].off, "views: a camera could not be placed", diag);
         else
             st = set_camera(b, ts, text + tok[0].off, view, diag);

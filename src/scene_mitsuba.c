@@ -194,9 +194,10 @@ static void premultiply(ls_real m[16], const ls_real op[16])
     int r, c;
     for (c = 0; c < 4; c++) {
         ls_real col[4];
-        for (r = 0; r < 4; r++) col[r] = m[4 * r + c];
+        for (r = 0; r < 4; r++) col[r] = m[4 * (size_t)r + (size_t)c];
         for (r = 0; r < 4; r++)
-            m[4 * r + c] = ((op[4 * r] * col[0] + op[4 * r + 1] * col[1]) + op[4 * r + 2] * col[2]) + op[4 * r + 3] * col[3];
+            m[4 * (size_t)r + (size_t)c] = ((op[4 * (size_t)r] * col[0] + op[4 * (size_t)r + 1] * col[1]) + op[4 * (size_t)r + 2] * col[2]) +
+                                          op[4 * (size_t)r + 3] * col[3];
     }
 }
 
@@ -218,9 +219,9 @@ static int vector_attr(const xml_state *x, const tag *t, const char *name, ls_re
 {
     static const char *const axis[3] = {"x", "y", "z"};
     span s;
-    int k, n;
+    int k;
     if (attr(x, t, name, &s)) {
-        n = span_numbers(x->text, s, v, 3);
+        int n = span_numbers(x->text, s, v, 3);
         if (n == 1) v[1] = v[2] = v[0];
         return n == 1 || n == 3;
     }
@@ -269,10 +270,10 @@ static int transform_op(xml_state *x, const tag *t)
         if (left[0] == (ls_real)0 && left[1] == (ls_real)0 && left[2] == (ls_real)0) return 0;
         cross3(dir, left, up);
         for (k = 0; k < 3; k++) {
-            op[4 * k] = left[k];
-            op[4 * k + 1] = up[k];
-            op[4 * k + 2] = dir[k];
-            op[4 * k + 3] = v[k];
+            op[4 * (size_t)k] = left[k];
+            op[4 * (size_t)k + 1] = up[k];
+            op[4 * (size_t)k + 2] = dir[k];
+            op[4 * (size_t)k + 3] = v[k];
         }
     } else if (span_is(x->text, t->name, "matrix")) {
         if (!attr(x, t, "value", &s) || span_numbers(x->text, s, op, 16) != 16) return 0;
@@ -302,7 +303,7 @@ static int sensor_view(const ls_real m[16], ls_real view[16])
         m[15] != (ls_real)1)
         return 0;
     for (r = 0; r < 9; r++) inv[r] /= det;
-    for (r = 0; r < 3; r++) t[r] = -(inv[3 * r] * m[3] + inv[3 * r + 1] * m[7] + inv[3 * r + 2] * m[11]);
+    for (r = 0; r < 3; r++) t[r] = -(inv[3 * (size_t)r] * m[3] + inv[3 * (size_t)r + 1] * m[7] + inv[3 * (size_t)r + 2] * m[11]);
     for (r = 0; r < 3; r++) {
         ls_real sign = r == 1 ? (ls_real)1 : (ls_real)-1; /* R_y(pi): x -> -x, z -> -z */
         for (c = 0; c < 3; c++) view[4 * r + c] = sign * inv[3 * r + c];
@@ -467,13 +468,12 @@ static ls_status xml_pass(ls_scene_builder *b, const char *text, size_t length, 
     xml_state x;
     tag t;
     uint32_t pos = 0;
-    int r;
     ls_status st;
     if (length > UINT32_MAX) return LS_ERR_TOO_LARGE;
     memset(&x, 0, sizeof x);
     x.text = text;
     for (;;) {
-        r = next_tag(text, (uint32_t)length, &pos, &t);
+        int r = next_tag(text, (uint32_t)length, &pos, &t);
         if (r == 0) break;
         if (r < 0) return ls_scene_error(b, text + pos, "malformed XML markup", diag);
         if (t.closing) {
