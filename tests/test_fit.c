@@ -312,13 +312,13 @@ static uint64_t fit_hash(void *ctx)
 
 static void fit_memory_query_is_exact(void)
 {
-    static unsigned char mesh_buf[64 << 10];
+    static LS_ARENA_BUFFER(mesh_buf, 64 << 10);
     static fit_job job;
     ls_arena marena, scratch;
     sweep_job sj;
     uint32_t method;
     for (method = LS_FIT_LARGE_STEPS; method <= LS_FIT_LAPLACIAN; method += 2) {
-        REQUIRE(ls_arena_init(&marena, mesh_buf, sizeof mesh_buf) == LS_OK);
+        REQUIRE(ls_arena_init(&marena, mesh_buf.bytes, sizeof mesh_buf.bytes) == LS_OK);
         initial_sphere(&marena, &job.init, (ls_real)0.6);
         config_for(&job.c, method);
         job.c.width = job.c.height = 16;

@@ -624,14 +624,14 @@ static void rejects_bad_input(void)
     ls_mesh m, out;
     ls_remesh_params p;
     ls_diag d;
-    static unsigned char buf[1 << 16];
+    static LS_ARENA_BUFFER(buf, 1 << 16); /* aligned: ls_arena_init requires it */
     ls_arena a;
     memset(&out, 0x33, sizeof out);
     m.positions = pos;
     m.triangles = t3;
     m.vertex_count = 5;
     m.face_count = 3;
-    ls_arena_init(&a, buf, sizeof buf);
+    REQUIRE(ls_arena_init(&a, buf.bytes, sizeof buf.bytes) == LS_OK);
     ls_remesh_params_default(&p, (ls_real)0.5);
     CHECK_STATUS(ls_remesh(&m, &p, &a, &out, NULL, &d), LS_ERR_MESH);
     CHECK_MSG(d.what != NULL && strstr(d.what, "non-manifold") != NULL, "what = %s", d.what);

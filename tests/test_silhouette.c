@@ -1024,14 +1024,14 @@ static void silhouette_scratch_sweep(void)
     CHECK_EQ(sweep_arena(&job), 0);
     /* the same bits in a larger arena; nothing written on errors */
     {
-        static unsigned char big[1u << 16];
+        static LS_ARENA_BUFFER(big, 1u << 16);
         ls_arena a2;
         memset(c.gp, 0, sizeof c.gp);
-        REQUIRE(ls_arena_init(&a2, big, sizeof big) == LS_OK);
+        REQUIRE(ls_arena_init(&a2, big.bytes, sizeof big.bytes) == LS_OK);
         REQUIRE(sil_run(&c, &a2) == LS_OK);
         memcpy(gp2, c.gp, sizeof gp2);
         memset(c.gp, 0, sizeof c.gp);
-        REQUIRE(ls_arena_init(&a2, big, bytes) == LS_OK);
+        REQUIRE(ls_arena_init(&a2, big.bytes, bytes) == LS_OK);
         REQUIRE(sil_run(&c, &a2) == LS_OK);
         CHECK(memcmp(gp2, c.gp, sizeof gp2) == 0);
         CHECK_STATUS(ls_silhouette_backward(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv, &c.o, c.mvp, 1, c.gimg, c.gp, NULL,
