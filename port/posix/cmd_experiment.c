@@ -17,7 +17,8 @@
  * H is the symmetric vertex-sampled Hausdorff distance (igl::hausdorff, as
  * the paper's lambda-sweep figure reports it, not doubled); the dense
  * columns are over area-uniform face samples; "rel" divides by the target's
- * bounding-box diagonal. The default sizes are small so that each experiment
+ * bounding-box diagonal. Learning rates are in units of the target's
+ * bounding-sphere radius (as in largesteps fit). The default sizes are small so that each experiment
  * runs in minutes on one core; --iters, --res, --views, --level scale them.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -57,9 +58,11 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     ls_job_run r;
     ls_distance_report d;
     ls_tangle_report t;
+    ls_fit_config c = *cfg;
     exp_result e;
     memset(&e, 0, sizeof e);
-    if (ls_job_fit(p, cfg, iters, budget_ms, remesh, nremesh, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
+    c.optim.lr = c.optim.lr * p->framing.radius; /* learning rates in units of the target's radius, as largesteps fit */
+    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
         e.ok = 1;
         e.h = (double)d.vertex_hausdorff;
         e.h_rel = (double)d.vertex_hausdorff_rel;
