@@ -104,11 +104,9 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t n, uint32_t f, siz
 static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes)
 {
     size_t a = 0, b = 0, e = 0, sil = 0;
-    size_t tiles = ((size_t)(c->width / 2u) + 1u) * ((size_t)(c->height / 2u) + 1u);
     ls_status st = ls_raster_scratch_bytes_bound(c->width, c->height, c->ss, n, f, &a);
     if (st == LS_OK)
-        st = ls_silhouette_scratch_bytes_entries(c->width, c->height, n, f,
-                                                 LS_FIT_BIN_PER_TRIANGLE * (size_t)f + LS_FIT_BIN_PER_TILE * tiles, &sil);
+        st = ls_silhouette_scratch_bytes_bins(c->width, c->height, n, f, LS_FIT_BIN_PER_TRIANGLE, LS_FIT_BIN_PER_TILE, &sil);
     if (st == LS_OK && sil > a) a = sil;
     if (st == LS_OK) st = ls_vertex_normals_backward_bytes(n, &b);
     if (st == LS_OK && c->method == LS_FIT_LAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 0, 1, &e);

@@ -845,16 +845,11 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     return ls_size_get(&s, bytes);
 }
 
-ls_status ls_silhouette_scratch_bytes_entries(uint32_t width, uint32_t height, uint32_t vertex_count,
-                                              uint32_t triangle_count, size_t entries, size_t *bytes)
+static ls_status scratch_for_entries(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                     uint32_t triangle_count, size_t entries, size_t *bytes)
 {
     ls_size s;
-    uint32_t tx, ty;
-    if (bytes == NULL) return LS_ERR_INVALID;
-    *bytes = 0;
-    if (width == 0 || height == 0) return LS_ERR_INVALID;
-    tx = (width >> SIL_TILE_LOG2) + 1u;
-    ty = (height >> SIL_TILE_LOG2) + 1u;
+    uint32_t tx = (width >> SIL_TILE_LOG2) + 1u, ty = (height >> SIL_TILE_LOG2) + 1u;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
     ls_size_add(&s, (size_t)tx * ty + 1u, sizeof(size_t));
@@ -868,6 +863,20 @@ ls_status ls_silhouette_scratch_bytes_entries(uint32_t width, uint32_t height, u
     return ls_size_get(&s, bytes);
 }
 
+ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                           uint32_t triangle_count, uint32_t per_triangle, uint32_t per_tile,
+                                           size_t *bytes)
+{
+    uint64_t tiles, entries;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (width == 0 || height == 0) return LS_ERR_INVALID;
+    tiles = (uint64_t)((width >> SIL_TILE_LOG2) + 1u) * (uint64_t)((height >> SIL_TILE_LOG2) + 1u);
+    entries = (uint64_t)per_triangle * triangle_count + (uint64_t)per_tile * tiles;
+    if (entries > (uint64_t)SIZE_MAX / 16u) return LS_ERR_TOO_LARGE;
+    return scratch_for_entries(width, height, vertex_count, triangle_count, (size_t)entries, bytes);
+}
+
 ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
                                             uint32_t triangle_count, size_t *bytes)
 {
@@ -878,8 +887,7 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
     tiles = (uint64_t)((width >> SIL_TILE_LOG2) + 1u) * (uint64_t)((height >> SIL_TILE_LOG2) + 1u);
     if (tiles > (uint64_t)SIZE_MAX / 16u || (triangle_count > 0 && tiles > (uint64_t)SIZE_MAX / triangle_count))
         return LS_ERR_TOO_LARGE;
-    return ls_silhouette_scratch_bytes_entries(width, height, vertex_count, triangle_count,
-                                               (size_t)tiles * triangle_count, bytes);
+    return scratch_for_entries(width, height, vertex_count, triangle_count, (size_t)tiles * triangle_count, bytes);
 }
 
 ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,

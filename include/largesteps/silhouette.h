@@ -152,12 +152,14 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
 ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
                                             uint32_t triangle_count, size_t *bytes);
 
-/* ls_silhouette_scratch_bytes_entries: the scratch of a view of this size
- * whose candidate bins hold `entries` (triangle, tile) pairs: for callers
- * that reserve memory for an expected binning (a triangle typically meets 1
- * to 4 tiles) rather than the worst case. Errors: as the bound. O(1). */
-ls_status ls_silhouette_scratch_bytes_entries(uint32_t width, uint32_t height, uint32_t vertex_count,
-                                              uint32_t triangle_count, size_t entries, size_t *bytes);
+/* ls_silhouette_scratch_bytes_bins: the scratch of a view of this size whose
+ * candidate bins hold at most per_triangle (triangle, tile) pairs per
+ * triangle plus per_tile per 2 x 2 pixel tile: for callers that reserve
+ * memory for an expected binning (a triangle of a framed mesh typically meets
+ * 1 to 4 tiles) rather than the worst case. Errors: as the bound. O(1). */
+ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint32_t vertex_count,
+                                           uint32_t triangle_count, uint32_t per_triangle, uint32_t per_tile,
+                                           size_t *bytes);
 
 /* ls_silhouette_backward: ADDS the silhouette part of dL/dpositions of one
  * view into grad_positions [3 vertex_count] (see the file comment). vis,

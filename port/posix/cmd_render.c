@@ -126,38 +126,37 @@ static ls_status sky_sh(ls_real sh[27])
     return ls_sh_from_equirect(sky, 32, 16, sh);
 }
 
-/* Writes an image whole: to DIR/.NAME.tmp, then renamed to DIR/NAME.
- * Returns the file size, or 0 after printing an error. */
+typedef struct png_file {
+    const ls_image *img;
+    ls_image_format fmt;
+    ls_arena *arena;
+    ls_status st;
+} png_file;
+
+static int png_body(FILE *fp, void *ctx)
+{
+    png_file *p = (png_file *)ctx;
+    p->st = ls_image_encode(p->img, &p->fmt, ls_posix_write_file, fp, p->arena);
+    return p->st == LS_OK;
+}
+
+/* Writes an image whole (ls_posix_write_whole_in: a temporary name, then
+ * renamed). Returns the file size, or 0 after printing an error. */
 static size_t write_png(const char *dir, const char *name, const ls_image *img, uint32_t bits, ls_arena *arena)
 {
-    char tmp[4096], path[4096];
-    ls_image_format fmt;
-    FILE *fp;
-    ls_status st;
+    png_file p;
     size_t size = 0;
-    int ok;
-    fmt.type = LS_IMAGE_PNG;
-    fmt.channels = 4;
-    fmt.bits = bits;
-    fmt.big_endian = 0;
-    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path ||
-        (size_t)snprintf(tmp, sizeof tmp, "%s/.%s.tmp", dir, name) >= sizeof tmp) {
-        fprintf(stderr, "largesteps: output path too long\n");
-        return 0;
-    }
-    if (ls_image_encoded_size(img->width, img->height, &fmt, &size) != LS_OK) return 0;
-    fp = fopen(tmp, "wb");
-    if (fp == NULL) {
-        fprintf(stderr, "largesteps: cannot create %s: %s\n", tmp, strerror(errno));
-        return 0;
-    }
-    st = ls_image_encode(img, &fmt, ls_posix_write_file, fp, arena);
-    ok = st == LS_OK && fflush(fp) == 0 && !ferror(fp);
-    if (fclose(fp) != 0) ok = 0;
-    if (ok && rename(tmp, path) != 0) ok = 0;
-    if (!ok) {
-        fprintf(stderr, "largesteps: cannot write %s: %s\n", path, st != LS_OK ? ls_status_str(st) : strerror(errno));
-        remove(tmp);
+    p.img = img;
+    p.fmt.type = LS_IMAGE_PNG;
+    p.fmt.channels = 4;
+    p.fmt.bits = bits;
+    p.fmt.big_endian = 0;
+    p.arena = arena;
+    p.st = LS_OK;
+    if (ls_image_encoded_size(img->width, img->height, &p.fmt, &size) != LS_OK) return 0;
+    if (!ls_posix_write_whole_in(dir, name, png_body, &p)) {
+        fprintf(stderr, "largesteps: cannot write %s/%s: %s\n", dir, name,
+                p.st != LS_OK ? ls_status_str(p.st) : strerror(errno));
         return 0;
     }
     return size;
