@@ -190,7 +190,7 @@ LIB      := $(BUILD)/liblargesteps.a
 PORTLIB  := $(BUILD)/liblargesteps-posix.a
 CLI      := $(BUILD)/largesteps
 
-.PHONY: all lib check test run install bench clean lint cross m4 size size-update digest-update FORCE
+.PHONY: all lib check test run install bench tradeoffs clean lint cross m4 size size-update digest-update FORCE
 .DEFAULT_GOAL := all
 
 ifeq ($(HOSTED),1)
@@ -299,6 +299,26 @@ run: $(CLI)
 	@$(CLI) info
 	@$(CLI) fit --quiet -o $(BUILD)/run
 
+# The speed/accuracy study (issue 14): the bunny and the elephant, every knob
+# in double, the default configuration in float too; tables and plot in
+# $(BUILD)/tradeoffs/ (TRADEOFFS_ARGS, e.g. --iters 200, scales it down);
+# then the Cortex-M4 study under QEMU (instruction counts, m4-*.md).
+TRADEOFFS_ARGS ?=
+TRADE_DIR := $(BUILD)/tradeoffs
+tradeoffs: $(CLI)
+	@$(MAKE) --no-print-directory REAL=float BUILD=$(BUILD)/float $(BUILD)/float/largesteps
+	@mkdir -p $(TRADE_DIR)
+	$(BUILD)/float/largesteps experiment tradeoffs --knobs none $(TRADEOFFS_ARGS) --rows-out $(TRADE_DIR)/float-bunny.tsv -o $(TRADE_DIR)/float-bunny
+	$(BUILD)/float/largesteps experiment tradeoffs fixtures/meshes/elephant.obj --knobs none $(TRADEOFFS_ARGS) --rows-out $(TRADE_DIR)/float-elephant.tsv -o $(TRADE_DIR)/float-elephant
+	$(CLI) experiment tradeoffs fixtures/meshes/elephant.obj $(TRADEOFFS_ARGS) --rows-out $(TRADE_DIR)/double-elephant.tsv -o $(TRADE_DIR)/elephant
+	$(CLI) experiment tradeoffs $(TRADEOFFS_ARGS) --rows-in $(TRADE_DIR)/float-bunny.tsv --rows-in $(TRADE_DIR)/float-elephant.tsv --rows-in $(TRADE_DIR)/double-elephant.tsv -o $(TRADE_DIR)
+	@for real in float double; do \
+	    $(MAKE) --no-print-directory TARGET=cortex-m4 PROFILE=full REAL=$$real BUILD=build/cortex-m4-full-$$real \
+	        build/cortex-m4-full-$$real/bench/m4_tradeoffs > /dev/null || exit 1; \
+	    LS_M4_ICOUNT=1 LS_M4_TIMEOUT=1200 sh tests/tools/run_m4.sh build/cortex-m4-full-$$real/bench/m4_tradeoffs \
+	        > $(TRADE_DIR)/m4-$$real.md || exit 1; cat $(TRADE_DIR)/m4-$$real.md; \
+	done
+
 # Benchmarks against peers measured in the same run (bench-only packages:
 # libsuitesparse-dev libeigen3-dev libosmesa6-dev libcgal-dev); tables in $(BUILD)/bench/.
 bench: all $(BUILD)/bench/bench_gradient
@@ -311,6 +331,12 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 	BUILD=$(BUILD) sh tests/bench/run_fit.sh
 
+
+# The Cortex-M4 part of the trade study (tests/bench/m4_tradeoffs.c), built
+# with TARGET=cortex-m4 and run by `make tradeoffs` under QEMU with -icount.
+$(BUILD)/bench/m4_tradeoffs: tests/bench/m4_tradeoffs.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 # Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
 $(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)

@@ -51,6 +51,8 @@ static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, con
     if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG) return LS_ERR_INVALID;
     if (!finite_r(c->boost) || !finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return LS_ERR_INVALID;
     if (c->shading.vertex_colors != NULL || c->shading.mode > LS_SHADE_LAMBERT) return LS_ERR_INVALID;
+    if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;
+    if (c->power > 2u || !finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return LS_ERR_INVALID;
     if (m->vertex_count == 0 || m->face_count == 0 || m->vertex_count > (UINT32_MAX - 3u) / 3u) return LS_ERR_INVALID;
     return LS_OK;
 }
@@ -64,7 +66,18 @@ static void param_config(const ls_fit_config *c, ls_param_config *pc)
     pc->k = 3;
     pc->order = LS_ORDER_AMD;
     pc->cg_max_iter = 1000;
-    pc->cg_tol = (ls_real)1e-6;
+    pc->cg_tol = c->cg_tol > (ls_real)0 ? c->cg_tol : (ls_real)1e-6;
+}
+
+/* p = 1: the optimizer moves x itself, its gradient preconditioned once. */
+static int optimizes_u(const ls_fit_config *c)
+{
+    return c->method == LS_FIT_LARGE_STEPS && c->power != 1u;
+}
+
+static int pair_mode(const ls_fit_config *c)
+{
+    return c->silhouette == LS_FIT_SILHOUETTE_PAIR;
 }
 
 /* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
@@ -90,6 +103,10 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t n, uint32_t f, siz
     ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real));  /* gnormals */
     ls_size_add(&s, px, sizeof(ls_real));              /* image */
     ls_size_add(&s, px, sizeof(ls_real));              /* gimage */
+    if (pair_mode(c)) {
+        ls_size_add(&s, px, sizeof(ls_real)); /* pair_image */
+        ls_size_add(&s, px, sizeof(ls_real)); /* pair_gimage */
+    }
     return ls_size_get(&s, bytes);
 }
 
@@ -198,6 +215,11 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
     fit->gnormals = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
     fit->image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
     fit->gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+    if (pair_mode(&fit->config)) {
+        fit->pair_image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+        fit->pair_gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+        if (fit->pair_gimage == NULL) return 0;
+    }
     return fit->gimage != NULL;
 }
 
@@ -262,7 +284,7 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
         ls_arena_restore(arena, mark);
         return st;
     }
-    memcpy(fit->params, config->method == LS_FIT_LARGE_STEPS ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
+    memcpy(fit->params, optimizes_u(config) ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
     fit->params[3u * (size_t)n] = fit->params[3u * (size_t)n + 1u] = fit->params[3u * (size_t)n + 2u] = (ls_real)0;
     return LS_OK;
 }
@@ -307,19 +329,33 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
         if (st == LS_OK) st = ls_raster(&fit->vis, &fit->block, mvp, fit->xr, n, fit->triangles, nf, diag);
         if (st == LS_OK) st = ls_shade(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, fit->image, diag);
-        if (st == LS_OK) st = ls_loss_view(&acc, fit->image, fit->views.targets[v], fit->gimage, diag);
+        if (st == LS_OK && pair_mode(c)) {
+            /* the loss sees the blended image; its gradient goes back through
+             * the blending to the positions and to the shaded image */
+            st = ls_pair_forward(&fit->vis, &fit->edges, fit->triangles, nf, fit->image, fit->pair_image, diag);
+            if (st == LS_OK) st = ls_loss_view(&acc, fit->pair_image, fit->views.targets[v], fit->pair_gimage, diag);
+        } else if (st == LS_OK) {
+            st = ls_loss_view(&acc, fit->image, fit->views.targets[v], fit->gimage, diag);
+        }
         t1 = now(monitor);
         fit->timing.render_ns += t1 - t0;
+        if (st == LS_OK && pair_mode(c)) {
+            memset(fit->gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
+            st = ls_pair_backward(&fit->vis, &fit->edges, fit->triangles, nf, mvp, c->boost, fit->image,
+                                  fit->pair_gimage, fit->gimage, fit->gx, diag);
+        }
+        t2 = now(monitor);
+        fit->timing.silhouette_ns += t2 - t1;
         if (st == LS_OK)
             st = ls_shade_backward(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, mvp, fit->gimage,
                                    fit->gx, shaded ? fit->gnormals : NULL, NULL, diag);
-        t2 = now(monitor);
-        fit->timing.shade_backward_ns += t2 - t1;
-        if (st == LS_OK)
+        t1 = now(monitor);
+        fit->timing.shade_backward_ns += t1 - t2;
+        if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
             st = ls_silhouette_backward(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading, mvp,
                                         c->boost, fit->gimage, fit->gx, &fit->block, diag);
         t3 = now(monitor);
-        fit->timing.silhouette_ns += t3 - t2;
+        fit->timing.silhouette_ns += t3 - t1;
         t0 = t3;
         if (st != LS_OK) return st;
     }
@@ -343,7 +379,7 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
     c = &fit->config;
     n = fit->vertex_count;
     t0 = now(monitor);
-    if (c->method == LS_FIT_LARGE_STEPS) st = ls_param_from_differential(&fit->param, fit->params, fit->x);
+    if (optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, fit->x);
     fit->timing.solve_ns += now(monitor) - t0;
     if (st != LS_OK) {
         if (diag != NULL && st == LS_ERR_NONFINITE) diag_set(diag, st, "solve: non-finite differential coordinates", fit->iteration);
@@ -390,7 +426,7 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
         if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
         return st;
     }
-    if (c->method != LS_FIT_LARGE_STEPS) memcpy(fit->x, fit->params, 3u * (size_t)n * sizeof(ls_real));
+    if (!optimizes_u(c)) memcpy(fit->x, fit->params, 3u * (size_t)n * sizeof(ls_real));
     fit->iteration++;
     return LS_OK;
 }
@@ -400,7 +436,7 @@ ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
     uint32_t i, k, n;
     if (fit == NULL || positions == NULL || mesh == NULL || fit->x == NULL) return LS_ERR_INVALID;
     n = fit->vertex_count;
-    if (fit->config.method == LS_FIT_LARGE_STEPS) {
+    if (optimizes_u(&fit->config)) {
         ls_status st = ls_param_from_differential(&fit->param, fit->params, fit->x);
         if (st != LS_OK) return st;
     }

@@ -49,7 +49,14 @@ if "$ls" fit --iters 200 --res 64 --views 12 --remesh 60,140 --quiet -o "$out/bu
     echo "     bunny 64x64, 12 views, 200 iterations: H/diag $h, RMS/diag $rms, self-intersecting pairs $pairs"
     if less "$rms" 0.025 && less "$h" 0.25; then ok "fit_bunny_close (RMS/diag $rms < 0.025, H/diag $h < 0.25)"; else bad "fit_bunny_close (RMS/diag $rms, H/diag $h)"; fi
     if [ "$pairs" = 0 ]; then ok "fit_bunny_untangled"; else bad "fit_bunny_untangled ($pairs pairs)"; fi
-    if [ "$its" = 200 ] && [ "$(wc -l < "$out/bunny/log.csv")" = 201 ]; then ok "fit_log_has_every_iteration"; else bad "fit_log_has_every_iteration"; fi
+    if [ "$its" = 200 ] && [ "$(wc -l < "$out/bunny/log.csv")" = 202 ]; then ok "fit_log_has_every_iteration"; else bad "fit_log_has_every_iteration"; fi
+    # the log's last row is the final mesh's distance: the metrics' dense Hausdorff
+    last_h=$(tail -n 1 "$out/bunny/log.csv" | awk -F, '$1 == 200 && $2 == "" { print $4 }')
+    dense_h=$(field "$m" hausdorff_rel)
+    if [ -n "$last_h" ] && awk -v a="$last_h" -v b="$dense_h" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-5 * b) }'; then
+        ok "fit_log_tracks_hausdorff ($last_h = metrics $dense_h)"; else bad "fit_log_tracks_hausdorff ('$last_h' vs $dense_h)"; fi
+    tracked=$(awk -F, 'NR > 1 && $4 != "" { n++ } END { print n + 0 }' "$out/bunny/log.csv")
+    if [ "$tracked" = 9 ]; then ok "fit_log_distance_every_25_iterations"; else bad "fit_log_distance_every_25_iterations ($tracked rows)"; fi
     if grep -q '^v ' "$out/bunny/result.obj" && grep -q '^f ' "$out/bunny/result.obj"; then ok "fit_result_obj"; else bad "fit_result_obj"; fi
     if grep -q '</svg>' "$out/bunny/convergence.svg"; then ok "fit_svg_complete"; else bad "fit_svg_complete"; fi
     if grep -q 'time per iteration' "$build/fit_bunny.log" && grep -q 'H vertices' "$build/fit_bunny.log"; then
@@ -99,6 +106,11 @@ if [ -e "$out/x" ] && [ -n "$(ls -A "$out/x")" ]; then bad "fit_failures_write_n
 # 4. an experiment table
 check experiment_silhouettes "$ls" experiment silhouettes --iters 8 --res 24 --views 3 --level 1 -o "$out/exp"
 if grep -q '^| large steps, lambda 99 |' "$out/exp/silhouettes.md" 2>/dev/null; then ok "experiment_table_written"; else bad "experiment_table_written"; fi
+
+# 5. the trade study's tables and plot (tiny)
+check experiment_tradeoffs "$ls" experiment tradeoffs --iters 8 --res 24 --views 2 --level 1 --knobs silhouette,power -o "$out/trade"
+if [ "$(grep -c '^| bunny | ' "$out/trade/tradeoffs.md" 2>/dev/null)" = 7 ] && grep -q '</svg>' "$out/trade/tradeoffs.svg" 2>/dev/null &&
+    [ "$(wc -l < "$out/trade/tradeoffs.tsv")" = 6 ]; then ok "experiment_tradeoffs_tables_plot_rows"; else bad "experiment_tradeoffs_tables_plot_rows"; fi
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

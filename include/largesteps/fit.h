@@ -60,6 +60,11 @@ extern "C" {
 #define LS_FIT_LAPLACIAN   2u
 #define LS_FIT_BILAPLACIAN 3u
 
+/* Silhouette gradient modes (silhouette.h). */
+#define LS_FIT_SILHOUETTE_EXACT 0u /* ls_silhouette_backward: exact for a box pixel filter */
+#define LS_FIT_SILHOUETTE_PAIR  1u /* ls_pair_forward/backward: nvdiffrast-style blending of pixel pairs (S = 1) */
+#define LS_FIT_SILHOUETTE_NONE  2u /* no silhouette term: interior shading gradients only */
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
@@ -73,6 +78,11 @@ typedef struct ls_fit_config {
     uint32_t width, height;   /* render size */
     uint32_t ss;              /* samples per pixel side of the fit's renders (1, 2, 4) */
     ls_shade_opts shading;    /* mode, SH, lights, background (vertex_colors must be NULL) */
+    uint32_t silhouette;      /* LS_FIT_SILHOUETTE_* */
+    uint32_t power;           /* large steps: the gradient's preconditioner M^-p. 2 (0 means 2): the
+                               * method, the optimizer on u = M x (a step in u is one M^-1 in x, its
+                               * gradient another); 1: the optimizer on x with gradient M^-1 dL/dx */
+    ls_real cg_tol;           /* LS_PARAM_CG: relative residual tolerance (0 means 1e-6) */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -110,6 +120,8 @@ typedef struct ls_fit {
     ls_real *gnormals;        /* [3 n] */
     ls_real *image;           /* [4 W H] */
     ls_real *gimage;          /* [4 W H] */
+    ls_real *pair_image;      /* [4 W H] LS_FIT_SILHOUETTE_PAIR: the blended image (else NULL) */
+    ls_real *pair_gimage;     /* [4 W H] LS_FIT_SILHOUETTE_PAIR: dL/d(shaded image) (else NULL) */
     ls_csc lap;               /* uniform Laplacian (upper triangle) */
     ls_param param;           /* large steps: M and its solver */
     ls_optim optim;
@@ -125,7 +137,7 @@ typedef struct ls_fit {
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
  * LDL^T, UniformAdam lr 1e-2, L1, boost 3, translation on, 128 x 128 with
- * S = 1, SH shading with the caller's coefficients to fill (mode
+ * S = 1, exact silhouettes, p = 2, SH shading with the caller's coefficients to fill (mode
  * LS_SHADE_MASK until then). O(1). NULL is ignored. */
 void ls_fit_config_default(ls_fit_config *config);
 
@@ -142,7 +154,8 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
  * its factor, u = M x, the optimizer, the edge table and the visibility
  * buffer. Errors: LS_ERR_INVALID (NULL, a bad configuration: zero views or
  * resolution, negative lambda, alpha outside [0, 1), an unknown method,
- * solver, loss or optimizer, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
+ * solver, loss, optimizer or silhouette mode, the pair mode with S > 1, p
+ * outside {0, 1, 2}, a negative or non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
  * (the initial mesh), LS_ERR_NOT_SPD (M), LS_ERR_NOMEM; on failure the arena
  * is unchanged and *fit is zeroed. */
 ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,

@@ -46,4 +46,13 @@ size_t ls_m4_heap_size(void);
 /* RAM in the linker script's RAM region, in bytes. */
 size_t ls_m4_ram_size(void);
 
+/* The board's free-running 25 MHz counter (FPGAIO COUNTER; wraps after
+ * 2^32 ticks). Under QEMU run with `-icount shift=0` (one instruction per
+ * virtual nanosecond), ls_m4_instructions(start) = (counter - start) x 40 is
+ * the number of instructions executed since `start` was read, to within 40
+ * (tests/tools/run_m4.sh sets LS_M4_ICOUNT=1 for it). Without -icount the
+ * counter follows the host's clock and the figure means nothing. */
+uint32_t ls_m4_counter(void);
+uint64_t ls_m4_instructions(uint32_t since);
+
 #endif /* LS_M4_H */

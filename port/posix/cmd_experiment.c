@@ -43,6 +43,7 @@ typedef struct exp_result {
 static int usage(FILE *f)
 {
     fprintf(f, "usage: largesteps experiment lambda-sweep|compare|silhouettes|views [TARGET] [options] -o DIR\n"
+               "       largesteps experiment tradeoffs [TARGET] [options] -o DIR   (--help for its options)\n"
                "  --iters N   iterations per run (default 400)\n"
                "  --res R     render size R x R (default 64)\n"
                "  --views N   views (default 16; the views experiment sets its own)\n"
@@ -62,7 +63,7 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     exp_result e;
     memset(&e, 0, sizeof e);
     c.optim.lr = c.optim.lr * p->framing.radius; /* learning rates in units of the target's radius, as largesteps fit */
-    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
+    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
         e.ok = 1;
         e.h = (double)d.vertex_hausdorff;
         e.h_rel = (double)d.vertex_hausdorff_rel;
@@ -265,6 +266,7 @@ int ls_cmd_experiment(int argc, char **argv)
     a.level = 3;
     if (argc < 2) return usage(stderr);
     a.name = argv[1];
+    if (strcmp(a.name, "tradeoffs") == 0) return ls_cmd_tradeoffs(argc - 1, argv + 1);
     for (i = 2; i < argc; i++) {
         const char *opt = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         unsigned long n = v != NULL ? strtoul(v, NULL, 10) : 0;

@@ -6,7 +6,9 @@
  * bunny compiled into the program is used. The initial mesh is an icosphere
  * fitted to the target's bounding sphere. Every file in DIR is written whole
  * (a temporary name, then renamed): result.obj, log.csv (iteration, loss,
- * time), convergence.svg (loss against iteration), contact.png (target,
+ * time, and the dense distances to the target every --track iterations),
+ * convergence.svg (loss and Hausdorff distance against iteration and
+ * time), contact.png (target,
  * initial and final render of every view, one row each).
  *
  * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset)
@@ -31,7 +33,7 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, iters, level, target_ss, quiet;
+    uint32_t views, res, iters, level, target_ss, quiet, track;
     uint32_t remesh_count, remesh_at[32];
     ls_fit_config cfg;
 } fit_args;
@@ -52,6 +54,10 @@ static int usage(FILE *f)
             "  --reg W            regularizer weight of the laplacian/bilaplacian baselines (default 1)\n"
             "  --optimizer O      uniform (default for large) | adam (default otherwise) | sgd\n"
             "  --solver S         ldlt (default) | cg\n"
+            "  --cg-tol T         relative residual tolerance of cg (default 1e-6)\n"
+            "  --power P          2 (default: the optimizer on u = M x) | 1 (the optimizer on x, gradient M^-1 g)\n"
+            "  --silhouette S     exact (default) | pair (nvdiffrast-style, S = 1) | none\n"
+            "  --ss S             supersampling of the fit's renders: 1 (default), 2 or 4\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (default 3)\n"
             "  --shading S        sh (default) | mask\n"
@@ -59,6 +65,8 @@ static int usage(FILE *f)
             "                     default 100,250; 'none' for no remeshing)\n"
             "  --level K          subdivision level of the initial icosphere (default 3)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
+            "  --track N          measure the distances to the target every N iterations for log.csv and\n"
+            "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
             "  --quiet            no progress line\n"
             "  -o DIR             output directory (created if missing)\n");
@@ -97,6 +105,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     a->remesh_at[1] = 250;
     a->level = 3;
     a->target_ss = 4;
+    a->track = 25;
     ls_fit_config_default(&a->cfg);
     a->cfg.form = LS_SYSTEM_ALPHA;
     a->cfg.weight = (ls_real)0.95;
@@ -127,6 +136,16 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->iters);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
+        else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && a->cfg.ss != 3;
+        else if (strcmp(o, "--track") == 0) ok = parse_u32(v, 0, 1000000, &a->track);
+        else if (strcmp(o, "--power") == 0) ok = parse_u32(v, 1, 2, &a->cfg.power);
+        else if (strcmp(o, "--cg-tol") == 0) ok = parse_real(v, &a->cfg.cg_tol) && a->cfg.cg_tol > 0;
+        else if (strcmp(o, "--silhouette") == 0) {
+            a->cfg.silhouette = strcmp(v, "exact") == 0  ? LS_FIT_SILHOUETTE_EXACT
+                              : strcmp(v, "pair") == 0 ? LS_FIT_SILHOUETTE_PAIR
+                              : strcmp(v, "none") == 0 ? LS_FIT_SILHOUETTE_NONE : 99u;
+            ok = a->cfg.silhouette != 99u;
+        }
         else if (strcmp(o, "--remesh") == 0 && strcmp(v, "none") == 0) a->remesh_count = 0;
         else if (strcmp(o, "--remesh") == 0) {
             const char *p = v;
@@ -178,51 +197,92 @@ static int parse_args(int argc, char **argv, fit_args *a)
 }
 
 typedef struct log_data {
-    const ls_real *loss;
-    const double *ms;
-    uint32_t count;
+    const ls_job_run *r;
 } log_data;
 
+/* One row per iteration (its loss, the elapsed time at its end), and the
+ * distances of the mesh before it where they were measured; a last row for
+ * the final mesh. */
 static int write_log(FILE *f, void *ctx)
 {
-    const log_data *l = (const log_data *)ctx;
-    uint32_t i;
-    fprintf(f, "iteration,loss,elapsed_ms\n");
-    for (i = 0; i < l->count; i++) fprintf(f, "%u,%.9g,%.3f\n", (unsigned)i, (double)l->loss[i], l->ms[i]);
+    const ls_job_run *r = ((const log_data *)ctx)->r;
+    uint32_t i, k = 0;
+    fprintf(f, "iteration,loss,elapsed_ms,hausdorff_rel,rms_rel\n");
+    for (i = 0; i <= r->iterations; i++) {
+        if (i < r->iterations) fprintf(f, "%u,%.9g,%.3f,", (unsigned)i, (double)r->loss[i], r->ms[i]);
+        else if (k < r->tracked) fprintf(f, "%u,,%.3f,", (unsigned)i, r->iterations > 0 ? r->ms[i - 1] : 0.0);
+        while (k < r->tracked && r->track_it[k] < i) k++;
+        if (k < r->tracked && r->track_it[k] == i)
+            fprintf(f, "%.6g,%.6g\n", (double)r->track_h_rel[k], (double)r->track_rms_rel[k]);
+        else if (i < r->iterations)
+            fprintf(f, ",\n");
+    }
     return !ferror(f);
 }
 
-/* Loss against iteration, log scale, as a standalone SVG. */
-static int write_svg(FILE *f, void *ctx)
+/* One panel of the convergence plot: y (log10) against x, as a polyline. */
+static void svg_panel(FILE *f, double px, double py, double pw, double ph, const char *title, const char *xlabel,
+                      const double *x, const double *y, uint32_t n, const char *colour)
 {
-    const log_data *l = (const log_data *)ctx;
-    const double w = 640, h = 400, m = 50;
-    double lo = 1e300, hi = -1e300;
+    double x0 = 0, x1 = 1e-300, lo = 1e300, hi = -1e300;
     uint32_t i;
-    for (i = 0; i < l->count; i++) {
-        double v = (double)l->loss[i];
-        if (v > 0 && log10(v) < lo) lo = log10(v);
-        if (v > 0 && log10(v) > hi) hi = log10(v);
+    for (i = 0; i < n; i++) {
+        if (x[i] > x1) x1 = x[i];
+        if (y[i] > 0 && log10(y[i]) < lo) lo = log10(y[i]);
+        if (y[i] > 0 && log10(y[i]) > hi) hi = log10(y[i]);
     }
     if (!(hi >= lo)) lo = 0, hi = 1;
     if (hi - lo < 1e-9) hi = lo + 1;
-    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
-    fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
-    fprintf(f, "<text x=\"%g\" y=\"20\">image loss (log10) against iteration</text>\n", m);
-    fprintf(f, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"black\"/>\n", m, h - m, w - m, h - m);
-    fprintf(f, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"black\"/>\n", m, m, m, h - m);
-    fprintf(f, "<text x=\"5\" y=\"%g\">%.2f</text><text x=\"5\" y=\"%g\">%.2f</text>\n", m + 4, hi, h - m, lo);
-    fprintf(f, "<text x=\"%g\" y=\"%g\">0</text><text x=\"%g\" y=\"%g\">%u</text>\n", m, h - m + 16, w - m - 20, h - m + 16,
-            (unsigned)(l->count > 0 ? l->count - 1 : 0));
-    fprintf(f, "<polyline fill=\"none\" stroke=\"#1f5fbf\" stroke-width=\"1.5\" points=\"");
-    for (i = 0; i < l->count; i++) {
-        double v = (double)l->loss[i];
-        double x = m + (w - 2 * m) * (l->count > 1 ? (double)i / (double)(l->count - 1) : 0);
-        double y = v > 0 ? h - m - (h - 2 * m) * (log10(v) - lo) / (hi - lo) : h - m;
-        fprintf(f, "%.1f,%.1f ", x, y);
+    fprintf(f, "<text x=\"%g\" y=\"%g\">%s</text>\n", px, py - 8, title);
+    fprintf(f, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"black\"/>\n", px, py, pw, ph);
+    fprintf(f, "<text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.3g</text><text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.3g</text>\n",
+            px - 4, py + 10, pow(10.0, hi), px - 4, py + ph, pow(10.0, lo));
+    fprintf(f, "<text x=\"%g\" y=\"%g\">0</text><text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.4g %s</text>\n", px,
+            py + ph + 14, px + pw, py + ph + 14, x1, xlabel);
+    fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", colour);
+    for (i = 0; i < n; i++) {
+        double sx = px + pw * (x[i] - x0) / (x1 - x0);
+        double sy = y[i] > 0 ? py + ph - ph * (log10(y[i]) - lo) / (hi - lo) : py + ph;
+        fprintf(f, "%.1f,%.1f ", sx, sy);
     }
-    fprintf(f, "\"/>\n</svg>\n");
-    return !ferror(f);
+    fprintf(f, "\"/>\n");
+}
+
+/* Loss and dense Hausdorff distance (log scales) against iteration and
+ * time: four panels in one standalone SVG. */
+static int write_svg(FILE *f, void *ctx)
+{
+    const ls_job_run *r = ((const log_data *)ctx)->r;
+    const double w = 900, h = 620;
+    uint32_t n = r->iterations, t = r->tracked, i;
+    double *it = (double *)malloc((n + t + 1u) * sizeof(double));
+    double *loss = (double *)malloc((n + 1u) * sizeof(double));
+    double *hit = (double *)malloc((t + 1u) * sizeof(double));
+    double *hms = (double *)malloc((t + 1u) * sizeof(double));
+    double *hv = (double *)malloc((t + 1u) * sizeof(double));
+    int ok = it != NULL && loss != NULL && hit != NULL && hms != NULL && hv != NULL;
+    if (ok) {
+        for (i = 0; i < n; i++) it[i] = (double)i, loss[i] = (double)r->loss[i];
+        for (i = 0; i < t; i++) hit[i] = (double)r->track_it[i], hms[i] = r->track_ms[i] / 1000.0, hv[i] = 100.0 * (double)r->track_h_rel[i];
+        fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
+        fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+        svg_panel(f, 70, 40, 360, 220, "image loss against iteration", "it", it, loss, n, "#1f5fbf");
+        for (i = 0; i < n; i++) it[i] = r->ms[i] / 1000.0;
+        svg_panel(f, 510, 40, 360, 220, "image loss against time", "s", it, loss, n, "#1f5fbf");
+        if (t > 0) {
+            svg_panel(f, 70, 350, 360, 220, "dense Hausdorff / bbox diagonal, % (against iteration)", "it", hit, hv, t, "#bf3f1f");
+            svg_panel(f, 510, 350, 360, 220, "dense Hausdorff / bbox diagonal, % (against time)", "s", hms, hv, t, "#bf3f1f");
+        } else {
+            fprintf(f, "<text x=\"70\" y=\"380\">no distances: the target is not a mesh, or --track 0</text>\n");
+        }
+        fprintf(f, "</svg>\n");
+    }
+    free(it);
+    free(loss);
+    free(hit);
+    free(hms);
+    free(hv);
+    return ok && !ferror(f);
 }
 
 static int write_obj(FILE *f, void *ctx)
@@ -318,12 +378,16 @@ int ls_cmd_fit(int argc, char **argv)
     if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     tty = isatty(1);
     a.cfg.optim.lr = a.cfg.optim.lr * p.framing.radius;
-    if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1, &arena, &run)) return 1;
+    if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1,
+                    a.track > 0 ? a.track : a.iters + 1u, &arena, &run))
+        return 1;
     {
         const ls_fit_timing *t = &run.timing;
         double n = run.iterations > 0 ? run.iterations : 1;
-        printf("fit memory %.2f MiB at start; set-up %.1f ms; %u remeshes; %u vertices at the end\n",
-               (double)run.fit_bytes / 1048576.0, run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count);
+        printf("fit memory %.2f MiB at start; set-up %.1f ms; %u remeshes; %u vertices at the end; distances measured "
+               "%u times in %.0f ms (not counted below)\n",
+               (double)run.fit_bytes / 1048576.0, run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count,
+               (unsigned)run.tracked, run.track_total_ms);
         printf("time per iteration %.2f ms: render %.2f, shading backward %.2f, silhouettes %.2f, solves %.2f, "
                "optimizer %.2f\n",
                run.total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
@@ -342,9 +406,7 @@ int ls_cmd_fit(int argc, char **argv)
         json_data j;
         ls_contact sheet;
         png_data pd;
-        l.loss = run.loss;
-        l.ms = run.ms;
-        l.count = run.iterations;
+        l.r = &run;
         j.p = &p;
         j.r = &run;
         j.a = &a;

@@ -11,5 +11,6 @@ int ls_cmd_remesh(int argc, char **argv);
 int ls_cmd_render(int argc, char **argv);
 int ls_cmd_fit(int argc, char **argv);
 int ls_cmd_experiment(int argc, char **argv);
+int ls_cmd_tradeoffs(int argc, char **argv);
 
 #endif /* LS_COMMANDS_H */

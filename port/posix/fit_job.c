@@ -231,9 +231,37 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     return 1;
 }
 
-int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, ls_arena *arena, ls_job_run *r)
+/* One distance sample of the fit's current mesh, in memory released after
+ * it (the fit stays the last allocation at the bottom, as ls_fit_remesh
+ * needs). */
+static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elapsed_ms, ls_arena *arena, ls_job_run *r)
 {
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_real *pos = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
+    ls_distance_report dist;
+    ls_mesh m;
+    ls_diag d;
+    ls_status st = pos != NULL ? LS_OK : LS_ERR_NOMEM;
+    ls_diag_clear(&d);
+    if (st == LS_OK) st = ls_fit_mesh(fit, pos, &m);
+    if (st == LS_OK)
+        st = ls_mesh_distance(&m, &p->target, ls_distance_default_samples(&m), ls_distance_default_samples(&p->target),
+                              arena, &dist, &d);
+    ls_arena_restore(arena, mark);
+    if (st != LS_OK) return ls_job_fail("distances during the fit", st, &d);
+    r->track_it[r->tracked] = it;
+    r->track_ms[r->tracked] = elapsed_ms;
+    r->track_h_rel[r->tracked] = dist.hausdorff_rel;
+    r->track_rms_rel[r->tracked] = dist.rms_rel;
+    r->tracked++;
+    return 1;
+}
+
+int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every, ls_arena *arena,
+               ls_job_run *r)
+{
+    uint32_t track_cap = track_every > 0 && p->have_mesh ? iterations / track_every + 2u : 0u;
     ls_fit_config c = *cfg;
     ls_fit_views fv;
     ls_fit fit;
@@ -251,6 +279,13 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
     r->loss = (ls_real *)ls_arena_alloc(arena, iterations + 1u, sizeof(ls_real));
     r->ms = (double *)ls_arena_alloc(arena, iterations + 1u, sizeof(double));
     if (r->ms == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    if (track_cap > 0) {
+        r->track_it = (uint32_t *)ls_arena_alloc(arena, track_cap, sizeof(uint32_t));
+        r->track_ms = (double *)ls_arena_alloc(arena, track_cap, sizeof(double));
+        r->track_h_rel = (ls_real *)ls_arena_alloc(arena, track_cap, sizeof(ls_real));
+        r->track_rms_rel = (ls_real *)ls_arena_alloc(arena, track_cap, sizeof(ls_real));
+        if (r->track_rms_rel == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    }
     fv.count = p->views;
     fv.mvp = p->mvps;
     fv.targets = (const ls_real *const *)p->targets;
@@ -274,6 +309,12 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
                 printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
                        (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
         }
+        if (track_cap > 0 && it % track_every == 0) {
+            double t1 = ls_job_now_ms();
+            if (!track(p, &fit, it, t1 - t0, arena, r)) return 0;
+            r->track_total_ms += ls_job_now_ms() - t1;
+            t0 += ls_job_now_ms() - t1; /* the measurement is not the fit's time */
+        }
         st = ls_fit_step(&fit, &mon, &d);
         if (st != LS_OK) {
             fprintf(stderr, "largesteps: iteration %u: ", (unsigned)it);
@@ -292,6 +333,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
         if (time_budget_ms > 0 && r->ms[it] >= time_budget_ms) break;
     }
     if (progress == 2) printf("\n");
+    if (track_cap > 0 && r->iterations > 0 && !track(p, &fit, r->iterations, r->ms[r->iterations - 1], arena, r)) return 0;
     r->total_ms = r->iterations > 0 ? r->ms[r->iterations - 1] : 0.0;
     r->timing = fit.timing;
     r->remeshes = fit.remeshes;

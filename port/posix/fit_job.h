@@ -42,6 +42,12 @@ typedef struct ls_job_run {
     uint32_t remeshes;
     double setup_ms, total_ms;
     size_t fit_bytes;        /* the fit's block at the start */
+    uint32_t tracked;        /* distance samples taken (track_every > 0) */
+    uint32_t *track_it;      /* iteration of each sample (the mesh before it) */
+    double *track_ms;        /* elapsed fit time at that point */
+    ls_real *track_h_rel;    /* dense symmetric Hausdorff / target diagonal */
+    ls_real *track_rms_rel;  /* dense RMS / target diagonal */
+    double track_total_ms;   /* time spent measuring (excluded from ms and total_ms) */
 } ls_job_run;
 
 /* Loads the problem into the arena (everything stays allocated). */
@@ -53,10 +59,14 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
 
 /* Runs the fit from p->initial: `iterations` iterations (stopping early when
  * time_budget_ms > 0 is exceeded), remeshing before the listed iterations;
- * progress: 0 none, 1 lines, 2 a line updated in place. The run's arrays and
- * result are left in the arena (roll back with a mark to reuse it). */
+ * progress: 0 none, 1 lines, 2 a line updated in place. With track_every > 0
+ * and a target mesh, the dense distances to the target are measured every
+ * track_every iterations and at the end (their time is not counted in the
+ * run's times). The run's arrays and result are left in the arena (roll back
+ * with a mark to reuse it). */
 int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, ls_arena *arena, ls_job_run *r);
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every, ls_arena *arena,
+               ls_job_run *r);
 
 /* Distances (both ways, vertex and dense samples) and tangling of a result
  * against the problem's target mesh. */

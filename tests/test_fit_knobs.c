@@ -1,0 +1,331 @@
+/* tests/test_fit_knobs.c - the fit's speed/accuracy knobs (issue 14): the
+ * preconditioner's power p, the silhouette modes (exact, pair, none) and the
+ * CG tolerance. One plain-SGD step is checked against a dense computation of
+ * x - lr M^-p g with M = I + lambda L built here from the triangles; the
+ * pair mode's loss against the blended images composed here; the modes'
+ * memory and configuration errors. */
+#include "test.h"
+#include "dense.h"
+#include <stdlib.h>
+
+#define RES 24u
+#define NV 3u
+#define BUF_BYTES (16u << 20)
+
+static unsigned char *buf;
+static ls_real mvps[NV][16];
+static ls_real *targets[NV];
+static ls_real sh[27];
+
+/* Targets: an ellipsoid (level 2), SH shading, S = 4. */
+static void make_targets(void)
+{
+    ls_arena arena;
+    ls_mesh m;
+    ls_vis vis;
+    ls_real dirs[3 * NV], proj[16], view[16], *normals;
+    const ls_real center[3] = {0, 0, 0};
+    ls_shade_opts o;
+    uint32_t v, i;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    REQUIRE(ls_icosphere(2, &arena, &m) == LS_OK);
+    for (i = 0; i < m.vertex_count; i++) m.positions[3 * i + 1] *= (ls_real)0.7;
+    normals = (ls_real *)ls_arena_alloc(&arena, 3u * m.vertex_count, sizeof(ls_real));
+    REQUIRE(normals != NULL);
+    REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, normals, NULL) == LS_OK);
+    REQUIRE(ls_camera_fibonacci_dirs(NV, dirs) == LS_OK);
+    REQUIRE(ls_camera_perspective((ls_real)0.8, LS_FOV_X, 1, (ls_real)0.1, (ls_real)10, proj) == LS_OK);
+    REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 4, m.vertex_count) == LS_OK);
+    memset(sh, 0, sizeof sh);
+    for (i = 0; i < 3; i++) sh[9 * i] = (ls_real)1.5, sh[9 * i + 1] = (ls_real)0.8, sh[9 * i + 3] = (ls_real)-0.3;
+    ls_shade_opts_init(&o);
+    o.mode = LS_SHADE_SH;
+    o.sh = sh;
+    for (v = 0; v < NV; v++) {
+        REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
+        ls_mat4_mul(proj, view, mvps[v]);
+        targets[v] = (ls_real *)malloc(4u * RES * RES * sizeof(ls_real));
+        REQUIRE(targets[v] != NULL);
+        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
+        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
+    }
+}
+
+static void config(ls_fit_config *c)
+{
+    ls_fit_config_default(c);
+    c->width = c->height = RES;
+    c->shading.mode = LS_SHADE_SH;
+    c->shading.sh = sh;
+    c->use_translation = 0;
+    c->weight = (ls_real)4;
+}
+
+static void views_of(ls_fit_views *v)
+{
+    v->count = NV;
+    v->mvp = &mvps[0][0];
+    v->targets = (const ls_real *const *)targets;
+}
+
+/* A level-1 sphere of radius 0.8 in `arena`. */
+static void sphere(ls_arena *arena, ls_mesh *m)
+{
+    uint32_t i;
+    REQUIRE(ls_icosphere(1, arena, m) == LS_OK);
+    for (i = 0; i < 3u * m->vertex_count; i++) m->positions[i] *= (ls_real)0.8;
+}
+
+/* Dense M = I + lambda (D - A), uniform weights, from the triangles. */
+static double *dense_m(const ls_mesh *m, double lambda)
+{
+    uint32_t n = m->vertex_count, f, k;
+    double *a = (double *)calloc((size_t)n * n, sizeof(double));
+    int *adj = (int *)calloc((size_t)n * n, sizeof(int));
+    if (a == NULL || adj == NULL) {
+        free(a);
+        free(adj);
+        return NULL;
+    }
+    for (f = 0; f < m->face_count; f++)
+        for (k = 0; k < 3; k++) {
+            uint32_t i = m->triangles[3 * f + k], j = m->triangles[3 * f + (k + 1) % 3];
+            adj[(size_t)i * n + j] = adj[(size_t)j * n + i] = 1;
+        }
+    for (f = 0; f < n; f++) {
+        double deg = 0;
+        for (k = 0; k < n; k++)
+            if (adj[(size_t)f * n + k]) a[(size_t)f * n + k] = -lambda, deg += 1;
+        a[(size_t)f * n + f] = 1 + lambda * deg;
+    }
+    free(adj);
+    return a;
+}
+
+/* One SGD step (no momentum) from the sphere; checks x1 = x0 - lr M^-p g with
+ * g = dL/dx of that iteration (fit.gx) and M dense. */
+static void one_step_power(uint32_t power)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views v;
+    ls_fit fit;
+    ls_mesh init, out;
+    ls_real *pos;
+    double *m, *mcopy, *rhs, err = 0, scale = 0;
+    const double lr = 1.0;
+    uint32_t n, i, s;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    n = init.vertex_count;
+    config(&c);
+    c.power = power;
+    REQUIRE(ls_optim_config_default(LS_OPTIM_SGD, &c.optim) == LS_OK);
+    c.optim.lr = (ls_real)lr;
+    c.optim.beta1 = 0;
+    views_of(&v);
+    REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+    REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+    pos = (ls_real *)malloc(3u * n * sizeof(ls_real));
+    rhs = (double *)malloc(3u * n * sizeof(double));
+    REQUIRE(pos != NULL && rhs != NULL);
+    REQUIRE(ls_fit_mesh(&fit, pos, &out) == LS_OK);
+    m = dense_m(&init, (double)c.weight);
+    REQUIRE(m != NULL);
+    mcopy = (double *)malloc((size_t)n * n * sizeof(double));
+    REQUIRE(mcopy != NULL);
+    for (i = 0; i < 3u * n; i++) rhs[i] = (double)fit.gx[i];
+    for (s = 0; s < (power == 1u ? 1u : 2u); s++) {
+        memcpy(mcopy, m, (size_t)n * n * sizeof(double));
+        REQUIRE(dense_solve(mcopy, (int)n, rhs, 3));
+    }
+    for (i = 0; i < 3u * n; i++) {
+        double want = (double)init.positions[i] - lr * rhs[i];
+        double d = fabs((double)pos[i] - want);
+        if (d > err) err = d;
+        if (fabs(lr * rhs[i]) > scale) scale = fabs(lr * rhs[i]);
+    }
+    printf("     p = %u: step size %.3g, |x1 - (x0 - lr M^-%u g)| = %.3g\n", (unsigned)power, scale, (unsigned)power, err);
+    CHECK(scale > 1e-6);
+    CHECK(err <= 1e-9 * scale + TEST_EPS(32));
+    free(m);
+    free(mcopy);
+    free(rhs);
+    free(pos);
+}
+
+static void fit_power_one_and_two(void)
+{
+    one_step_power(1);
+    one_step_power(2);
+}
+
+/* dL/dx of the first iteration with configuration c, into g [3 n]. */
+static void first_gradient(const ls_fit_config *c, ls_real *g, ls_real *loss)
+{
+    ls_arena arena;
+    ls_fit_views v;
+    ls_fit fit;
+    ls_mesh init;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    views_of(&v);
+    REQUIRE(ls_fit_init(&fit, c, &v, &init, &arena, NULL) == LS_OK);
+    REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+    memcpy(g, fit.gx, 3u * init.vertex_count * sizeof(ls_real));
+    *loss = fit.loss;
+}
+
+/* The modes: none = exact with boost 0 (bit for bit); the silhouette term is
+ * not zero; pair: the loss is that of the blended images composed here. */
+static void fit_silhouette_modes(void)
+{
+    ls_fit_config c;
+    ls_real g_exact[3 * 42], g_none[3 * 42], g_zero[3 * 42], g_pair[3 * 42], l_exact, l_none, l_zero, l_pair;
+    double diff = 0, pair_diff = 0;
+    uint32_t i;
+    config(&c);
+    first_gradient(&c, g_exact, &l_exact);
+    c.silhouette = LS_FIT_SILHOUETTE_NONE;
+    first_gradient(&c, g_none, &l_none);
+    c.silhouette = LS_FIT_SILHOUETTE_EXACT;
+    c.boost = 0;
+    first_gradient(&c, g_zero, &l_zero);
+    c.boost = 3;
+    c.silhouette = LS_FIT_SILHOUETTE_PAIR;
+    first_gradient(&c, g_pair, &l_pair);
+    CHECK(memcmp(g_none, g_zero, sizeof g_none) == 0);
+    CHECK(l_none == l_exact && l_zero == l_exact);
+    for (i = 0; i < 3 * 42; i++) {
+        diff += fabs((double)g_exact[i] - (double)g_none[i]);
+        pair_diff += fabs((double)g_pair[i] - (double)g_none[i]);
+    }
+    printf("     |g_exact - g_none|_1 = %.4g, |g_pair - g_none|_1 = %.4g, loss point-sampled %.6f, pair-blended %.6f\n",
+           diff, pair_diff, (double)l_exact, (double)l_pair);
+    CHECK(diff > 1e-4);
+    CHECK(pair_diff > 1e-4);
+    {
+        /* the pair loss composed independently: raster, normals, shade, blend, mean L1 */
+        ls_arena arena;
+        ls_mesh init;
+        ls_vis vis;
+        ls_edge_table tab;
+        ls_shade_opts o;
+        ls_real *normals, *img, *blend;
+        double sum = 0;
+        uint32_t v, p;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        sphere(&arena, &init);
+        normals = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
+        img = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
+        blend = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
+        REQUIRE(blend != NULL);
+        REQUIRE(ls_shade_vertex_normals(init.positions, init.vertex_count, init.triangles, init.face_count, normals,
+                                        NULL) == LS_OK);
+        REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 1, init.vertex_count) == LS_OK);
+        REQUIRE(ls_edge_table_build(&tab, init.triangles, init.face_count, init.vertex_count, &arena, NULL) == LS_OK);
+        ls_shade_opts_init(&o);
+        o.mode = LS_SHADE_SH;
+        o.sh = sh;
+        for (v = 0; v < NV; v++) {
+            REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles,
+                              init.face_count, NULL) == LS_OK);
+            REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
+            REQUIRE(ls_pair_forward(&vis, &tab, init.triangles, init.face_count, img, blend, NULL) == LS_OK);
+            for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)blend[p] - (double)targets[v][p]);
+        }
+        sum /= (double)(4u * RES * RES * NV);
+        printf("     pair loss composed here %.9f, by the fit %.9f\n", sum, (double)l_pair);
+        CHECK_NEAR((double)l_pair, sum, 1e-12 + TEST_EPS(16) * sum);
+    }
+}
+
+/* CG at a tight tolerance reproduces the LDL^T fit; a loose one does not. */
+static void fit_cg_tolerance(void)
+{
+    ls_fit_config c;
+    ls_real g[3 * 42], l;
+    ls_real *x[3];
+    static const double tols[3] = {0, 1e-12, 1e-2};
+    double d_tight = 0, d_loose = 0, scale = 0;
+    uint32_t k, i, it;
+    for (k = 0; k < 3; k++) {
+        ls_arena arena;
+        ls_fit_views v;
+        ls_fit fit;
+        ls_mesh init, out;
+        config(&c);
+        c.solver = k == 0 ? LS_PARAM_LDLT : LS_PARAM_CG;
+        c.cg_tol = (ls_real)tols[k];
+        if (sizeof(ls_real) == sizeof(float) && k == 1) c.cg_tol = (ls_real)1e-6;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        sphere(&arena, &init);
+        views_of(&v);
+        REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+        for (it = 0; it < 3; it++) REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+        x[k] = (ls_real *)malloc(3u * init.vertex_count * sizeof(ls_real));
+        REQUIRE(x[k] != NULL);
+        REQUIRE(ls_fit_mesh(&fit, x[k], &out) == LS_OK);
+    }
+    for (i = 0; i < 3 * 42; i++) {
+        d_tight = fmax(d_tight, fabs((double)x[1][i] - (double)x[0][i]));
+        d_loose = fmax(d_loose, fabs((double)x[2][i] - (double)x[0][i]));
+        scale = fmax(scale, fabs((double)x[0][i]));
+    }
+    printf("     3 iterations: max |x_CG - x_LDLT| tol tight %.3g, tol 1e-2 %.3g\n", d_tight, d_loose);
+    CHECK(d_tight <= (sizeof(ls_real) == sizeof(float) ? 1e-4 : 1e-9) * scale);
+    CHECK(d_loose > 10 * d_tight);
+    for (k = 0; k < 3; k++) free(x[k]);
+    (void)g;
+    (void)l;
+}
+
+/* Bad knob values are named errors; the pair mode's two images cost memory
+ * only in that mode. */
+static void fit_knob_errors_and_memory(void)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views v;
+    ls_fit fit;
+    ls_mesh init;
+    size_t exact_bytes = 0, pair_bytes = 0;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    views_of(&v);
+    config(&c);
+    c.silhouette = 3;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    config(&c);
+    c.silhouette = LS_FIT_SILHOUETTE_PAIR;
+    c.ss = 2;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    config(&c);
+    c.power = 3;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    config(&c);
+    c.cg_tol = (ls_real)-1;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    config(&c);
+    REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &exact_bytes, NULL) == LS_OK);
+    c.silhouette = LS_FIT_SILHOUETTE_PAIR;
+    REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &pair_bytes, NULL) == LS_OK);
+    printf("     fit bytes: exact %lu, pair %lu\n", (unsigned long)exact_bytes, (unsigned long)pair_bytes);
+    CHECK(pair_bytes >= exact_bytes + 2u * 4u * RES * RES * sizeof(ls_real) - 64u);
+}
+
+int main(void)
+{
+    uint32_t v;
+    TEST_INIT("test_fit_knobs");
+    buf = (unsigned char *)malloc(BUF_BYTES);
+    if (buf == NULL) return 1;
+    TEST_RUN(make_targets);
+    TEST_RUN(fit_power_one_and_two);
+    TEST_RUN(fit_silhouette_modes);
+    TEST_RUN(fit_cg_tolerance);
+    TEST_RUN(fit_knob_errors_and_memory);
+    for (v = 0; v < NV; v++) free(targets[v]);
+    free(buf);
+    return TEST_END();
+}
