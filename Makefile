@@ -326,6 +326,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	BENCH_OUT=$(BUILD)/bench/gradient.md $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
+	BUILD=$(BUILD) sh tests/bench/run_grid.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
 	BUILD=$(BUILD) sh tests/bench/run_distance.sh
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh

@@ -39,6 +39,7 @@
 #include <largesteps/fit.h>
 #include <largesteps/laplacian.h>
 #include <largesteps/cg.h>
+#include <largesteps/grid_solve.h>
 #include <largesteps/param.h>
 #include <largesteps/toy1d.h>
 #include <largesteps/distance.h>

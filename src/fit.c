@@ -48,7 +48,7 @@ static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, con
     if (c->form != LS_SYSTEM_LAMBDA && c->form != LS_SYSTEM_ALPHA) return LS_ERR_INVALID;
     if (!finite_r(c->weight) || c->weight < (ls_real)0) return LS_ERR_INVALID;
     if (c->form == LS_SYSTEM_ALPHA && !(c->weight < (ls_real)1)) return LS_ERR_INVALID;
-    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG) return LS_ERR_INVALID;
+    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG && c->solver != LS_PARAM_AUTO) return LS_ERR_INVALID;
     if (!finite_r(c->boost) || !finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return LS_ERR_INVALID;
     if (c->shading.vertex_colors != NULL || c->shading.mode > LS_SHADE_LAMBERT) return LS_ERR_INVALID;
     if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;

@@ -291,7 +291,15 @@ ls_status ls_laplacian_cot(const ls_mesh *mesh, uint32_t convention, uint32_t st
 
 /* ---- grid ---------------------------------------------------------------- */
 
-static ls_status grid_entries(uint32_t nx, uint32_t ny, uint32_t storage, uint32_t *n, size_t *entries)
+/* The wrap in x is effective from nx = 3 on: for nx <= 2 the ends are the
+ * same vertex or already neighbours. */
+static uint32_t grid_wraps(uint32_t nx, uint32_t wrap_x)
+{
+    return wrap_x != 0 && nx >= 3u;
+}
+
+static ls_status grid_entries(uint32_t nx, uint32_t ny, uint32_t wrap_x, uint32_t storage, uint32_t *n,
+                              size_t *entries)
 {
     size_t nn, e;
     int ok;
@@ -299,13 +307,13 @@ static ls_status grid_entries(uint32_t nx, uint32_t ny, uint32_t storage, uint32
     if ((size_t)nx > IDX_LIMIT / (size_t)ny) return LS_ERR_TOO_LARGE;
     nn = (size_t)nx * ny;
     if (nn > IDX_LIMIT - 1u) return LS_ERR_TOO_LARGE;
-    e = (size_t)(nx - 1u) * ny + (size_t)nx * (ny - 1u);
+    e = (size_t)(nx - 1u) * ny + (size_t)nx * (ny - 1u) + (grid_wraps(nx, wrap_x) ? (size_t)ny : 0u);
     *entries = lap_entries((uint32_t)nn, e, storage, &ok);
     *n = (uint32_t)nn;
     return ok ? LS_OK : LS_ERR_TOO_LARGE;
 }
 
-ls_status ls_laplacian_grid_bytes(uint32_t nx, uint32_t ny, uint32_t storage, size_t *bytes)
+ls_status ls_laplacian_grid_wrap_bytes(uint32_t nx, uint32_t ny, uint32_t wrap_x, uint32_t storage, size_t *bytes)
 {
     ls_size s;
     uint32_t n = 0;
@@ -313,22 +321,34 @@ ls_status ls_laplacian_grid_bytes(uint32_t nx, uint32_t ny, uint32_t storage, si
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
-    st = grid_entries(nx, ny, storage, &n, &entries);
+    st = grid_entries(nx, ny, wrap_x, storage, &n, &entries);
     if (st != LS_OK) return st;
     ls_size_init(&s);
     csc_size(&s, n, entries);
     return ls_size_get(&s, bytes);
 }
 
-ls_status ls_laplacian_grid(uint32_t nx, uint32_t ny, uint32_t storage, ls_arena *arena, ls_csc *out)
+ls_status ls_laplacian_grid_bytes(uint32_t nx, uint32_t ny, uint32_t storage, size_t *bytes)
+{
+    return ls_laplacian_grid_wrap_bytes(nx, ny, 0u, storage, bytes);
+}
+
+static void grid_entry(ls_csc *m, uint32_t *w, uint32_t row, ls_real value)
+{
+    m->rowidx[*w] = row;
+    m->values[(*w)++] = value;
+}
+
+ls_status ls_laplacian_grid_wrap(uint32_t nx, uint32_t ny, uint32_t wrap_x, uint32_t storage, ls_arena *arena,
+                                 ls_csc *out)
 {
     ls_arena_mark mark;
     ls_csc m;
-    uint32_t n = 0, x, y, w = 0;
+    uint32_t n = 0, x, y, w = 0, wrap = grid_wraps(nx, wrap_x);
     size_t entries = 0;
     ls_status st;
     if (arena == NULL || out == NULL) return LS_ERR_INVALID;
-    st = grid_entries(nx, ny, storage, &n, &entries);
+    st = grid_entries(nx, ny, wrap_x, storage, &n, &entries);
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);
     if (!csc_alloc(arena, n, entries, &m)) {
@@ -338,33 +358,28 @@ ls_status ls_laplacian_grid(uint32_t nx, uint32_t ny, uint32_t storage, ls_arena
     for (y = 0; y < ny; y++) {
         for (x = 0; x < nx; x++) {
             uint32_t j = y * nx + x;
-            ls_real deg = (ls_real)((x > 0) + (x + 1u < nx) + (y > 0) + (y + 1u < ny));
+            ls_real deg = (ls_real)(wrap ? 2 + (y > 0) + (y + 1u < ny)
+                                         : (x > 0) + (x + 1u < nx) + (y > 0) + (y + 1u < ny));
             m.colptr[j] = w;
-            if (y > 0) {
-                m.rowidx[w] = j - nx;
-                m.values[w++] = (ls_real)-1;
-            }
-            if (x > 0) {
-                m.rowidx[w] = j - 1u;
-                m.values[w++] = (ls_real)-1;
-            }
-            m.rowidx[w] = j;
-            m.values[w++] = deg;
+            if (y > 0) grid_entry(&m, &w, j - nx, (ls_real)-1);
+            if (wrap && x + 1u == nx) grid_entry(&m, &w, j - x, (ls_real)-1);
+            if (x > 0) grid_entry(&m, &w, j - 1u, (ls_real)-1);
+            grid_entry(&m, &w, j, deg);
             if (storage == LS_LAP_FULL) {
-                if (x + 1u < nx) {
-                    m.rowidx[w] = j + 1u;
-                    m.values[w++] = (ls_real)-1;
-                }
-                if (y + 1u < ny) {
-                    m.rowidx[w] = j + nx;
-                    m.values[w++] = (ls_real)-1;
-                }
+                if (x + 1u < nx) grid_entry(&m, &w, j + 1u, (ls_real)-1);
+                if (wrap && x == 0) grid_entry(&m, &w, j + nx - 1u, (ls_real)-1);
+                if (y + 1u < ny) grid_entry(&m, &w, j + nx, (ls_real)-1);
             }
         }
     }
     m.colptr[n] = w;
     *out = m;
     return LS_OK;
+}
+
+ls_status ls_laplacian_grid(uint32_t nx, uint32_t ny, uint32_t storage, ls_arena *arena, ls_csc *out)
+{
+    return ls_laplacian_grid_wrap(nx, ny, 0u, storage, arena, out);
 }
 
 /* ---- the system matrix --------------------------------------------------- */

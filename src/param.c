@@ -8,31 +8,50 @@ static void set_diag(ls_diag *diag, ls_status st, const char *what)
     (void)ls_diag_set(diag, st, what, LS_DIAG_NO_INDEX);
 }
 
-static int config_ok(const ls_csc *lap, const ls_param_config *cfg)
+/* The solver a configuration asks for: AUTO is the transform solver on a
+ * grid and the LDL^T on a mesh; UINT32_MAX when out of range. */
+static uint32_t solver_of(const ls_param_config *cfg, int grid)
 {
-    if (lap == NULL || cfg == NULL || lap->colptr == NULL || lap->nrows != lap->ncols) return 0;
-    if (cfg->solver != LS_PARAM_LDLT && cfg->solver != LS_PARAM_CG) return 0;
-    if (cfg->k == 0 || cfg->k > LS_CG_MAX_K) return 0;
-    if (cfg->solver == LS_PARAM_CG && !(cfg->cg_tol >= (ls_real)0)) return 0;
+    if (cfg->solver == LS_PARAM_AUTO) return grid ? LS_PARAM_GRID : LS_PARAM_LDLT;
+    if (cfg->solver == LS_PARAM_GRID && !grid) return UINT32_MAX;
+    if (cfg->solver > LS_PARAM_GRID) return UINT32_MAX;
+    return cfg->solver;
+}
+
+static int config_valid(const ls_param_config *cfg, int grid)
+{
+    uint32_t solver = solver_of(cfg, grid);
+    if (solver == UINT32_MAX || cfg->k == 0 || cfg->k > LS_CG_MAX_K) return 0;
+    if (solver == LS_PARAM_CG && !(cfg->cg_tol >= (ls_real)0)) return 0;
     return cfg->form == LS_SYSTEM_LAMBDA || cfg->form == LS_SYSTEM_ALPHA;
 }
 
+static int config_ok(const ls_csc *lap, const ls_param_config *cfg)
+{
+    if (lap == NULL || cfg == NULL || lap->colptr == NULL || lap->nrows != lap->ncols) return 0;
+    return config_valid(cfg, 0);
+}
+
 /* The ordering actually used: AUTO and ND need coordinates. */
+static int needs_coords(uint32_t order)
+{
+    return order == LS_ORDER_AUTO || order == LS_ORDER_ND;
+}
+
 static uint32_t order_method(const ls_param_config *cfg, const ls_real *xyz)
 {
-    if (xyz == NULL && (cfg->order == LS_ORDER_AUTO || cfg->order == LS_ORDER_ND)) return LS_ORDER_AMD;
+    if (xyz == NULL && needs_coords(cfg->order)) return LS_ORDER_AMD;
     return cfg->order;
 }
 
 /* The allocations made before the analysis: M's values, the step's
- * buffers, the CG warm starts and the solver scratch block. */
+ * buffers, the CG warm starts and the solver scratch block (added to *s). */
 static ls_status front_bytes(const ls_csc *lap, const ls_param_config *cfg, ls_size *s, size_t *work)
 {
     size_t nk = (size_t)lap->ncols * cfg->k, wb = 0;
     ls_status st;
-    ls_size_init(s);
     ls_size_add(s, ls_csc_nnz(lap), sizeof(ls_real));
-    if (cfg->solver == LS_PARAM_CG) {
+    if (solver_of(cfg, 0) == LS_PARAM_CG) {
         ls_size_add(s, 2u * nk, sizeof(ls_real)); /* tmp: two buffers */
         ls_size_add(s, nk, sizeof(ls_real));      /* warm_fwd */
         ls_size_add(s, nk, sizeof(ls_real));      /* warm_adj */
@@ -48,6 +67,40 @@ static ls_status front_bytes(const ls_csc *lap, const ls_param_config *cfg, ls_s
     return LS_OK;
 }
 
+/* Where the ordering's coordinates come from: the caller's vertex positions
+ * (a mesh, may be NULL) or, for a width x height grid (width > 0), the
+ * texel centres (x, y, 0), made in scratch for the analysis only. */
+typedef struct coord_src {
+    const ls_real *xyz;
+    uint32_t width, height;
+} coord_src;
+
+static uint32_t coords_method(const ls_param_config *cfg, const coord_src *c)
+{
+    return c->width != 0 ? cfg->order : order_method(cfg, c->xyz);
+}
+
+/* 1 when the analysis gets coordinates. */
+static int has_coords(const coord_src *c, uint32_t method)
+{
+    return c->xyz != NULL || (c->width != 0 && needs_coords(method));
+}
+
+/* The grid's texel coordinates, 3 n reals from the arena's top. */
+static ls_real *grid_coords(const coord_src *c, ls_arena *arena)
+{
+    size_t n = (size_t)c->width * c->height, i;
+    ls_real *xyz = (ls_real *)ls_arena_scratch(arena, 3u * n, sizeof(ls_real));
+    if (xyz == NULL) return NULL;
+    for (i = 0; i < n; i++) {
+        size_t row = i / c->width; /* exact integer row */
+        xyz[3u * i] = (ls_real)(i % c->width);
+        xyz[3u * i + 1u] = (ls_real)row;
+        xyz[3u * i + 2u] = (ls_real)0;
+    }
+    return xyz;
+}
+
 static ls_status analyze(ls_ldlt *f, const ls_csc *a, uint32_t method, const ls_real *xyz, ls_arena *arena,
                          ls_diag *diag)
 {
@@ -55,100 +108,263 @@ static ls_status analyze(ls_ldlt *f, const ls_csc *a, uint32_t method, const ls_
     return ls_ldlt_analyze(a, method, NULL, arena, f, diag);
 }
 
-static ls_status analyze_bytes(const ls_csc *a, uint32_t method, const ls_real *xyz, size_t *bytes)
+/* The analysis with coordinates from c: grid coordinates live in the top of
+ * the arena during the analysis only. */
+static ls_status analyze_from(ls_ldlt *f, const ls_csc *a, const ls_param_config *cfg, const coord_src *c,
+                              ls_arena *arena, ls_diag *diag)
 {
-    if (xyz != NULL) return ls_ldlt_analyze_mesh_bytes(a, method, bytes);
-    return ls_ldlt_analyze_bytes(a, method, bytes);
+    uint32_t method = coords_method(cfg, c);
+    ls_arena_mark mark = ls_arena_save(arena);
+    const ls_real *xyz = c->xyz;
+    ls_status st;
+    if (c->width != 0 && needs_coords(method)) {
+        xyz = grid_coords(c, arena);
+        if (xyz == NULL) {
+            set_diag(diag, LS_ERR_NOMEM, "arena too small for the grid's ordering coordinates");
+            return LS_ERR_NOMEM;
+        }
+    }
+    st = analyze(f, a, method, xyz, arena, diag);
+    ls_arena_restore(arena, (ls_arena_mark){arena->bottom, mark.top});
+    return st;
+}
+
+/* The LDL^T's part of the bytes: max(coordinates + the analysis' peak, its
+ * object + the numeric factor), measured by an analysis in scratch. */
+static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const coord_src *c, ls_arena *scratch,
+                           ls_size *tail)
+{
+    ls_arena_mark mark;
+    ls_ldlt f;
+    ls_size peak;
+    size_t ab = 0, fb = 0, obj;
+    uint32_t method = coords_method(cfg, c);
+    ls_status st;
+    if (scratch == NULL) return LS_ERR_INVALID;
+    st = has_coords(c, method) ? ls_ldlt_analyze_mesh_bytes(lap, method, &ab) : ls_ldlt_analyze_bytes(lap, method, &ab);
+    if (st != LS_OK) return st;
+    ls_size_init(&peak);
+    if (c->xyz == NULL && has_coords(c, method)) ls_size_add(&peak, 3u * (size_t)c->width * c->height, sizeof(ls_real));
+    ls_size_add(&peak, ab, 1);
+    mark = ls_arena_save(scratch);
+    st = analyze_from(&f, lap, cfg, c, scratch, NULL);
+    if (st != LS_OK) return st;
+    obj = scratch->bottom - mark.bottom;
+    st = ls_ldlt_bytes(&f, &fb);
+    ls_arena_restore(scratch, mark);
+    if (st != LS_OK) return st;
+    ls_size_init(tail);
+    ls_size_add(tail, obj, 1);
+    ls_size_add(tail, fb, 1);
+    ls_size_max(tail, &peak);
+    return LS_OK;
+}
+
+/* Adds the bytes of build() for the sparse solvers to *s. */
+static ls_status sparse_bytes(const ls_csc *lap, const ls_param_config *cfg, const coord_src *c, ls_arena *scratch,
+                              ls_size *s)
+{
+    size_t work = 0;
+    ls_status st = front_bytes(lap, cfg, s, &work);
+    if (st != LS_OK) return st;
+    if (solver_of(cfg, 0) == LS_PARAM_LDLT) {
+        ls_size tail;
+        st = ldlt_tail(lap, cfg, c, scratch, &tail);
+        if (st != LS_OK) return st;
+        ls_size_add_size(s, &tail);
+    }
+    return LS_OK;
 }
 
 ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
                          size_t *bytes)
 {
-    ls_size s, tail;
-    size_t work = 0, ab = 0, fb = 0;
+    coord_src c;
+    ls_size s;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
     if (!config_ok(lap, cfg)) return LS_ERR_INVALID;
+    c.xyz = xyz;
+    c.width = c.height = 0;
+    ls_size_init(&s);
+    st = sparse_bytes(lap, cfg, &c, scratch, &s);
+    if (st != LS_OK) return st;
+    return ls_size_get(&s, bytes);
+}
+
+/* Builds the sparse solvers' part of *q (q->solver resolved, the other
+ * fields of q zero) from the arena's bottom; the caller restores the arena
+ * on failure. */
+static ls_status build(ls_param *q, const ls_csc *lap, const ls_param_config *cfg, const coord_src *c,
+                       ls_arena *arena, ls_diag *diag)
+{
+    ls_size s;
+    size_t work = 0, nk;
+    unsigned char *block;
+    ls_status st;
+    ls_size_init(&s);
     st = front_bytes(lap, cfg, &s, &work);
     if (st != LS_OK) return st;
-    if (cfg->solver == LS_PARAM_LDLT) {
-        ls_arena_mark mark;
-        ls_ldlt f;
-        size_t obj;
-        uint32_t method = order_method(cfg, xyz);
-        if (scratch == NULL) return LS_ERR_INVALID;
-        st = analyze_bytes(lap, method, xyz, &ab);
-        if (st != LS_OK) return st;
-        mark = ls_arena_save(scratch);
-        st = analyze(&f, lap, method, xyz, scratch, NULL);
-        if (st != LS_OK) return st;
-        obj = scratch->bottom - mark.bottom;
-        st = ls_ldlt_bytes(&f, &fb);
-        ls_arena_restore(scratch, mark);
-        if (st != LS_OK) return st;
-        /* the analysis' peak, or its object plus the numeric factor */
-        ls_size_init(&tail);
-        ls_size_add(&tail, obj, 1);
-        ls_size_add(&tail, fb, 1);
-        if (ab > tail.bytes) tail.bytes = ab;
-        ls_size_add_size(&s, &tail);
+    q->lap = *lap;
+    q->n = lap->ncols;
+    q->k = cfg->k;
+    q->form = cfg->form;
+    q->weight = cfg->weight;
+    q->cg.max_iter = cfg->cg_max_iter;
+    q->cg.tol = cfg->cg_tol;
+    nk = (size_t)q->n * q->k;
+    st = ls_laplacian_system(lap, cfg->form, cfg->weight, arena, &q->m, diag);
+    if (st != LS_OK) return st;
+    q->identity = cfg->weight == (ls_real)0;
+    q->tmp = (ls_real *)ls_arena_alloc(arena, q->solver == LS_PARAM_CG ? 2u * nk : nk, sizeof(ls_real));
+    if (q->solver == LS_PARAM_CG) {
+        q->warm_fwd = (ls_real *)ls_arena_alloc_zero(arena, nk, sizeof(ls_real));
+        q->warm_adj = (ls_real *)ls_arena_alloc_zero(arena, nk, sizeof(ls_real));
+        if (q->warm_fwd == NULL || q->warm_adj == NULL) goto nomem;
     }
-    return ls_size_get(&s, bytes);
+    block = (unsigned char *)ls_arena_alloc(arena, work, 1);
+    if (q->tmp == NULL || block == NULL) goto nomem;
+    (void)ls_arena_init(&q->work, block, work);
+    if (q->solver == LS_PARAM_LDLT) {
+        st = analyze_from(&q->f, &q->m, cfg, c, arena, diag);
+        if (st == LS_OK) st = ls_ldlt_factor(&q->f, &q->m, arena, diag);
+    }
+    return st;
+nomem:
+    set_diag(diag, LS_ERR_NOMEM, "arena too small for the parameterization");
+    return LS_ERR_NOMEM;
 }
 
 ls_status ls_param_init(ls_param *p, const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz,
                         ls_arena *arena, ls_diag *diag)
 {
     ls_arena_mark mark;
+    coord_src c;
     ls_param q;
-    ls_size s;
-    size_t work = 0, nk;
-    unsigned char *block;
     ls_status st;
     if (p == NULL || arena == NULL || !config_ok(lap, cfg)) {
         set_diag(diag, LS_ERR_INVALID, "NULL argument or configuration out of range");
         return LS_ERR_INVALID;
     }
-    st = front_bytes(lap, cfg, &s, &work);
-    if (st != LS_OK) return st;
     memset(&q, 0, sizeof q);
-    q.lap = *lap;
-    q.n = lap->ncols;
-    q.k = cfg->k;
-    q.solver = cfg->solver;
-    q.form = cfg->form;
-    q.weight = cfg->weight;
-    q.cg.max_iter = cfg->cg_max_iter;
-    q.cg.tol = cfg->cg_tol;
-    nk = (size_t)q.n * q.k;
+    q.solver = solver_of(cfg, 0);
+    c.xyz = xyz;
+    c.width = c.height = 0;
     mark = ls_arena_save(arena);
-    st = ls_laplacian_system(lap, cfg->form, cfg->weight, arena, &q.m, diag);
-    if (st != LS_OK) return st;
-    q.identity = cfg->weight == (ls_real)0;
-    q.tmp = (ls_real *)ls_arena_alloc(arena, cfg->solver == LS_PARAM_CG ? 2u * nk : nk, sizeof(ls_real));
-    if (cfg->solver == LS_PARAM_CG) {
-        q.warm_fwd = (ls_real *)ls_arena_alloc_zero(arena, nk, sizeof(ls_real));
-        q.warm_adj = (ls_real *)ls_arena_alloc_zero(arena, nk, sizeof(ls_real));
-        if (q.warm_fwd == NULL || q.warm_adj == NULL) goto nomem;
-    }
-    block = (unsigned char *)ls_arena_alloc(arena, work, 1);
-    if (q.tmp == NULL || block == NULL) goto nomem;
-    (void)ls_arena_init(&q.work, block, work);
-    if (cfg->solver == LS_PARAM_LDLT) {
-        st = analyze(&q.f, &q.m, order_method(cfg, xyz), xyz, arena, diag);
-        if (st == LS_OK) st = ls_ldlt_factor(&q.f, &q.m, arena, diag);
-        if (st != LS_OK) {
-            ls_arena_restore(arena, mark);
-            return st;
-        }
+    st = build(&q, lap, cfg, &c, arena, diag);
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        return st;
     }
     *p = q;
     return LS_OK;
-nomem:
-    ls_arena_restore(arena, mark);
-    set_diag(diag, LS_ERR_NOMEM, "arena too small for the parameterization");
-    return LS_ERR_NOMEM;
+}
+
+/* ---- texture grids ------------------------------------------------------ */
+
+static int grid_ok(const ls_grid_shape *shape, const ls_param_config *cfg)
+{
+    return shape != NULL && cfg != NULL && shape->width != 0 && shape->height != 0 && config_valid(cfg, 1);
+}
+
+/* The sparse solvers on the grid: the bytes of the owned Laplacian and of
+ * build(), whose analysis runs in scratch. */
+static ls_status grid_sparse_bytes(const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *scratch,
+                                   ls_size *s)
+{
+    ls_arena_mark mark;
+    ls_csc lap;
+    coord_src c;
+    size_t b = 0;
+    ls_status st = ls_laplacian_grid_wrap_bytes(shape->width, shape->height, shape->wrap_u, LS_LAP_UPPER, &b);
+    if (st != LS_OK) return st;
+    if (scratch == NULL) return LS_ERR_INVALID;
+    ls_size_add(s, b, 1);
+    mark = ls_arena_save(scratch);
+    st = ls_laplacian_grid_wrap(shape->width, shape->height, shape->wrap_u, LS_LAP_UPPER, scratch, &lap);
+    c.xyz = NULL;
+    c.width = shape->width;
+    c.height = shape->height;
+    if (st == LS_OK) st = sparse_bytes(&lap, cfg, &c, scratch, s);
+    ls_arena_restore(scratch, mark);
+    return st;
+}
+
+ls_status ls_param_grid_bytes(const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *scratch,
+                              size_t *bytes)
+{
+    ls_size s;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (!grid_ok(shape, cfg)) return LS_ERR_INVALID;
+    ls_size_init(&s);
+    if (solver_of(cfg, 1) == LS_PARAM_GRID) {
+        size_t b = 0;
+        st = ls_grid_solver_bytes(shape->width, shape->height, shape->wrap_u, cfg->k, &b);
+        if (st != LS_OK) return st;
+        ls_size_add(&s, b, 1);
+        ls_size_add(&s, (size_t)shape->width * shape->height * cfg->k, sizeof(ls_real)); /* tmp */
+    } else {
+        st = grid_sparse_bytes(shape, cfg, scratch, &s);
+        if (st != LS_OK) return st;
+    }
+    return ls_size_get(&s, bytes);
+}
+
+/* The transform solver's part of *q: its tables, the weight and the step's
+ * buffer. */
+static ls_status grid_build(ls_param *q, const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *arena,
+                            ls_diag *diag)
+{
+    ls_status st = ls_grid_solver_init(&q->gs, shape->width, shape->height, shape->wrap_u, cfg->k, arena);
+    if (st == LS_OK) st = ls_grid_solver_set_weight(&q->gs, cfg->form, cfg->weight, diag);
+    if (st != LS_OK) return st;
+    q->n = shape->width * shape->height;
+    q->k = cfg->k;
+    q->form = cfg->form;
+    q->weight = cfg->weight;
+    q->identity = cfg->weight == (ls_real)0;
+    q->tmp = (ls_real *)ls_arena_alloc(arena, (size_t)q->n * q->k, sizeof(ls_real));
+    return q->tmp != NULL ? LS_OK : LS_ERR_NOMEM;
+}
+
+ls_status ls_param_grid_init(ls_param *p, const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *arena,
+                             ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_param q;
+    ls_status st;
+    if (p == NULL || arena == NULL || !grid_ok(shape, cfg)) {
+        set_diag(diag, LS_ERR_INVALID, "NULL argument or configuration out of range");
+        return LS_ERR_INVALID;
+    }
+    memset(&q, 0, sizeof q);
+    q.solver = solver_of(cfg, 1);
+    q.grid = 1;
+    q.width = shape->width;
+    q.height = shape->height;
+    q.wrap_u = shape->wrap_u != 0 && shape->width >= 3u;
+    mark = ls_arena_save(arena);
+    if (q.solver == LS_PARAM_GRID) {
+        st = grid_build(&q, shape, cfg, arena, diag);
+    } else {
+        ls_csc lap;
+        coord_src c;
+        c.xyz = NULL;
+        c.width = shape->width;
+        c.height = shape->height;
+        st = ls_laplacian_grid_wrap(shape->width, shape->height, shape->wrap_u, LS_LAP_UPPER, arena, &lap);
+        if (st == LS_OK) st = build(&q, &lap, cfg, &c, arena, diag);
+    }
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        if (st == LS_ERR_NOMEM) set_diag(diag, LS_ERR_NOMEM, "arena too small for the parameterization");
+        return st;
+    }
+    *p = q;
+    return LS_OK;
 }
 
 static int finite_all(const ls_real *v, size_t count)
@@ -166,6 +382,7 @@ ls_status ls_param_to_differential(const ls_param *p, const ls_real *x, ls_real 
         if (u != x) memmove(u, x, (size_t)p->n * p->k * sizeof(ls_real));
         return LS_OK;
     }
+    if (p->solver == LS_PARAM_GRID) return ls_grid_solver_apply(&p->gs, x, u);
     return ls_csc_matvec_sym(&p->m, p->k, x, u);
 }
 
@@ -179,6 +396,7 @@ static ls_status solve(ls_param *p, const ls_real *b, ls_real *x, ls_real *warm)
         if (x != b) memmove(x, b, nk * sizeof(ls_real));
         return LS_OK;
     }
+    if (p->solver == LS_PARAM_GRID) return ls_grid_solver_solve(&p->gs, b, x);
     if (p->solver == LS_PARAM_LDLT) {
         if (x != b) memmove(x, b, nk * sizeof(ls_real));
         return ls_ldlt_solve(&p->f, p->k, x, &p->work);
@@ -220,7 +438,9 @@ ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, 
     memcpy(d, g, nk * sizeof(ls_real));
     for (r = 0; r < power; r++) {
         ls_status st;
-        if (p->solver == LS_PARAM_LDLT) {
+        if (p->solver == LS_PARAM_GRID) {
+            st = ls_grid_solver_solve(&p->gs, d, d);
+        } else if (p->solver == LS_PARAM_LDLT) {
             st = ls_ldlt_solve(&p->f, p->k, d, &p->work);
         } else {
             ls_real *next = d == p->tmp ? p->tmp + nk : p->tmp;
@@ -237,7 +457,15 @@ ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, 
 ls_status ls_param_set_weight(ls_param *p, ls_real weight, ls_diag *diag)
 {
     ls_status st;
-    if (p == NULL || p->m.values == NULL) return LS_ERR_INVALID;
+    if (p == NULL) return LS_ERR_INVALID;
+    if (p->solver == LS_PARAM_GRID) {
+        st = ls_grid_solver_set_weight(&p->gs, p->form, weight, diag);
+        if (st != LS_OK) return st;
+        p->weight = weight;
+        p->identity = weight == (ls_real)0;
+        return LS_OK;
+    }
+    if (p->m.values == NULL) return LS_ERR_INVALID;
     st = ls_laplacian_system_update(&p->lap, p->form, weight, &p->m, diag);
     if (st != LS_OK) return st;
     if (p->solver == LS_PARAM_LDLT) {

@@ -670,6 +670,7 @@ static void dg_fit(digest *d)
 #include "digest_remesh.inc"
 #include "digest_render.inc"
 #include "digest_gradient.inc"
+#include "digest_grid.inc"
 
 typedef struct digest_entry {
     const char *name;
@@ -705,6 +706,7 @@ static const digest_entry entries[] = {
     DG_ENTRIES_REMESH
     DG_ENTRIES_RENDER
     DG_ENTRIES_GRADIENT
+    DG_ENTRIES_GRID
 #endif
 };
 

@@ -1,7 +1,8 @@
 /* test_param.c - the parameterization: round trips on the bunny within
  * kappa * epsilon, the adjoint identity, p-th power steps against repeated
  * dense solves, weight changes, lambda extremes per precision, CG warm
- * starts, arena sweeps. */
+ * starts, arena sweeps; on texture grids, the LDL^T, CG and transform
+ * solvers against each other. */
 #include "test.h"
 #include "sweep.h"
 #include <stdlib.h>
@@ -422,6 +423,224 @@ static void sweeps_and_bunny_bytes(void)
     }
 }
 
+/* ---- texture grids ------------------------------------------------------ */
+
+static ls_param_config grid_config(uint32_t solver, uint32_t form, double w, uint32_t k)
+{
+    ls_param_config c = config(solver, form, w);
+    c.k = k;
+    c.cg_tol = LS_REAL_IS_FLOAT ? (ls_real)1e-7 : (ls_real)1e-14;
+    return c;
+}
+
+static const char *solver_name(uint32_t s)
+{
+    return s == LS_PARAM_LDLT ? "ldlt" : s == LS_PARAM_CG ? "cg  " : s == LS_PARAM_GRID ? "grid" : "auto";
+}
+
+/* Every solver on grids (Neumann and wrap, powers of two or not): round
+ * trips, <M^-1 a, b> = <a, M^-1 b>, agreement between the solvers, the
+ * 2nd-power step against two solves, set_weight. */
+static void grid_solvers_agree(void)
+{
+    static const uint32_t shapes[][3] = {{13, 9, 0}, {16, 8, 1}, {1, 7, 0}, {30, 20, 1}, {5, 2, 1}};
+    size_t si, i;
+    ls_arena a;
+    ls_arena_init(&a, BUF, sizeof BUF);
+    for (si = 0; si < sizeof shapes / sizeof shapes[0]; si++) {
+        ls_grid_shape sh;
+        uint32_t n = shapes[si][0] * shapes[si][1], k = si == 2 ? 1u : 3u, s, form = si == 1 ? LS_SYSTEM_ALPHA : LS_SYSTEM_LAMBDA;
+        double w = si == 1 ? 0.9 : 10;
+        size_t nk = (size_t)n * k;
+        ls_arena_mark mk = ls_arena_save(&a);
+        ls_real *x = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real)), *u = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+        ls_real *y = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real)), *ma = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+        ls_real *mb = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real)), *vb = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+        ls_real *ref = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real)), *st2 = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+        REQUIRE(x && u && y && ma && mb && vb && ref && st2);
+        sh.width = shapes[si][0];
+        sh.height = shapes[si][1];
+        sh.wrap_u = shapes[si][2];
+        for (i = 0; i < nk; i++) {
+            x[i] = (ls_real)(urand() - 0.5 + (double)(i % 3));
+            vb[i] = (ls_real)(urand() - 0.5);
+        }
+        for (s = 0; s < 4; s++) {
+            ls_arena_mark m2 = ls_arena_save(&a);
+            ls_param p;
+            ls_param_config c = grid_config(s, form, w, k);
+            /* float CG stalls near its 1e-7 target: a looser bound for it */
+            double err, ab = 0, ba = 0, na = 0, nb = 0, tol = LS_REAL_IS_FLOAT ? (s == LS_PARAM_CG ? 1e-4 : 2e-5) : 1e-12;
+            size_t bytes = 0, before = a.bottom;
+            ls_arena sc;
+            ls_arena_init(&sc, scr_.bytes, sizeof scr_.bytes);
+            REQUIRE(ls_param_grid_bytes(&sh, &c, &sc, &bytes) == LS_OK);
+            REQUIRE(ls_param_grid_init(&p, &sh, &c, &a, NULL) == LS_OK);
+            CHECK_EQ(p.solver, s == LS_PARAM_AUTO ? LS_PARAM_GRID : s);
+            CHECK(a.bottom - before <= bytes);
+            CHECK_STATUS(ls_param_to_differential(&p, x, u), LS_OK);
+            CHECK_STATUS(ls_param_from_differential(&p, u, y), LS_OK);
+            err = rel_diff(y, x, nk);
+            CHECK_MSG(err <= tol, "%ux%u wrap %u %s: round trip %.3g", sh.width, sh.height, sh.wrap_u, solver_name(s), err);
+            /* the adjoint is the transpose: <M^-1 a, b> = <a, M^-1 b> */
+            CHECK_STATUS(ls_param_adjoint(&p, x, ma), LS_OK);
+            CHECK_STATUS(ls_param_from_differential(&p, vb, mb), LS_OK);
+            for (i = 0; i < nk; i++) {
+                ab += (double)ma[i] * (double)vb[i];
+                ba += (double)x[i] * (double)mb[i];
+                na += (double)x[i] * (double)x[i];
+                nb += (double)vb[i] * (double)vb[i];
+            }
+            CHECK_NEAR(ab, ba, tol * sqrt(na * nb));
+            /* the solvers agree on M^-1 b */
+            if (s == 0) memcpy(ref, mb, nk * sizeof(ls_real));
+            err = rel_diff(mb, ref, nk);
+            CHECK_MSG(err <= tol, "%ux%u %s vs ldlt: %.3g", sh.width, sh.height, solver_name(s), err);
+            /* step with power 2 = two solves */
+            memset(st2, 0, nk * sizeof(ls_real));
+            CHECK_STATUS(ls_param_step(&p, st2, vb, (ls_real)-1, 2), LS_OK);
+            CHECK_STATUS(ls_param_from_differential(&p, mb, y), LS_OK);
+            err = rel_diff(st2, y, nk);
+            CHECK_MSG(err <= tol, "%s step: %.3g", solver_name(s), err);
+            /* set_weight to 2w equals a fresh init at 2w (the transform solver: the same bits) */
+            if (s == LS_PARAM_GRID || s == LS_PARAM_LDLT) {
+                ls_param q;
+                ls_param_config c2 = grid_config(s, form, form == LS_SYSTEM_ALPHA ? 0.5 : 20, k);
+                CHECK_STATUS(ls_param_set_weight(&p, c2.weight, NULL), LS_OK);
+                REQUIRE(ls_param_grid_init(&q, &sh, &c2, &a, NULL) == LS_OK);
+                CHECK_STATUS(ls_param_from_differential(&p, vb, mb), LS_OK);
+                CHECK_STATUS(ls_param_from_differential(&q, vb, y), LS_OK);
+                CHECK(memcmp(mb, y, nk * sizeof(ls_real)) == 0);
+                CHECK_STATUS(ls_param_set_weight(&p, (ls_real)-1, NULL), LS_ERR_INVALID);
+                CHECK(p.weight == c2.weight);
+            }
+            ls_arena_restore(&a, m2);
+        }
+        if (si == 3) printf("     %ux%u wrap, 3 channels, lambda 10: ldlt / cg / grid agree (tolerance %.0e)\n", sh.width,
+                            sh.height, LS_REAL_IS_FLOAT ? 2e-5 : 1e-12);
+        ls_arena_restore(&a, mk);
+    }
+}
+
+/* The transform solver is exact at any lambda: 1e8 works in both precisions
+ * (the sparse solvers give LS_ERR_NOT_SPD in float); weight 0 copies. */
+static void grid_extremes_and_errors(void)
+{
+    ls_grid_shape sh = {24, 10, 1};
+    ls_param p;
+    ls_arena a;
+    ls_param_config c = grid_config(LS_PARAM_GRID, LS_SYSTEM_LAMBDA, 1e8, 3);
+    ls_real x[720], u[720], y[720];
+    size_t i, bytes = 0, used0;
+    double mean = 0, dev = 0;
+    ls_arena_init(&a, scr_.bytes, sizeof scr_.bytes);
+    for (i = 0; i < 720; i++) x[i] = (ls_real)(urand() - 0.5);
+    REQUIRE(ls_param_grid_init(&p, &sh, &c, &a, NULL) == LS_OK);
+    CHECK_STATUS(ls_param_to_differential(&p, x, u), LS_OK);
+    CHECK_STATUS(ls_param_from_differential(&p, u, y), LS_OK);
+    /* the round trip is bounded by kappa eps (kappa <= 1 + 8e8): ~1e-7 in double, useless in float */
+    printf("     grid lambda 1e8: round trip %.3g (kappa eps %.3g)\n", rel_diff(y, x, 720), 8e8 * (double)LS_REAL_EPSILON);
+    CHECK(rel_diff(y, x, 720) <= 4 * (1 + 8e8) * (double)LS_REAL_EPSILON);
+    /* M^-1 of random data at lambda 1e8: nearly the channel means */
+    CHECK_STATUS(ls_param_from_differential(&p, x, y), LS_OK);
+    for (i = 0; i < 240; i++) mean += (double)x[3 * i] / 240;
+    for (i = 0; i < 240; i++) dev = fmax(dev, fabs((double)y[3 * i] - mean));
+    CHECK(dev <= 1e-6);
+    c.weight = 0;
+    REQUIRE(ls_param_grid_init(&p, &sh, &c, &a, NULL) == LS_OK);
+    x[4] = (ls_real)-0.0;
+    CHECK_STATUS(ls_param_from_differential(&p, x, y), LS_OK);
+    CHECK(memcmp(x, y, sizeof x) == 0);
+    CHECK_STATUS(ls_param_to_differential(&p, x, y), LS_OK);
+    CHECK(memcmp(x, y, sizeof x) == 0);
+    /* errors */
+    used0 = ls_arena_used(&a);
+    x[7] = (ls_real)NAN;
+    CHECK_STATUS(ls_param_from_differential(&p, x, y), LS_ERR_NONFINITE);
+    sh.width = 0;
+    CHECK_STATUS(ls_param_grid_init(&p, &sh, &c, &a, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_param_grid_bytes(&sh, &c, &a, &bytes), LS_ERR_INVALID);
+    sh.width = 4;
+    c.solver = 9;
+    CHECK_STATUS(ls_param_grid_init(&p, &sh, &c, &a, NULL), LS_ERR_INVALID);
+    c.solver = LS_PARAM_GRID;
+    c.form = LS_SYSTEM_ALPHA;
+    c.weight = 1;
+    CHECK_STATUS(ls_param_grid_init(&p, &sh, &c, &a, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_param_grid_init(&p, NULL, &c, &a, NULL), LS_ERR_INVALID);
+    CHECK_EQ(ls_arena_used(&a), used0);
+    c.weight = (ls_real)0.5;
+    c.solver = LS_PARAM_LDLT;
+    CHECK_STATUS(ls_param_grid_bytes(&sh, &c, NULL, &bytes), LS_ERR_INVALID); /* LDLT needs scratch */
+    /* GRID is for grids; AUTO on a mesh is the LDL^T */
+    {
+        ls_mesh m = {oct_pos, oct_tri, 6, 8};
+        ls_csc L;
+        ls_param q;
+        ls_real v[18], w1[18], w2[18];
+        ls_param_config cm = config(LS_PARAM_GRID, LS_SYSTEM_LAMBDA, 19);
+        REQUIRE(ls_laplacian_uniform(&m, LS_LAP_UPPER, &a, &L, NULL) == LS_OK);
+        CHECK_STATUS(ls_param_init(&p, &L, &cm, NULL, &a, NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_param_bytes(&L, &cm, NULL, &a, &bytes), LS_ERR_INVALID);
+        cm.solver = LS_PARAM_AUTO;
+        REQUIRE(ls_param_init(&p, &L, &cm, oct_pos, &a, NULL) == LS_OK);
+        CHECK_EQ(p.solver, LS_PARAM_LDLT);
+        cm.solver = LS_PARAM_LDLT;
+        REQUIRE(ls_param_init(&q, &L, &cm, oct_pos, &a, NULL) == LS_OK);
+        for (i = 0; i < 18; i++) v[i] = (ls_real)(urand() - 0.5);
+        CHECK_STATUS(ls_param_from_differential(&p, v, w1), LS_OK);
+        CHECK_STATUS(ls_param_from_differential(&q, v, w2), LS_OK);
+        CHECK(memcmp(w1, w2, sizeof w1) == 0);
+    }
+}
+
+typedef struct grid_param_job {
+    ls_grid_shape sh;
+    ls_param_config cfg;
+    ls_param p;
+} grid_param_job;
+
+static ls_status grid_param_run(void *ctx, ls_arena *a)
+{
+    grid_param_job *j = (grid_param_job *)ctx;
+    return ls_param_grid_init(&j->p, &j->sh, &j->cfg, a, NULL);
+}
+
+static uint64_t grid_param_hash(void *ctx)
+{
+    grid_param_job *j = (grid_param_job *)ctx;
+    return test_hash(&j->p, sizeof j->p, TEST_HASH_SEED);
+}
+
+static void grid_sweeps(void)
+{
+    uint32_t v;
+    for (v = 0; v < 6; v++) {
+        static grid_param_job j;
+        sweep_job job;
+        size_t bytes = 0;
+        ls_arena s;
+        ls_arena_init(&s, scr_.bytes, sizeof scr_.bytes);
+        memset(&j, 0, sizeof j);
+        j.sh.width = v == 4 ? 9u : 12u;
+        j.sh.height = v == 5 ? 1u : 7u;
+        j.sh.wrap_u = v & 1u;
+        j.cfg = grid_config(v == 0 || v == 5 ? LS_PARAM_GRID : v == 1 ? LS_PARAM_AUTO : v == 2 ? LS_PARAM_CG : LS_PARAM_LDLT,
+                            LS_SYSTEM_LAMBDA, 10, 3);
+        if (v == 4) j.cfg.order = LS_ORDER_AMD;
+        REQUIRE(ls_param_grid_bytes(&j.sh, &j.cfg, &s, &bytes) == LS_OK);
+        CHECK_EQ(ls_arena_used(&s), 0);
+        memset(&job, 0, sizeof job);
+        job.name = "param_grid";
+        job.run = grid_param_run;
+        job.state_hash = grid_param_hash;
+        job.ctx = &j;
+        job.answer = bytes;
+        job.exact = 1;
+        CHECK_MSG(sweep_arena(&job) == 0, "variant %u", v);
+    }
+}
+
 int main(void)
 {
     TEST_INIT("test_param");
@@ -434,5 +653,8 @@ int main(void)
     TEST_RUN(lambda_extremes);
     TEST_RUN(set_weight_matches_fresh_init);
     TEST_RUN(sweeps_and_bunny_bytes);
+    TEST_RUN(grid_solvers_agree);
+    TEST_RUN(grid_extremes_and_errors);
+    TEST_RUN(grid_sweeps);
     return TEST_END();
 }

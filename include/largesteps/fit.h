@@ -69,7 +69,7 @@ typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
     ls_real weight;           /* lambda or alpha (large steps) */
-    uint32_t solver;          /* LS_PARAM_LDLT or LS_PARAM_CG */
+    uint32_t solver;          /* LS_PARAM_LDLT, LS_PARAM_CG or LS_PARAM_AUTO (= LDL^T on a mesh) */
     ls_optim_config optim;    /* optimizer of u (large steps) or x (baselines) */
     uint32_t use_translation; /* 1: optimize a global translation too */
     ls_real reg_weight;       /* LS_FIT_LAPLACIAN / LS_FIT_BILAPLACIAN */

@@ -118,6 +118,17 @@ ls_status ls_laplacian_grid_bytes(uint32_t nx, uint32_t ny, uint32_t storage, si
  * Errors: as ls_laplacian_grid_bytes, LS_ERR_NOMEM (arena, *out unchanged). */
 ls_status ls_laplacian_grid(uint32_t nx, uint32_t ny, uint32_t storage, ls_arena *arena, ls_csc *out);
 
+/* ls_laplacian_grid_wrap_bytes, ls_laplacian_grid_wrap: as ls_laplacian_grid
+ * with, when wrap_x is nonzero, the two ends of every row joined: (0, y) and
+ * (nx - 1, y) are neighbours (a texture that wraps around in u, a UV
+ * sphere), so every vertex has 2 neighbours in x. The wrap takes effect from
+ * nx = 3 on (for nx <= 2 the ends are the same vertex or already
+ * neighbours: the result equals ls_laplacian_grid's). wrap_x = 0 gives
+ * exactly ls_laplacian_grid. Cost, memory and errors as ls_laplacian_grid. */
+ls_status ls_laplacian_grid_wrap_bytes(uint32_t nx, uint32_t ny, uint32_t wrap_x, uint32_t storage, size_t *bytes);
+ls_status ls_laplacian_grid_wrap(uint32_t nx, uint32_t ny, uint32_t wrap_x, uint32_t storage, ls_arena *arena,
+                                 ls_csc *out);
+
 /* ls_laplacian_system_bytes: exact arena bytes of ls_laplacian_system: the
  * values of M, nnz(L) reals (the pattern is shared with L). O(1). Errors:
  * LS_ERR_INVALID, LS_ERR_TOO_LARGE. */

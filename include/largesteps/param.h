@@ -1,6 +1,7 @@
 /* largesteps/param.h - the large-steps parameterization: differential
  * coordinates u = M x with M = I + lambda L (or (1 - alpha) I + alpha L),
- * their inverse, the adjoint, and preconditioned gradient steps.
+ * their inverse, the adjoint, and preconditioned gradient steps, on a mesh
+ * (ls_param_init) or on a texture grid (ls_param_grid_init).
  *
  * An ls_param holds a Laplacian L (borrowed: its arrays must outlive the
  * object), the system matrix M (its own values, L's pattern), the weight and
@@ -12,7 +13,16 @@
  *                  separate warm starts for the forward solve and the
  *                  adjoint solve (as the reference keeps them), each
  *                  starting from the previous solution of its kind.
- * Vectors are n x k interleaved (k = 3 for x, y, z; 1 for the 1D toy).
+ *   LS_PARAM_GRID  texture grids only: the exact transform solver of
+ *                  grid_solve.h (cosine / Fourier transforms, O(n log n) per
+ *                  solve, O(W + H) memory besides the vectors; any finite
+ *                  lambda, no LS_ERR_NOT_SPD);
+ *   LS_PARAM_AUTO  LS_PARAM_GRID on a grid, LS_PARAM_LDLT on a mesh.
+ * On a grid (ls_param_grid_init) the object builds and owns the grid
+ * Laplacian (ls_laplacian_grid_wrap, upper storage) for LDLT and CG, whose
+ * ordering gets the texel centres (x, y, 0) as coordinates; the transform
+ * solver needs no matrix (M x by the 5-point stencil).
+ * Vectors are n x k interleaved (k = 3 for x, y, z or RGB; 1 for the 1D toy).
  *
  *   to_differential     u = M x
  *   from_differential   x = M^{-1} u
@@ -46,6 +56,7 @@
 #include <largesteps/ldlt.h>
 #include <largesteps/cg.h>
 #include <largesteps/laplacian.h>
+#include <largesteps/grid_solve.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -54,9 +65,11 @@ extern "C" {
 /* Solvers. */
 #define LS_PARAM_LDLT 0u
 #define LS_PARAM_CG   1u
+#define LS_PARAM_AUTO 2u /* grid: LS_PARAM_GRID; mesh: LS_PARAM_LDLT */
+#define LS_PARAM_GRID 3u /* texture grids: the transform solver (grid_solve.h) */
 
 typedef struct ls_param_config {
-    uint32_t solver;     /* LS_PARAM_LDLT or LS_PARAM_CG */
+    uint32_t solver;     /* LS_PARAM_LDLT, _CG, _AUTO or (grids) _GRID */
     uint32_t form;       /* LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA */
     ls_real weight;      /* lambda (>= 0) or alpha (in [0, 1)) */
     uint32_t k;          /* columns of the vectors, 1 .. LS_CG_MAX_K */
@@ -66,9 +79,9 @@ typedef struct ls_param_config {
 } ls_param_config;
 
 typedef struct ls_param {
-    ls_csc lap;          /* the Laplacian (arrays borrowed) */
+    ls_csc lap;          /* the Laplacian (arrays borrowed; on a grid owned); unused by GRID */
     ls_csc m;            /* the system matrix: lap's pattern, own values */
-    uint32_t n, k, solver, form;
+    uint32_t n, k, solver, form; /* solver as resolved: LDLT, CG or GRID, never AUTO */
     ls_real weight;
     uint32_t identity;   /* 1 when weight = 0: M = I, solves are copies */
     ls_ldlt f;           /* LS_PARAM_LDLT: the factor */
@@ -77,6 +90,9 @@ typedef struct ls_param {
     ls_real *warm_adj;   /* LS_PARAM_CG: n k, last adjoint result */
     ls_real *tmp;        /* n k: the step's direction */
     ls_arena work;       /* the solvers' scratch, over a block the object owns */
+    uint32_t grid;       /* 1: built by ls_param_grid_init */
+    uint32_t width, height, wrap_u; /* the grid (wrap_u as effective) */
+    ls_grid_solver gs;   /* LS_PARAM_GRID: the transform solver */
 } ls_param;
 
 /* ls_param_bytes: exact arena bytes of ls_param_init with these arguments.
@@ -101,12 +117,37 @@ ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls
 ls_status ls_param_init(ls_param *p, const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz,
                         ls_arena *arena, ls_diag *diag);
 
-/* ls_param_to_differential: u = M x (n x k; u must not overlap x). O(nnz k);
- * no memory. Errors: LS_ERR_INVALID. */
+/* ls_param_grid_bytes: exact arena bytes of ls_param_grid_init with these
+ * arguments. GRID: ls_grid_solver_bytes plus n k reals (the step's buffer),
+ * scratch may be NULL. LDLT: the grid Laplacian, then as ls_param_bytes: the
+ * query builds the Laplacian and the texel coordinates in `scratch` and runs
+ * the symbolic analysis there (needs ls_laplacian_grid_wrap_bytes + 3 n
+ * reals + ls_ldlt_analyze_mesh_bytes, released before return). CG: the
+ * Laplacian and as ls_param_bytes (scratch holds the Laplacian for the
+ * query). Errors: LS_ERR_INVALID (NULL, zero width or height, cfg out of
+ * range), LS_ERR_TOO_LARGE, LS_ERR_NOMEM (scratch too small). */
+ls_status ls_param_grid_bytes(const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *scratch,
+                              size_t *bytes);
+
+/* ls_param_grid_init: builds *p for a texture grid (shape: width x height
+ * texels, wrap_u for a texture that wraps around in u) and cfg, after which
+ * every ls_param_* call below works as on a mesh. GRID (or AUTO): the
+ * transform solver, O((W + H) log) to build, any finite lambda (alpha <
+ * 1). LDLT / CG: the grid Laplacian built and owned, then as ls_param_init
+ * (the LDL^T ordered with cfg->order, which may be LS_ORDER_AUTO or _ND:
+ * the texel centres are the coordinates). Memory: ls_param_grid_bytes from
+ * the arena's bottom (coordinates in scratch during the analysis). Errors:
+ * as ls_param_init (LS_ERR_INVALID also for a zero width or height);
+ * on failure the arena and *p are as before. */
+ls_status ls_param_grid_init(ls_param *p, const ls_grid_shape *shape, const ls_param_config *cfg, ls_arena *arena,
+                             ls_diag *diag);
+
+/* ls_param_to_differential: u = M x (n x k; u must not overlap x). O(nnz k)
+ * (GRID: the 5-point stencil, O(n k)); no memory. Errors: LS_ERR_INVALID. */
 ls_status ls_param_to_differential(const ls_param *p, const ls_real *x, ls_real *u);
 
 /* ls_param_from_differential: x = M^{-1} u (n x k; x may equal u). LDL^T:
- * 4 nnz(L) k + O(n k); CG: warm-started from the previous result, statistics
+ * 4 nnz(L) k + O(n k); GRID: O(n k log n) (ls_grid_solver_solve); CG: warm-started from the previous result, statistics
  * in p->cg. No arena (the object's own scratch). Errors:
  * LS_ERR_INVALID, LS_ERR_NONFINITE (u holds a NaN or infinity: x unchanged),
  * LS_ERR_STATE (the factor is invalid), LS_ERR_NOT_SPD (CG breakdown). */
@@ -127,7 +168,8 @@ ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, 
 
 /* ls_param_set_weight: a new weight of the same form: M's values are
  * rewritten and the factor refactored (ls_ldlt_refactor, no memory); CG
- * keeps its warm starts. O(nnz) plus one numeric factorization. Errors: as
+ * keeps its warm starts; GRID: O(1) (ls_grid_solver_set_weight). O(nnz) plus
+ * one numeric factorization. Errors: as
  * ls_laplacian_system_update and ls_ldlt_refactor; on any failure the object
  * keeps its previous weight and a valid factor (it is refactored again). */
 ls_status ls_param_set_weight(ls_param *p, ls_real weight, ls_diag *diag);
