@@ -24,6 +24,7 @@
 #include <largesteps/contact.h>
 #include <largesteps/camera.h>
 #include <largesteps/raster.h>
+#include <largesteps/texture.h>
 #include <largesteps/shade.h>
 #include <largesteps/loss.h>
 #include <largesteps/render_backward.h>

@@ -18,7 +18,7 @@ typedef struct bctx {
     const ls_real *normals;
     const ls_shade_opts *o;
     const ls_real *m; /* mvp */
-    ls_real *gp, *gn, *gc;
+    ls_real *gp, *gn, *gc, *gt, *guv;
 } bctx;
 
 /* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi. */
@@ -46,16 +46,21 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
                              ls_real gb[3])
 {
     const ls_shade_opts *o = bc->o;
-    ls_real alb[3], dalb[3], ds[3], s[3];
+    ls_real alb[3], dalb[3], ds[3], s[3], vc[3], tx[3], uv[2];
     int c, k;
     gb[0] = gb[1] = gb[2] = (ls_real)0;
     if (o->mode == LS_SHADE_MASK) return;
-    for (c = 0; c < 3; c++) alb[c] = (ls_real)1;
+    for (c = 0; c < 3; c++) alb[c] = vc[c] = (ls_real)1;
     if (o->vertex_colors != NULL)
         for (c = 0; c < 3; c++)
-            alb[c] = b[0] * o->vertex_colors[3 * (size_t)f[0] + (size_t)c] +
-                     b[1] * o->vertex_colors[3 * (size_t)f[1] + (size_t)c] +
-                     b[2] * o->vertex_colors[3 * (size_t)f[2] + (size_t)c];
+            alb[c] = vc[c] = b[0] * o->vertex_colors[3 * (size_t)f[0] + (size_t)c] +
+                             b[1] * o->vertex_colors[3 * (size_t)f[1] + (size_t)c] +
+                             b[2] * o->vertex_colors[3 * (size_t)f[2] + (size_t)c];
+    if (o->texture != NULL) { /* albedo = vertex colour x texture, as ls_shade_point */
+        ls_shade_uv(o->uvs, f, b, uv);
+        ls_texture_sample(o->texture, uv[0], uv[1], tx);
+        for (c = 0; c < 3; c++) alb[c] *= tx[c];
+    }
     if (o->mode == LS_SHADE_COLOR) {
         for (c = 0; c < 3; c++) dalb[c] = g[c];
     } else {
@@ -109,6 +114,20 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
                 for (c = 0; c < 3; c++) bc->gn[3 * (size_t)f[k] + (size_t)c] += b[k] * dnn[c];
         }
     }
+    if (o->texture != NULL) {
+        ls_real dt[3], duv[2];
+        for (c = 0; c < 3; c++) dt[c] = dalb[c] * vc[c]; /* dL/d(texture colour) */
+        ls_texture_sample_backward(o->texture, uv[0], uv[1], dt, bc->gt, duv);
+        for (k = 0; k < 3; k++) {
+            const ls_real *a = o->uvs + 2 * (size_t)f[k];
+            gb[k] += a[0] * duv[0] + a[1] * duv[1];
+            if (bc->guv != NULL) {
+                bc->guv[2 * (size_t)f[k]] += b[k] * duv[0];
+                bc->guv[2 * (size_t)f[k] + 1] += b[k] * duv[1];
+            }
+        }
+        for (c = 0; c < 3; c++) dalb[c] *= tx[c]; /* dL/d(vertex colour) */
+    }
     if (o->vertex_colors != NULL) {
         for (k = 0; k < 3; k++) {
             const ls_real *col = o->vertex_colors + 3 * (size_t)f[k];
@@ -145,12 +164,27 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
                             const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
 {
+    ls_shade_grads g;
+    g.positions = grad_positions;
+    g.normals = grad_normals;
+    g.colors = grad_colors;
+    g.texels = NULL;
+    g.uvs = NULL;
+    return ls_shade_backward_grads(vis, indices, triangle_count, normals, vertex_count, opts, mvp, grad_image, &g,
+                                   diag);
+}
+
+ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
+                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
+                                  ls_diag *diag)
+{
     bctx bc;
     uint32_t x, y, ss;
     ls_real inv_n;
     uint32_t counts[2];
     ls_status st;
-    if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL) return LS_ERR_INVALID;
+    if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL || grads == NULL) return LS_ERR_INVALID;
     if (vis->tri == NULL || vis->clip == NULL) return LS_ERR_STATE;
     counts[0] = triangle_count;
     counts[1] = vertex_count;
@@ -162,9 +196,11 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
     bc.normals = normals;
     bc.o = opts;
     bc.m = mvp;
-    bc.gp = grad_positions;
-    bc.gn = opts->mode == LS_SHADE_COLOR ? NULL : grad_normals;
-    bc.gc = grad_colors;
+    bc.gp = grads->positions;
+    bc.gn = opts->mode == LS_SHADE_COLOR ? NULL : grads->normals;
+    bc.gc = grads->colors;
+    bc.gt = opts->texture != NULL ? grads->texels : NULL;
+    bc.guv = opts->texture != NULL ? grads->uvs : NULL;
     ss = vis->ss;
     inv_n = (ls_real)1 / (ls_real)(ss * ss);
     for (y = 0; y < vis->height; y++) {

@@ -25,6 +25,10 @@ ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, 
 void ls_shade_point(const ls_shade_opts *opts, const uint32_t *f, const ls_real *normals, const ls_real b[3],
                     ls_real rgb[3]);
 
+/* ls_shade_uv: the texture coordinates uv[2] of triangle f at barycentrics b
+ * from the per-vertex uvs [2 vertex_count]. O(1). (shade.c) */
+void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_real uv[2]);
+
 /* ls_shade_check_args: the argument checks shared by ls_shade and
  * ls_shade_backward (the visibility buffer and its counts, the mode's
  * required arrays and the triangle indices). O(T). Five arguments: a

@@ -29,6 +29,8 @@ void ls_shade_opts_init(ls_shade_opts *opts)
     opts->lights = NULL;
     opts->vertex_colors = NULL;
     opts->background_image = NULL;
+    opts->texture = NULL;
+    opts->uvs = NULL;
 }
 
 ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes)
@@ -62,6 +64,13 @@ void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
     }
 }
 
+void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_real uv[2])
+{
+    const ls_real *a0 = uvs + 2 * (size_t)f[0], *a1 = uvs + 2 * (size_t)f[1], *a2 = uvs + 2 * (size_t)f[2];
+    uv[0] = b[0] * a0[0] + b[1] * a1[0] + b[2] * a2[0];
+    uv[1] = b[0] * a0[1] + b[1] * a1[1] + b[2] * a2[1];
+}
+
 void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *normals, const ls_real b[3],
                     ls_real rgb[3])
 {
@@ -78,6 +87,12 @@ void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *no
         for (c = 0; c < 3; c++) alb[c] = b0 * c0[c] + b1 * c1[c] + b2 * c2[c];
     } else {
         alb[0] = alb[1] = alb[2] = (ls_real)1;
+    }
+    if (o->texture != NULL) {
+        ls_real uv[2], t[3];
+        ls_shade_uv(o->uvs, f, b, uv);
+        ls_texture_sample(o->texture, uv[0], uv[1], t);
+        for (c = 0; c < 3; c++) alb[c] *= t[c];
     }
     if (o->mode == LS_SHADE_COLOR) {
         rgb[0] = alb[0];
@@ -127,7 +142,9 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
     if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
     if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
     if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL) return LS_ERR_INVALID;
+    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL && opts->texture == NULL) return LS_ERR_INVALID;
+    if (opts->texture != NULL && (opts->uvs == NULL || ls_texture_check(opts->texture) != LS_OK))
+        return LS_ERR_INVALID;
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 

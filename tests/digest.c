@@ -671,6 +671,7 @@ static void dg_fit(digest *d)
 #include "digest_render.inc"
 #include "digest_gradient.inc"
 #include "digest_grid.inc"
+#include "digest_texture.inc"
 
 typedef struct digest_entry {
     const char *name;
@@ -707,6 +708,7 @@ static const digest_entry entries[] = {
     DG_ENTRIES_RENDER
     DG_ENTRIES_GRADIENT
     DG_ENTRIES_GRID
+    DG_ENTRIES_TEXTURE
 #endif
 };
 

@@ -55,6 +55,7 @@ extern "C" {
  * (NULL = not wanted): grad_positions, grad_normals (dL/d of the `normals`
  * input; feed it to ls_vertex_normals_backward when the normals come from
  * ls_shade_vertex_normals), grad_colors (dL/d opts->vertex_colors).
+ * (Texel and UV gradients: ls_shade_backward_grads.)
  * Errors: as ls_shade (LS_ERR_STATE, LS_ERR_INVALID, LS_ERR_MESH), plus
  * LS_ERR_INVALID for NULL mvp or grad_image. Nothing is written on error.
  * O(samples); no memory. */
@@ -62,6 +63,32 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
                             const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
                             const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag);
+
+/* The outputs of ls_shade_backward_grads; each optional (NULL = not wanted),
+ * each ADDED to. */
+typedef struct ls_shade_grads {
+    ls_real *positions; /* [3 vertex_count] */
+    ls_real *normals;   /* [3 vertex_count] dL/d of the `normals` input */
+    ls_real *colors;    /* [3 vertex_count] dL/d opts->vertex_colors */
+    ls_real *texels;    /* [3 width height] dL/d opts->texture->texels (with a texture) */
+    ls_real *uvs;       /* [2 vertex_count] dL/d opts->uvs (with a texture) */
+} ls_shade_grads;
+
+/* ls_shade_backward_grads: ls_shade_backward with the outputs in *grads,
+ * including those of a texture (largesteps/texture.h): with opts->texture, the
+ * albedo factor T(uv) at uv = sum_k b_k uv_k gets g_T = dL/dalbedo x vertex
+ * colour; its adjoint scatters g_T to the four bilinear texels (in the
+ * lookup's fixed order, samples in image order) and gives
+ * dL/duv = g_T . dT/duv, so dL/db_k += uv_k . dL/duv (the texture's spatial
+ * derivative, chained to positions like every other attribute) and
+ * dL/duv_k += b_k dL/duv. The texture's derivative is that of the bilinear
+ * cell the point falls in (one-sided on a texel-cell boundary). Errors as
+ * ls_shade_backward, plus LS_ERR_INVALID for NULL grads. O(samples); no
+ * memory. */
+ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
+                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
+                                  ls_diag *diag);
 
 /* ls_vertex_normals_backward_bytes: the exact arena bytes
  * ls_vertex_normals_backward takes (3 ls_real per vertex of scratch).

@@ -24,10 +24,24 @@
  *    Y21 ~ xz, Y22 ~ x^2 - y^2).
  *  - LS_SHADE_LAMBERT: albedo sum_l max(0, n . d_l) rgb_l over directional
  *    lights (d_l: unit direction towards the light) plus an ambient term.
- *  - LS_SHADE_COLOR: the interpolated vertex colour (unlit).
+ *  - LS_SHADE_COLOR: the albedo (vertex colour and/or texture), unlit.
  * n is the barycentric interpolation of the vertex normals, NOT renormalised
  * (as the reference renderer) unless opts.renormalize is 1. albedo is the
- * interpolated vertex colour when opts.vertex_colors is given, else 1.
+ * interpolated vertex colour when opts.vertex_colors is given, else 1,
+ * times the texture colour when opts.texture is given.
+ *
+ * Textures (largesteps/texture.h). With opts.texture and opts.uvs (one (u, v)
+ * per VERTEX, [2 vertex_count]) the albedo is multiplied by the bilinear
+ * lookup at uv = b0 uv_0 + b1 uv_1 + b2 uv_2, interpolated with the same
+ * perspective-correct barycentrics as every other attribute. Lit: SH or
+ * Lambert mode with a texture; unlit: LS_SHADE_COLOR with a texture (vertex
+ * colours then optional, multiplying the texture). LS_SHADE_MASK ignores
+ * the texture. UVs are per vertex: a seam (the longitude wrap of a UV
+ * sphere, or any chart boundary) needs its vertices duplicated, one copy per
+ * side; the rasterizer does not mind, but the silhouette module
+ * (largesteps/silhouette.h) then sees the seam as an open boundary, which
+ * matters only when positions are optimised. With opts.texture NULL nothing
+ * of this runs (one pointer test per covered sample).
  *
  * Everything is plain arithmetic in a fixed order (no libm): the same bits on
  * every platform for the same ls_real.
@@ -38,6 +52,7 @@
 #include <largesteps/core.h>
 #include <largesteps/status.h>
 #include <largesteps/raster.h>
+#include <largesteps/texture.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -67,14 +82,16 @@ typedef struct ls_shade_opts {
     const ls_light *lights;       /* [light_count] (LS_SHADE_LAMBERT) */
     uint32_t light_count;
     ls_real ambient[3];           /* added to the Lambert sum (LS_SHADE_LAMBERT) */
-    const ls_real *vertex_colors; /* [3 vertex_count] RGB albedo, or NULL (required by LS_SHADE_COLOR) */
+    const ls_real *vertex_colors; /* [3 vertex_count] RGB albedo, or NULL (LS_SHADE_COLOR needs it or a texture) */
     ls_real background[3];        /* RGB where no surface is seen */
     const ls_real *background_image; /* optional [3 width height] RGB per pixel, rows top first;
                                         replaces background when not NULL */
+    const ls_texture *texture;    /* optional albedo texture (NULL: none) */
+    const ls_real *uvs;           /* [2 vertex_count] (u, v) per vertex (required with texture) */
 } ls_shade_opts;
 
 /* ls_shade_opts_init: mode LS_SHADE_MASK, no renormalisation, no lights or
- * colours, black background, ambient 0. O(1). */
+ * colours, no texture, black background, ambient 0. O(1). */
 void ls_shade_opts_init(ls_shade_opts *opts);
 
 /* ls_shade_image_bytes: the bytes of the RGBA output of a width x height
@@ -86,7 +103,8 @@ ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes);
  * [4 width height] RGBA. normals: [3 vertex_count] vertex normals (unused by
  * LS_SHADE_MASK and LS_SHADE_COLOR, may then be NULL). Errors: LS_ERR_STATE
  * (vis not rasterized), LS_ERR_INVALID (NULL arrays a mode needs, unknown
- * mode, vertex_count differing from the rasterized one), LS_ERR_MESH (an
+ * mode, vertex_count differing from the rasterized one, a texture without
+ * uvs or failing ls_texture_check), LS_ERR_MESH (an
  * index out of range; diag->index is the triangle). O(samples); no memory. */
 ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
                    uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag);

@@ -44,6 +44,7 @@ static int usage(FILE *f)
 {
     fprintf(f, "usage: largesteps experiment lambda-sweep|compare|silhouettes|views [TARGET] [options] -o DIR\n"
                "       largesteps experiment tradeoffs [TARGET] [options] -o DIR   (--help for its options)\n"
+               "       largesteps experiment texture [options] -o DIR   (texture reconstruction; --help)\n"
                "  --iters N   iterations per run (default 400)\n"
                "  --res R     render size R x R (default 64)\n"
                "  --views N   views (default 16; the views experiment sets its own)\n"
@@ -265,6 +266,7 @@ int ls_cmd_experiment(int argc, char **argv)
     a.views = 16;
     a.level = 3;
     if (argc < 2) return usage(stderr);
+    if (strcmp(argv[1], "texture") == 0) return ls_cmd_experiment_texture(argc - 1, argv + 1);
     a.name = argv[1];
     if (strcmp(a.name, "tradeoffs") == 0) return ls_cmd_tradeoffs(argc - 1, argv + 1);
     for (i = 2; i < argc; i++) {

@@ -12,5 +12,6 @@ int ls_cmd_render(int argc, char **argv);
 int ls_cmd_fit(int argc, char **argv);
 int ls_cmd_experiment(int argc, char **argv);
 int ls_cmd_tradeoffs(int argc, char **argv);
+int ls_cmd_experiment_texture(int argc, char **argv); /* cmd_experiment_texture.c, via experiment */
 
 #endif /* LS_COMMANDS_H */

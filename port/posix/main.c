@@ -20,7 +20,7 @@ static int usage(FILE *out)
                  "  fit [TARGET|SCENE] -o DIR   reconstruct a mesh from renders of a target (default: the\n"
                  "                              embedded bunny); writes result.obj, contact.png, log.csv,\n"
                  "                              convergence.svg, metrics.json\n"
-                 "  experiment NAME -o DIR      the paper's experiments: lambda-sweep, compare, silhouettes, views\n"
+                 "  experiment NAME -o DIR      the paper's experiments: lambda-sweep, compare, silhouettes, views, texture\n"
                  "  render MESH -o DIR          render views and a contact sheet\n"
                  "  remesh IN -o OUT            isotropic remeshing\n"
                  "  metrics A B                 distances and tangling metrics between two meshes\n"
