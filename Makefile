@@ -339,6 +339,12 @@ $(BUILD)/bench/m4_tradeoffs: tests/bench/m4_tradeoffs.c $(PORT_LINK) $(LIB) $(CO
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
+# The silhouette pass alone on a saved mesh (tests/bench/bench_silhouette.c):
+# $(BUILD)/bench/bench_silhouette MESH TARGET RES VIEWS REPEAT.
+$(BUILD)/bench/bench_silhouette: tests/bench/bench_silhouette.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
 # Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
 $(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)
 	@mkdir -p $(@D)

@@ -119,8 +119,6 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 
 #define SIL_TILE_LOG2 1u                        /* candidate bins: 2 x 2 pixel tiles */
 #define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
-#define SIL_CAND_CAP 128u                       /* candidates kept per piece (more: the bin is scanned) */
-#define SIL_SPLIT_CAP (2u * SIL_CAND_CAP + 2u)  /* split parameters per piece */
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 
 typedef struct sctx {
@@ -131,13 +129,18 @@ typedef struct sctx {
     const ls_real *m;
     const ls_real *gimg;
     const ls_real *win;  /* [2 V] window position of the vertices in front of the near plane, or NULL */
+    const unsigned char *vfront; /* [V] 1 for those vertices (Z + W >= 0, W > 0), or NULL */
+    uint32_t behind;     /* vertices behind the near plane (Z + W < 0) */
     const size_t *offs;  /* [tiles + 1] bin starts */
     const uint32_t *ent; /* bin entries: triangle indices, increasing within a bin */
-    float *ebox;         /* [4 entries] box of each bin entry's triangle (float, grown outwards) */
-    uint32_t *cand;      /* [SIL_CAND_CAP] candidates of the current piece */
-    ls_real *cpoly;      /* [8 SIL_CAND_CAP] their window polygons (x0..x3, y0..y3) */
-    uint32_t *cpn;       /* [SIL_CAND_CAP] their corner counts */
-    ls_real *split;      /* [SIL_SPLIT_CAP] split parameters of the current piece */
+    float *tbox;         /* [4 T] box of each triangle (tri_fbox; x0 > x1: not binned) */
+    /* the current piece's candidates, at most one per bin entry of a tile: */
+    uint32_t *cid;       /* [slots] triangle of each candidate */
+    ls_real *chi;        /* [slots] end of its interval */
+    ls_real *clo;        /* [slots] starts of the intervals, sorted along with cord */
+    uint32_t *cord;      /* [slots] the candidates in order of their starts */
+    uint32_t *cact;      /* [slots] the active ones */
+    ls_real *split;      /* [4 slots + 2] split parameters of the current piece */
     uint32_t triangle_count, tiles_x, tiles_y, flat;
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
@@ -150,6 +153,9 @@ typedef struct sedge {
     uint32_t ft, fu; /* the segment's face and its twin (or LS_EDGE_NONE) */
     ls_real a[2], e[2];
     ls_real ka, kb;  /* integral of (1 - t) g.df and of t g.df over the visible parts */
+    ls_real eabs;    /* |e0| + |e1| */
+    ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
+    ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -203,6 +209,13 @@ static int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4
     const ls_real *c[3];
     ls_real d[3], w[2], q[4];
     int k, n = 0, front = 0;
+    if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
+        for (k = 0; k < 3; k++) { /* every corner in front: its window position */
+            x[k] = sc->win[2 * (size_t)f[k]];
+            y[k] = sc->win[2 * (size_t)f[k] + 1];
+        }
+        return 3;
+    }
     for (k = 0; k < 3; k++) {
         c[k] = sc->vis->clip + 4 * (size_t)f[k];
         d[k] = c[k][2] + c[k][3];
@@ -277,71 +290,88 @@ static int tri_box(const sctx *sc, uint32_t t, ls_real box[4])
              box[1] > sc->height + SIL_MARGIN);
 }
 
-static uint32_t tile_of(ls_real v, uint32_t n)
+/* floor(c) clamped to [0, n - 1] (0 for NaN); n < 2^24. */
+static uint32_t cell_of(ls_real c, uint32_t n)
 {
-    int32_t i = LS_RTO_I32(LS_RFLOOR(v / (ls_real)(1u << SIL_TILE_LOG2)));
-    if (i < 0) return 0;
-    if ((uint32_t)i >= n) return n - 1u;
-    return (uint32_t)i;
+    if (!(c >= (ls_real)1)) return 0;
+    if (c >= (ls_real)n) return n - 1u;
+    return (uint32_t)c; /* in [1, n): the cast truncates, as floor */
 }
 
-/* The tiles (x0, y0, x1, y1) triangle t's box (written to box) overlaps;
- * 0 when it is not binned. */
-static int tri_tiles(const sctx *sc, uint32_t t, ls_real box[4], uint32_t r[4])
+static uint32_t tile_of(ls_real v, uint32_t n)
 {
+    return cell_of(v / (ls_real)(1u << SIL_TILE_LOG2), n);
+}
+
+/* The box of triangle t's visible polygon for the bins: clamped to the
+ * image and a pixel around it, grown by the margin, in float (rounding at
+ * these magnitudes is far below the margin); 0 when t is not binned. */
+static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
+{
+    ls_real box[4];
+    int q;
     if (!tri_box(sc, t, box)) return 0;
-    r[0] = tile_of(box[0] - SIL_MARGIN, sc->tiles_x);
-    r[1] = tile_of(box[1] - SIL_MARGIN, sc->tiles_y);
-    r[2] = tile_of(box[2] + SIL_MARGIN, sc->tiles_x);
-    r[3] = tile_of(box[3] + SIL_MARGIN, sc->tiles_y);
+    for (q = 0; q < 4; q++) {
+        ls_real lim = q % 2 == 0 ? sc->width : sc->height, v = box[q];
+        v = v < (ls_real)-1 ? (ls_real)-1 : (v > lim + (ls_real)1 ? lim + (ls_real)1 : v);
+        fb[q] = (float)(q < 2 ? v - SIL_MARGIN : v + SIL_MARGIN);
+    }
     return 1;
 }
 
+/* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
+static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
+{
+    r[0] = tile_of((ls_real)fb[0], sc->tiles_x);
+    r[1] = tile_of((ls_real)fb[1], sc->tiles_y);
+    r[2] = tile_of((ls_real)fb[2], sc->tiles_x);
+    r[3] = tile_of((ls_real)fb[3], sc->tiles_y);
+}
+
 /* Bins every triangle into the tiles its box overlaps. offs == NULL: only
- * counts the entries (into *count; 0 on overflow of size_t, with *over set).
- * Otherwise offs [tiles + 1], ent and sc->ebox get the bins (triangles in
- * index order in each) and their boxes: clamped to the image and a pixel
- * around it, grown by the margin, in float (rounding at these magnitudes is
- * below the margin), so that the scan of a bin reads memory in order. */
-static void bin_pass(sctx *sc, size_t *offs, uint32_t *ent, size_t *count, int *over)
+ * counts the entries and the binned triangles (into count[0] and count[1];
+ * *over set on overflow of size_t). Otherwise sc->tbox [4 T] gets the boxes
+ * (x0 > x1: not binned), offs [tiles + 1] the bin starts and ent the bins
+ * (triangles in index order in each). */
+static void bin_pass(sctx *sc, size_t *offs, uint32_t *ent, size_t count[2], int *over)
 {
     uint32_t t, tx, ty, r[4];
     size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
-    ls_real box[4];
     if (offs == NULL) {
-        *count = 0;
+        count[0] = 0;
+        count[1] = 0;
         *over = 0;
-    } else {
-        for (k = 0; k <= tiles; k++) offs[k] = 0;
+        for (t = 0; t < sc->triangle_count; t++) {
+            float fb[4];
+            size_t add;
+            if (!tri_fbox(sc, t, fb)) continue;
+            fbox_tiles(sc, fb, r);
+            add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
+            if (count[0] > SIZE_MAX - add) *over = 1;
+            count[0] += add;
+            count[1]++;
+        }
+        return;
     }
+    for (k = 0; k <= tiles; k++) offs[k] = 0;
     for (t = 0; t < sc->triangle_count; t++) {
-        if (!tri_tiles(sc, t, box, r)) continue;
-        if (offs == NULL) {
-            size_t add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
-            if (*count > SIZE_MAX - add) *over = 1;
-            *count += add;
+        float *fb = sc->tbox + 4 * (size_t)t;
+        if (!tri_fbox(sc, t, fb)) {
+            fb[0] = 1.0f;
+            fb[2] = 0.0f;
             continue;
         }
+        fbox_tiles(sc, fb, r);
         for (ty = r[1]; ty <= r[3]; ty++)
             for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
     }
-    if (offs == NULL) return;
     for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
     for (t = 0; t < sc->triangle_count; t++) {
-        float fb[4];
-        int q;
-        if (!tri_tiles(sc, t, box, r)) continue;
-        for (q = 0; q < 4; q++) {
-            ls_real lim = q % 2 == 0 ? sc->width : sc->height, v = box[q];
-            v = v < (ls_real)-1 ? (ls_real)-1 : (v > lim + (ls_real)1 ? lim + (ls_real)1 : v);
-            fb[q] = (float)(q < 2 ? v - SIL_MARGIN : v + SIL_MARGIN);
-        }
+        const float *fb = sc->tbox + 4 * (size_t)t;
+        if (fb[0] > fb[2]) continue;
+        fbox_tiles(sc, fb, r);
         for (ty = r[1]; ty <= r[3]; ty++)
-            for (tx = r[0]; tx <= r[2]; tx++) {
-                size_t e = offs[(size_t)ty * sc->tiles_x + tx]++;
-                ent[e] = t;
-                for (q = 0; q < 4; q++) sc->ebox[4 * e + (size_t)q] = fb[q];
-            }
+            for (tx = r[0]; tx <= r[2]; tx++) ent[offs[(size_t)ty * sc->tiles_x + tx]++] = t;
     }
     for (k = tiles; k > 0; k--) offs[k] = offs[k - 1u];
     offs[0] = 0;
@@ -433,37 +463,60 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     }
 }
 
+/* Whether window point (xw, yw) passes the quick test of a convex polygon
+ * (x, y, n corners): not strictly outside one edge while strictly inside
+ * another (either orientation; a point on the boundary passes). */
+static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_real yw)
+{
+    int q, pos = 0, neg = 0;
+    for (q = 0; q < n; q++) {
+        int q1 = q + 1 == n ? 0 : q + 1;
+        ls_real cr = (x[q1] - x[q]) * (yw - y[q]) - (y[q1] - y[q]) * (xw - x[q]);
+        pos |= cr > (ls_real)0;
+        neg |= cr < (ls_real)0;
+    }
+    return !(pos && neg);
+}
+
 /* Whether the segment's point at t is seen (1) and, if so, the surface
- * behind it: *beh = triangle + 1, or 0 for the background. Candidates are
- * the first ncand of sc->cand, or the whole bin when they did not fit. */
-static int visibility(const sctx *sc, const sedge *ed, ls_real t, size_t tile, uint32_t ncand, uint32_t *beh)
+ * behind it: *beh = triangle + 1, or 0 for the background. The candidates
+ * are the piece's active ones (sc->cact[0..*nact)): those whose interval
+ * holds t are tested exactly (quick polygon test, then the barycentrics and
+ * depth), those whose interval ended before t are dropped from the list
+ * (the parameters tested increase); unsorted: the list holds candidates not
+ * begun yet (sc->clo by candidate), skipped. The answer does not depend on the
+ * order of the list (ties of the surface behind keep the smaller triangle),
+ * so an occluder found is moved to the front, where the next point tests it
+ * first. */
+static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, uint32_t *nact, uint32_t *beh)
 {
     ls_real b[3], ze, zc, tol, best = (ls_real)0;
     ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
-    uint32_t i, n, best_id = 0, overflow = ncand > SIL_CAND_CAP;
+    uint32_t i = 0, best_id = 0;
     if (!tri_point(sc, sc->indices + 3 * (size_t)ed->ft, xw, yw, b, &ze)) return 0;
     if (ze > (ls_real)1) return 0; /* beyond the far plane: not drawn */
     tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
-    n = overflow ? (uint32_t)(sc->offs[tile + 1u] - sc->offs[tile]) : ncand;
-    for (i = 0; i < n; i++) {
-        uint32_t id = overflow ? sc->ent[sc->offs[tile] + i] : sc->cand[i];
-        if (id == ed->ft || id == ed->fu) continue;
-        if (!overflow) { /* quick rejection: the window polygon does not hold the point */
-            const ls_real *px = sc->cpoly + 8 * (size_t)i, *py = px + 4;
-            uint32_t q, m = sc->cpn[i], pos = 0, neg = 0;
-            for (q = 0; q < m; q++) {
-                uint32_t q1 = q + 1u == m ? 0u : q + 1u;
-                ls_real cr = (px[q1] - px[q]) * (yw - py[q]) - (py[q1] - py[q]) * (xw - px[q]);
-                pos |= cr > (ls_real)0;
-                neg |= cr < (ls_real)0;
-            }
-            if (pos && neg) continue;
+    while (i < *nact) {
+        uint32_t k = sc->cact[i], id = sc->cid[k];
+        ls_real x[4], y[4];
+        int n;
+        if (sc->chi[k] < t) { /* its interval is behind: never needed again */
+            sc->cact[i] = sc->cact[--*nact];
+            continue;
         }
+        i++;
+        if (unsorted && sc->clo[k] > t) continue; /* not begun */
+        n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
+        if (!poly_holds(x, y, n, xw, yw)) continue;
         if (!tri_point(sc, sc->indices + 3 * (size_t)id, xw, yw, b, &zc)) continue;
         if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
         if (zc < (ls_real)-1 || zc > (ls_real)1) continue; /* clipped away */
-        if (zc < ze - tol) return 0;                       /* hidden */
-        if (zc > ze + tol && (best_id == 0 || zc < best)) { /* ids increase: ties keep the smaller */
+        if (zc < ze - tol) {                                /* hidden */
+            sc->cact[i - 1u] = sc->cact[0];
+            sc->cact[0] = k;
+            return 0;
+        }
+        if (zc > ze + tol && (best_id == 0 || zc < best || (zc == best && id + 1u < best_id))) {
             best = zc;
             best_id = id + 1u;
         }
@@ -472,69 +525,213 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, size_t tile, u
     return 1;
 }
 
-/* One piece [t0, t1] of the segment, inside pixel (px, py): the candidates
- * of the pixel's bin whose box meets the piece's box, the parameters where their
- * polygon edges cross the segment (visibility and the surface behind are
- * constant between two of them), each sub-piece integrated on its own. */
-static void piece(const sctx *sc, sedge *ed, ls_real t0, ls_real t1, uint32_t px, uint32_t py)
+static void swap_keyed(ls_real *key, uint32_t *pay, uint32_t i, uint32_t j)
 {
-    size_t tile = (size_t)(py >> SIL_TILE_LOG2) * sc->tiles_x + (px >> SIL_TILE_LOG2), p, k;
-    ls_real *sp = sc->split, x0, y0, x1, y1, xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
+    ls_real tk = key[i];
+    key[i] = key[j];
+    key[j] = tk;
+    if (pay != NULL) {
+        uint32_t tp = pay[i];
+        pay[i] = pay[j];
+        pay[j] = tp;
+    }
+}
+
+/* Sift-down of a max-heap key[0..end) from r. */
+static void sift_keyed(ls_real *key, uint32_t *pay, uint32_t r, uint32_t end)
+{
+    for (;;) {
+        uint32_t c = 2u * r + 1u;
+        if (c >= end) return;
+        if (c + 1u < end && key[c + 1u] > key[c]) c++;
+        if (!(key[c] > key[r])) return;
+        swap_keyed(key, pay, r, c);
+        r = c;
+    }
+}
+
+/* Sorts key[0..n) increasingly, moving pay (when not NULL) along:
+ * insertion for a few, else heap sort (no recursion, no memory). Equal keys
+ * are indistinguishable to the callers, so stability does not matter. */
+static void sort_keyed(ls_real *key, uint32_t *pay, uint32_t n)
+{
+    uint32_t i;
+    if (n <= 16u) {
+        for (i = 1; i < n; i++) {
+            uint32_t j;
+            for (j = i; j > 0 && key[j - 1u] > key[j]; j--) swap_keyed(key, pay, j - 1u, j);
+        }
+        return;
+    }
+    for (i = n / 2u; i > 0; i--) sift_keyed(key, pay, i - 1u, n);
+    for (i = n - 1u; i > 0; i--) {
+        swap_keyed(key, pay, 0, i);
+        sift_keyed(key, pay, 0, i);
+    }
+}
+
+/* Candidate polygon (x, y, n) against the run [t0, t1] of the segment:
+ * appends to sp (at *ns) the parameters in (t0, t1) where its edges cross
+ * the segment, and returns in [*lo, *hi] the parameters where the quick
+ * polygon test of visibility can pass (0: nowhere in the run).
+ *
+ * The side of each corner, s_q = e x (corner - a), first tells which edges
+ * can meet the segment's line: an edge whose two corners are on the same
+ * side by more than tau (the margin times |e|, plus 64 eps times the
+ * magnitudes of the terms, far above their rounding) has its crossing
+ * parameter u outside [0, 1] by more than rounding, so it adds no split,
+ * and a polygon with every corner so is skipped: no point of the segment
+ * passes its quick test. The crossings of the other edges are computed as
+ * before (the same expressions, so the same bits). The quick test at a(t)
+ * computes cr_q = num_q - t den_q per edge q; the intervals where every
+ * cr_q >= -eta_q (or every cr_q <= eta_q), eta_q again far above rounding,
+ * hold every parameter where the test passes, and leaving out the edges
+ * that do not meet the line only widens them: the intervals decide which
+ * candidates are tested, never the outcome. */
+static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0, ls_real t1,
+                         ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+{
+    /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
+    ls_real l[2], h[2], rx[4], ry[4], sd[4], mc = (ls_real)0, tau, c0;
+    int q, ok[2] = {1, 1}, s, side[4], above = 0, below = 0;
+    for (q = 0; q < n; q++) {
+        ls_real v = r_abs(x[q]) + r_abs(y[q]);
+        if (v > mc) mc = v;
+    }
+    /* mc bounds every corner's |x| + |y|: tau and eta below bound their q's */
+    tau = ed->tau + (ls_real)64 * LS_REAL_EPSILON * (mc + ed->ext) * ed->eabs;
+    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+    for (q = 0; q < n; q++) {
+        rx[q] = x[q] - ed->a[0];
+        ry[q] = y[q] - ed->a[1];
+        sd[q] = ed->e[0] * ry[q] - ed->e[1] * rx[q];
+        side[q] = sd[q] > tau ? 1 : (sd[q] < -tau ? -1 : 0);
+        above += side[q] > 0;
+        below += side[q] < 0;
+    }
+    if (above == n || below == n) return 0;
+    l[0] = l[1] = t0;
+    h[0] = h[1] = t1;
+    for (q = 0; q < n; q++) {
+        int q1 = q + 1 == n ? 0 : q + 1;
+        ls_real dx, dy, den, num, eta, r, blo, bhi;
+        if (side[q] != 0 && side[q] == side[q1]) continue;
+        dx = x[q1] - x[q];
+        dy = y[q1] - y[q];
+        den = ed->e[0] * dy - ed->e[1] * dx;
+        num = rx[q] * dy - ry[q] * dx;
+        eta = c0 + SIL_MARGIN * (r_abs(dx) > r_abs(dy) ? r_abs(dx) : r_abs(dy));
+        if (den == (ls_real)0) { /* parallel: cr = num all along */
+            if (num < -eta) ok[0] = 0;
+            if (num > eta) ok[1] = 0;
+            continue;
+        }
+        /* cr = num - t den is -eta at blo and eta at bhi when den > 0 (the reverse when den < 0);
+         * the crossing tt = num / den lies between them */
+        r = (ls_real)1 / den;
+        blo = (num - eta) * r;
+        bhi = (num + eta) * r;
+        if (den < (ls_real)0) {
+            ls_real w = blo;
+            blo = bhi;
+            bhi = w;
+        }
+        if (bhi > t0 && blo < t1) {
+            ls_real tt = (rx[q] * dy - ry[q] * dx) / den;
+            if (tt > t0 && tt < t1) {
+                ls_real uu = (rx[q] * ed->e[1] - ry[q] * ed->e[0]) / den;
+                if (uu >= (ls_real)0 && uu <= (ls_real)1) sp[(*ns)++] = tt;
+            }
+        }
+        /* cr >= -eta: t <= bhi when den > 0, t >= blo when den < 0; cr <= eta: the reverse
+         * (comparisons written so that a NaN bound leaves the interval as it was) */
+        s = den > (ls_real)0 ? 0 : 1;
+        if (bhi < h[s]) h[s] = bhi;
+        if (blo > l[1 - s]) l[1 - s] = blo;
+    }
+    ok[0] = ok[0] && l[0] <= h[0];
+    ok[1] = ok[1] && l[1] <= h[1];
+    if (!ok[0] && !ok[1]) return 0;
+    *lo = ok[0] ? l[0] : l[1];
+    *hi = ok[0] ? h[0] : h[1];
+    if (ok[0] && ok[1]) {
+        if (l[1] < *lo) *lo = l[1];
+        if (h[1] > *hi) *hi = h[1];
+    }
+    return 1;
+}
+
+/* A run of the segment through one bin tile: its pieces, one per pixel,
+ * [t[i], t[i + 1]] in pixel pix[i]. */
+#define SIL_RUN_CAP 8
+#define SIL_FEW 24u /* more candidates and crossings than this in a run: sorted sweep */
+typedef struct srun {
+    ls_real t[SIL_RUN_CAP + 1];
+    size_t pix[SIL_RUN_CAP];
+    size_t tile;
+    int n;
+} srun;
+
+/* The pieces of a run: the candidates of the tile's bin whose box meets
+ * the run's box, the parameters where their polygon edges cross the
+ * segment (visibility and the surface behind are constant between two of
+ * them, and between two pixel boundaries), each sub-piece integrated on its
+ * own with its pixel's weights; the candidates are swept along the run by
+ * their intervals. A candidate of the run that is no candidate of a piece
+ * (its box misses the piece's box) neither crosses nor holds the piece, so
+ * every piece gets the sub-pieces and the answers it would get alone. */
+static void run_pass(const sctx *sc, sedge *ed, const srun *run)
+{
+    size_t k;
+    ls_real *sp = sc->split, t0 = run->t[0], t1 = run->t[run->n];
+    ls_real xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
     ls_real ya = ed->a[1] + t0 * ed->e[1], yb = ed->a[1] + t1 * ed->e[1];
-    uint32_t ncand = 0, ns = 1, i, j;
+    uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0;
     float fx0, fx1, fy0, fy1;
-    /* the piece's box, grown by the margin */
-    x0 = (xa < xb ? xa : xb) - SIL_MARGIN;
-    x1 = (xa < xb ? xb : xa) + SIL_MARGIN;
-    y0 = (ya < yb ? ya : yb) - SIL_MARGIN;
-    y1 = (ya < yb ? yb : ya) + SIL_MARGIN;
-    fx0 = (float)x0;
-    fx1 = (float)x1;
-    fy0 = (float)y0;
-    fy1 = (float)y1;
-    p = (size_t)py * sc->vis->width + px;
-    sp[0] = t0;
-    for (k = sc->offs[tile]; k < sc->offs[tile + 1u]; k++) {
+    int j, sorted;
+    /* the run's box, grown by the margin */
+    fx0 = (float)((xa < xb ? xa : xb) - SIL_MARGIN);
+    fx1 = (float)((xa < xb ? xb : xa) + SIL_MARGIN);
+    fy0 = (float)((ya < yb ? ya : yb) - SIL_MARGIN);
+    fy1 = (float)((ya < yb ? yb : ya) + SIL_MARGIN);
+    for (k = sc->offs[run->tile]; k < sc->offs[run->tile + 1u]; k++) {
         uint32_t id = sc->ent[k];
-        const float *bx = sc->ebox + 4 * k;
-        ls_real x[4], y[4];
-        int n, q;
+        const float *bx = sc->tbox + 4 * (size_t)id;
+        ls_real x[4], y[4], lo, hi;
+        int n;
         if (bx[2] < fx0 || bx[0] > fx1 || bx[3] < fy0 || bx[1] > fy1) continue;
         if (id == ed->ft || id == ed->fu) continue;
         n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
         if (n < 3) continue;
-        if (ncand < SIL_CAND_CAP) {
-            sc->cand[ncand] = id;
-            sc->cpn[ncand] = (uint32_t)n;
-            for (q = 0; q < n; q++) {
-                sc->cpoly[8 * (size_t)ncand + (size_t)q] = x[q];
-                sc->cpoly[8 * (size_t)ncand + 4u + (size_t)q] = y[q];
-            }
-        }
+        if (!cand_interval(ed, x, y, n, t0, t1, sp, &ns, &lo, &hi)) continue;
+        sc->cid[ncand] = id;
+        sc->chi[ncand] = hi;
+        sc->clo[ncand] = lo;
+        sc->cord[ncand] = ncand;
         ncand++;
-        for (q = 0; q < n; q++) {
-            int q1 = (q + 1) % n;
-            ls_real dx = x[q1] - x[q], dy = y[q1] - y[q], rx = x[q] - ed->a[0], ry = y[q] - ed->a[1];
-            ls_real den = ed->e[0] * dy - ed->e[1] * dx, tt, uu;
-            if (den == (ls_real)0) continue;
-            tt = (rx * dy - ry * dx) / den;
-            uu = (rx * ed->e[1] - ry * ed->e[0]) / den;
-            if (tt > t0 && tt < t1 && uu >= (ls_real)0 && uu <= (ls_real)1 && ns + 1u < SIL_SPLIT_CAP) sp[ns++] = tt;
+    }
+    sort_keyed(sp, NULL, ns);
+    sorted = ncand > SIL_FEW && ns > SIL_FEW;
+    if (sorted) { /* many candidates and sub-pieces: activated in order of their starts */
+        sort_keyed(sc->clo, sc->cord, ncand);
+    } else { /* all active from the start (visibility skips those not begun) */
+        for (nact = 0; nact < ncand; nact++) sc->cact[nact] = nact;
+        next = ncand;
+    }
+    for (j = 0; j < run->n; j++) {
+        ls_real a = run->t[j], b = run->t[j + 1];
+        while (i < ns && !(sp[i] > a)) i++; /* crossings at or before the piece's start */
+        for (;;) {
+            uint32_t beh = 0;
+            ls_real lo = a, hi = i < ns && sp[i] < b ? sp[i++] : b;
+            a = hi;
+            if (hi > lo) {
+                ls_real mid = (lo + hi) * (ls_real)0.5;
+                while (next < ncand && !(sc->clo[next] > mid)) sc->cact[nact++] = sc->cord[next++];
+                if (visibility(sc, ed, mid, !sorted, &nact, &beh)) integrate(sc, ed, lo, hi, beh, run->pix[j]);
+            }
+            if (!(hi < b)) break;
         }
-    }
-    /* insertion sort of the crossings (few) */
-    for (i = 2; i < ns; i++) {
-        ls_real v = sp[i];
-        for (j = i; j > 1 && sp[j - 1u] > v; j--) sp[j] = sp[j - 1u];
-        sp[j] = v;
-    }
-    sp[ns++] = t1;
-    for (i = 0; i + 1u < ns; i++) {
-        uint32_t beh = 0;
-        ls_real lo = sp[i], hi = sp[i + 1u];
-        if (!(hi > lo)) continue;
-        if (!visibility(sc, ed, (lo + hi) * (ls_real)0.5, tile, ncand, &beh)) continue;
-        integrate(sc, ed, lo, hi, beh, p);
     }
 }
 
@@ -589,15 +786,6 @@ static void lines_init(lines *l, ls_real a, ls_real e, ls_real t0, ls_real t1)
 static ls_real lines_next(const lines *l, ls_real t_end)
 {
     return l->left > 0 ? (l->k - l->a) / l->e : t_end;
-}
-
-static uint32_t pixel_of(ls_real v, uint32_t n)
-{
-    ls_real f = LS_RFLOOR(v);
-    int32_t i = LS_RTO_I32(f);
-    if (i < 0) return 0;
-    if ((uint32_t)i >= n) return n - 1u;
-    return (uint32_t)i;
 }
 
 /* dL/d(X, Y, Z, W) of a clip-space point cl from window-space dL/d(x, y). */
@@ -679,7 +867,12 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     sedge ed;
     ls_real b[2], nrm[2], t0 = (ls_real)0, t1 = (ls_real)1, tcur, side, g[4];
     lines lx, ly;
+    srun run;
+    uint32_t px, py;
+    size_t tile;
     if (!(ea->c[3] > (ls_real)0) || !(eb->c[3] > (ls_real)0)) return;
+    run.n = 0;
+    run.tile = 0;
     ed.ft = ft;
     ed.fu = fu;
     ed.ka = (ls_real)0;
@@ -688,6 +881,9 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     window_of(sc, eb->c, b);
     ed.e[0] = b[0] - ed.a[0];
     ed.e[1] = b[1] - ed.a[1];
+    ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
+    ed.ext = (r_abs(ed.a[0]) + r_abs(ed.a[1])) + ed.eabs;
+    ed.tau = SIL_MARGIN * (r_abs(ed.e[0]) > r_abs(ed.e[1]) ? r_abs(ed.e[0]) : r_abs(ed.e[1]));
     /* normal scaled by |e|, pointing away from the face's side: window y
      * runs down, so the window-space side is minus the homogeneous one */
     side = -hdet(ea->c, eb->c, C);
@@ -717,10 +913,22 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
         }
         if (tn <= tcur) continue; /* a crossing at (or before) the current point */
         mid = (tcur + tn) * (ls_real)0.5;
-        piece(sc, &ed, tcur, tn, pixel_of(ed.a[0] + mid * ed.e[0], sc->vis->width),
-              pixel_of(ed.a[1] + mid * ed.e[1], sc->vis->height));
+        px = cell_of(ed.a[0] + mid * ed.e[0], sc->vis->width);
+        py = cell_of(ed.a[1] + mid * ed.e[1], sc->vis->height);
+        tile = (size_t)(py >> SIL_TILE_LOG2) * sc->tiles_x + (px >> SIL_TILE_LOG2);
+        if (run.n > 0 && (tile != run.tile || run.n == SIL_RUN_CAP)) {
+            run_pass(sc, &ed, &run);
+            run.n = 0;
+        }
+        if (run.n == 0) {
+            run.tile = tile;
+            run.t[0] = tcur;
+        }
+        run.pix[run.n] = (size_t)py * sc->vis->width + px;
+        run.t[++run.n] = tn;
         tcur = tn;
     }
+    if (run.n > 0) run_pass(sc, &ed, &run);
     ed.ka *= sc->boost;
     ed.kb *= sc->boost;
     window_to_clip(sc, ea->c, nrm[0] * ed.ka, nrm[1] * ed.ka, g);
@@ -788,17 +996,36 @@ static void choose_cull(sctx *sc, const ls_edge_table *table, signed char *sign)
     if (pos < neg / 64u) sc->cull = 1;
 }
 
-/* Everything the pass needs: window positions, bins, work buffers. */
-static void sctx_size(const sctx *sc, uint32_t vertex_count, ls_size *s)
+/* Candidate slots of a view: a piece's candidates come from one tile's bin,
+ * at most one entry per binned triangle (at least one slot). */
+static size_t slot_count(size_t binned, size_t entries)
 {
-    ls_size_init(s);
-    ls_size_add(s, (size_t)vertex_count, 2 * sizeof(ls_real));
-    ls_size_add(s, (size_t)sc->tiles_x * sc->tiles_y + 1u, sizeof(size_t));
-    ls_size_add(s, (size_t)sc->triangle_count, 1);
-    ls_size_add(s, SIL_CAND_CAP, sizeof(uint32_t));
-    ls_size_add(s, SIL_CAND_CAP, 8 * sizeof(ls_real));
-    ls_size_add(s, SIL_CAND_CAP, sizeof(uint32_t));
-    ls_size_add(s, SIL_SPLIT_CAP, sizeof(ls_real));
+    size_t n = binned < entries ? binned : entries;
+    return n > 0 ? n : 1u;
+}
+
+/* Everything the pass needs, in the order it takes it: window positions,
+ * bin starts, orientations, vertex flags, bin entries, triangle boxes, the candidate
+ * slots and the split parameters (4 per slot and the piece's ends). */
+static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t triangle_count, size_t entries,
+                              size_t slots, size_t *bytes)
+{
+    ls_size s;
+    if (tiles > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    ls_size_init(&s);
+    ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
+    ls_size_add(&s, tiles + 1u, sizeof(size_t));
+    ls_size_add(&s, (size_t)triangle_count, 1);
+    ls_size_add(&s, (size_t)vertex_count, 1);
+    ls_size_add(&s, entries, sizeof(uint32_t));
+    ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
+    ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
+    ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
+    ls_size_add(&s, slots, sizeof(ls_real));  /* clo */
+    ls_size_add(&s, slots, sizeof(uint32_t)); /* cord */
+    ls_size_add(&s, slots, sizeof(uint32_t)); /* cact */
+    ls_size_add(&s, 4u * slots + 2u, sizeof(ls_real));
+    return ls_size_get(&s, bytes);
 }
 
 static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
@@ -826,8 +1053,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
                                       uint32_t triangle_count, size_t *bytes)
 {
     sctx sc;
-    ls_size s;
-    size_t count = 0;
+    size_t count[2] = {0, 0};
     int over = 0;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -836,31 +1062,19 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (vis->triangle_count != triangle_count || table->triangle_count != triangle_count) return LS_ERR_INVALID;
     if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
     sctx_init(&sc, vis, indices, triangle_count);
-    sctx_size(&sc, vis->vertex_count, &s);
     choose_cull(&sc, table, NULL);
-    bin_pass(&sc, NULL, NULL, &count, &over);
+    bin_pass(&sc, NULL, NULL, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
-    ls_size_add(&s, count, sizeof(uint32_t));
-    ls_size_add(&s, count, 4 * sizeof(float));
-    return ls_size_get(&s, bytes);
+    return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
+                        slot_count(count[1], count[0]), bytes);
 }
 
+/* The scratch for a view of this size whose bins hold `entries` entries. */
 static ls_status scratch_for_entries(uint32_t width, uint32_t height, uint32_t vertex_count,
                                      uint32_t triangle_count, size_t entries, size_t *bytes)
 {
-    ls_size s;
-    uint32_t tx = (width >> SIL_TILE_LOG2) + 1u, ty = (height >> SIL_TILE_LOG2) + 1u;
-    ls_size_init(&s);
-    ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
-    ls_size_add(&s, (size_t)tx * ty + 1u, sizeof(size_t));
-    ls_size_add(&s, (size_t)triangle_count, 1);
-    ls_size_add(&s, SIL_CAND_CAP, sizeof(uint32_t));
-    ls_size_add(&s, SIL_CAND_CAP, 8 * sizeof(ls_real));
-    ls_size_add(&s, SIL_CAND_CAP, sizeof(uint32_t));
-    ls_size_add(&s, SIL_SPLIT_CAP, sizeof(ls_real));
-    ls_size_add(&s, entries, sizeof(uint32_t));
-    ls_size_add(&s, entries, 4 * sizeof(float));
-    return ls_size_get(&s, bytes);
+    size_t tiles = (size_t)((width >> SIL_TILE_LOG2) + 1u) * (size_t)((height >> SIL_TILE_LOG2) + 1u);
+    return scratch_size(vertex_count, tiles, triangle_count, entries, slot_count(triangle_count, entries), bytes);
 }
 
 ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint32_t vertex_count,
@@ -899,8 +1113,10 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sctx sc;
     uint32_t t, h, counts[2];
     ls_arena_mark mark;
-    size_t entries = 0;
+    size_t count[2] = {0, 0}, slots;
     int over = 0;
+    signed char *sign;
+    unsigned char *vfront;
     ls_real *win;
     size_t *offs;
     uint32_t *ent;
@@ -926,11 +1142,9 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     mark = ls_arena_save(arena);
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
     offs = win ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
-    sc.cand = offs ? (uint32_t *)ls_arena_scratch(arena, SIL_CAND_CAP, sizeof(uint32_t)) : NULL;
-    sc.cpoly = sc.cand ? (ls_real *)ls_arena_scratch(arena, SIL_CAND_CAP, 8 * sizeof(ls_real)) : NULL;
-    sc.cpn = sc.cpoly ? (uint32_t *)ls_arena_scratch(arena, SIL_CAND_CAP, sizeof(uint32_t)) : NULL;
-    sc.split = sc.cpn ? (ls_real *)ls_arena_scratch(arena, SIL_SPLIT_CAP, sizeof(ls_real)) : NULL;
-    if (sc.split == NULL) {
+    sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count, 1) : NULL;
+    vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
+    if (vfront == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -938,26 +1152,29 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         const ls_real *cl = vis->clip + 4 * (size_t)h;
         win[2 * (size_t)h] = (ls_real)0;
         win[2 * (size_t)h + 1] = (ls_real)0;
-        if (cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0) window_of(&sc, cl, win + 2 * (size_t)h);
+        vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
+        sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
+        if (vfront[h]) window_of(&sc, cl, win + 2 * (size_t)h);
     }
     sc.win = win;
-    {
-        signed char *sign = (signed char *)ls_arena_scratch(arena, (size_t)triangle_count, 1);
-        if (sign == NULL) {
-            ls_arena_restore(arena, mark);
-            return LS_ERR_NOMEM;
-        }
-        choose_cull(&sc, table, sign);
-        if (sc.cull != 0) sc.sign = sign;
-    }
-    bin_pass(&sc, NULL, NULL, &entries, &over);
-    if (over) {
+    sc.vfront = vfront;
+    choose_cull(&sc, table, sign);
+    if (sc.cull != 0) sc.sign = sign;
+    bin_pass(&sc, NULL, NULL, count, &over);
+    slots = slot_count(count[1], count[0]);
+    if (over || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
         return LS_ERR_TOO_LARGE;
     }
-    ent = (uint32_t *)ls_arena_scratch(arena, entries, sizeof(uint32_t));
-    sc.ebox = ent ? (float *)ls_arena_scratch(arena, entries, 4 * sizeof(float)) : NULL;
-    if (sc.ebox == NULL) {
+    ent = (uint32_t *)ls_arena_scratch(arena, count[0], sizeof(uint32_t));
+    sc.tbox = ent ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
+    sc.cid = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc.chi = sc.cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
+    sc.clo = sc.chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
+    sc.cord = sc.clo ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc.cact = sc.cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc.split = sc.cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
+    if (sc.split == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -986,7 +1203,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         end_make(&sc, vb, va, &eb);
         segment_pass(&sc, ft, fu, &ea, &eb, vis->clip + 4 * (size_t)vc);
     }
-    for (t = 0; t < triangle_count; t++) cut_pass(&sc, t);
+    for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
 }

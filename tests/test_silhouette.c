@@ -18,7 +18,8 @@
  * every value finite; the distribution is printed): overlaps whose edges
  * cross inside pixels, perspective colours, near-plane cuts inside the
  * image, sub-pixel triangles, icospheres (ls_icosphere levels 1 and 2).
- * Also: translation and scaling invariants, boost and determinism, the
+ * Also: translation and scaling invariants (a triangle; a fan of 150 thin
+ * triangles, ~150 candidates per piece at its centre), boost and determinism, the
  * scratch query and arena sweep, the pair mode against FD of its own
  * forward, and the pair mode's error against the exact gradient (printed). */
 #include "test.h"
@@ -626,6 +627,36 @@ static void tetra(scene *sc)
     for (k = 0; k < 4; k++) sc->p[3 * k] += 0.6 * (rnd() - 0.5) * sc->p[3 * k + 2];
 }
 
+/* A flat fan of 150 thin triangles around a vertex c (mask mode): the
+ * pieces of the two boundary edges at c meet every triangle of the fan (more
+ * candidates than the former fixed buffers held). The rim is a circular arc
+ * in a plane, so its window image stays convex. */
+static void make_fan(scene *sc)
+{
+    const uint32_t nt = 150;
+    double cx = 0.1 * (rnd() - 0.5), cy = -0.3 + 0.1 * (rnd() - 0.5), a0 = 0.35 + 0.2 * rnd(), a1 = 2.6 + 0.2 * rnd();
+    uint32_t k;
+    memset(sc, 0, sizeof *sc);
+    camera_ortho(sc);
+    sc->mask = 1;
+    sc->nv = nt + 2;
+    sc->nt = nt;
+    sc->p[0] = cx;
+    sc->p[1] = cy;
+    sc->p[2] = 0.1 * rnd();
+    for (k = 0; k <= nt; k++) { /* the rim: a circular arc (convex), angles jittered inside */
+        double a = a0 + (a1 - a0) * (k + 0.4 * (rnd() - 0.5) * (k > 0 && k < nt)) / nt, r = 0.6;
+        sc->p[3 * (k + 1)] = cx + r * cos(a);
+        sc->p[3 * (k + 1) + 1] = cy + r * sin(a);
+        sc->p[3 * (k + 1) + 2] = sc->p[2];
+    }
+    for (k = 0; k < nt; k++) {
+        sc->f[3 * k] = 0;
+        sc->f[3 * k + 1] = k + 1;
+        sc->f[3 * k + 2] = k + 2;
+    }
+}
+
 static void make_tetra_ortho(scene *sc)
 {
     memset(sc, 0, sizeof *sc);
@@ -805,6 +836,50 @@ static void silhouette_single_triangle_ortho(void) { run_trials("ortho single tr
 static void silhouette_layers_ortho(void) { run_trials("ortho layered triangles", make_layers, 10); }
 static void silhouette_tetra_ortho(void) { run_trials("ortho tetrahedron (mask)", make_tetra_ortho, 10); }
 static void silhouette_single_persp(void) { run_trials("perspective single triangle", make_single_persp, 10); }
+/* The fan (mask, ortho): the pieces at its centre have ~150 candidates;
+ * translating it leaves the summed image
+ * unchanged and scaling it about a point gives d(sum R)/ds = 2 A (1 - bg),
+ * A its window area by the shoelace formula. */
+static void silhouette_many_candidates(void)
+{
+    static scene sc;
+    static double x[MAXV], y[MAXV];
+    ls_real gp[3 * MAXV];
+    uint64_t rng_saved = rng_state; /* the other tests' scenes stay as they were */
+    int i, trial;
+    for (trial = 0; trial < 3; trial++) {
+        double sx, sy, ds, ar, z;
+        make_fan(&sc);
+        for (i = 0; i < 3; i++) sc.bg[i] = 0.25;
+        for (i = 0; i < 4 * IMG * IMG; i++) sc.w[i] = i % 4 == 0 ? 1 : 0; /* sum of the red channel */
+        REQUIRE(lib_grad(&sc, (ls_real)1, gp));
+        for (i = 0; i < (int)sc.nv; i++) to_window(&sc, sc.p + 3 * i, &x[i], &y[i], &z);
+        sx = sy = ds = ar = 0;
+        {
+            double jx[2] = {sc.mvp[0] * 0.5 * IMG, -sc.mvp[4] * 0.5 * IMG}, jy[2] = {sc.mvp[1] * 0.5 * IMG, -sc.mvp[5] * 0.5 * IMG};
+            double det = jx[0] * jy[1] - jy[0] * jx[1];
+            double wx[2] = {jy[1] / det, -jx[1] / det}, wy[2] = {-jy[0] / det, jx[0] / det};
+            for (i = 0; i < (int)sc.nv; i++) {
+                double gx = (double)gp[3 * i] * wx[0] + (double)gp[3 * i + 1] * wx[1];
+                double gy = (double)gp[3 * i] * wy[0] + (double)gp[3 * i + 1] * wy[1];
+                sx += gx;
+                sy += gy;
+                ds += gx * (x[i] - x[0]) + gy * (y[i] - y[0]); /* scaling about the centre vertex */
+            }
+        }
+        for (i = 0; i < (int)sc.nv; i++) { /* the polygon c, r_0 .. r_n */
+            int j = i + 1 == (int)sc.nv ? 0 : i + 1;
+            ar += 0.5 * (x[i] * y[j] - x[j] * y[i]);
+        }
+        ar = fabs(ar);
+        printf("     fan of %u: translation %.3g %.3g; scaling %.12g vs 2 A (1 - bg) = %.12g\n", (unsigned)sc.nt, sx, sy, ds,
+               2 * ar * 0.75);
+        CHECK_NEAR(sx, 0, sizeof(ls_real) == 4 ? 1e-3 : 1e-9);
+        CHECK_NEAR(sy, 0, sizeof(ls_real) == 4 ? 1e-3 : 1e-9);
+        CHECK_NEAR(ds, 2 * ar * 0.75, (sizeof(ls_real) == 4 ? 1e-4 : 1e-10) * ar);
+    }
+    rng_state = rng_saved;
+}
 static void silhouette_tetra_persp(void) { run_trials("perspective tetrahedron (mask)", make_tetra_persp, 10); }
 static void silhouette_near_clip(void)
 {
@@ -1260,6 +1335,7 @@ int main(void)
     TEST_RUN(silhouette_tetra_ortho);
     TEST_RUN(silhouette_single_persp);
     TEST_RUN(silhouette_tetra_persp);
+    TEST_RUN(silhouette_many_candidates);
     TEST_RUN(silhouette_near_clip);
     TEST_RUN(silhouette_invariants);
     TEST_RUN(silhouette_perspective_distributions);

@@ -28,15 +28,23 @@
  *     the covered samples showing the minority orientation) the back-facing
  *     orientation is left out: it is never the nearest surface.
  *  3. Each segment is clipped to the image and walked pixel by pixel (the
- *     parameters where it crosses integer x and y lines, merged in order).
- *     In each pixel piece the candidates are the triangles of the pixel's
- *     bin whose box meets the piece's box; the piece is split where any
- *     candidate's polygon edges cross it, so between two splits the surface
- *     in front of the segment and the one behind it do not change. Each
- *     sub-piece's visibility is decided at its midpoint (exact homogeneous
- *     barycentrics and NDC depth of every candidate containing the point: a
- *     nearer one hides it, the nearest farther one is the surface behind,
- *     none: the background) - no occluder is missed for want of a sample.
+ *     parameters where it crosses integer x and y lines, merged in order);
+ *     the pixels it crosses in one bin tile form a run. The candidates of
+ *     a run are the triangles of the tile's bin whose box meets the run's
+ *     box, less those whose corners all lie on one side of the segment's
+ *     line (by a margin far above rounding). Every pixel piece is split
+ *     where a candidate's polygon edges cross it, so between two splits the
+ *     surface in front of the segment and the one behind it do not change.
+ *     Each sub-piece's visibility is decided at its midpoint (exact
+ *     homogeneous barycentrics and NDC depth of every candidate containing
+ *     the point: a nearer one hides it, the nearest farther one is the
+ *     surface behind, none: the background) - no occluder is missed for
+ *     want of a sample. Only the candidates whose interval along the
+ *     segment (where their polygon, grown by far more than rounding, meets
+ *     it) holds the midpoint are tested, swept along the run (sorted by
+ *     their starts when a run has many), the last occluder first: the cost
+ *     of a sub-piece is its depth complexity, not its tile's bin size, and
+ *     the intervals decide which candidates are tested, never the answer.
  *  4. Each visible sub-piece is integrated: in mask mode df is constant
  *     (one evaluation, exact moments); otherwise (perspective-correct
  *     shading is rational along the edge) Gauss-Legendre with 5 points,
@@ -66,7 +74,8 @@
  * edges cross inside pixels, perspective-varying colours (silhouette term
  * isolated by holding the reference's polygons), near-plane cuts inside the
  * image, sub-pixel triangles: 76 of 76 configurations within 1e-3 relative,
- * most within 1e-6. Cost (tests/bench/bench_gradient.c): see README.
+ * most within 1e-6. Cost (tests/bench/bench_silhouette.c on the fit's
+ * meshes, tests/bench/bench_gradient.c): see README.
  *
  * The pair mode (ls_pair_forward / ls_pair_backward below) is the cheap
  * alternative, selected per render by calling it instead of
@@ -82,11 +91,9 @@
  *    ls_shade is point sampled; the interior gradient of
  *    largesteps/render_backward.h is over those samples) and a one-call
  *    view forward + backward (render.h) for the fit;
- *  - speed on dense meshes: the pass is O(silhouette pieces x candidates);
- *    the armadillo (52k faces) at 512^2 costs ~2.5 x the forward (target
- *    0.5 x; the bunny, 0.35 x, meets it);
- *  - more than SIL_CAND_CAP (128) candidates in one piece fall back to
- *    scanning the bin, and more than 2 x 128 + 2 crossings are dropped;
+ *  - speed: the armadillo (52k faces) at 512^2 costs ~1.5-2 x the forward
+ *    (target 0.5 x); half of it is the quadrature's shading and the
+ *    per-view binning and edge scan, O(triangles);
  *  - interpenetrating triangles (intersection curves are not mesh edges)
  *    are not handled; depth ties within 64 eps are neither hiding nor behind.
  */
@@ -134,21 +141,23 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 
 /* ls_silhouette_scratch_bytes: the exact scratch ls_silhouette_backward
  * takes for this view (vis rasterized with these indices, table of the same
- * mesh): 2 ls_real per vertex (window positions), one byte per triangle
- * (orientations), one size_t per 2 x 2 pixel tile plus one, a uint32 and 4
- * floats per (triangle, tile) pair of the candidate bins (counted here by
- * the binning pass, without memory) and fixed work buffers (~11 KiB in
- * double builds). Errors: LS_ERR_INVALID (NULL, counts differing from the
- * rasterized ones), LS_ERR_STATE (vis not rasterized, table not built),
+ * mesh): 2 ls_real and one byte per vertex (window positions, flags), one
+ * byte and 4 floats per triangle (orientation, box), one size_t per 2 x 2
+ * pixel tile plus one, a uint32 per (triangle, tile) pair of the candidate
+ * bins, and per candidate slot (min(binned triangles, pairs), at least 1)
+ * 3 uint32 and 6 ls_real (candidates of a run and its split parameters), plus
+ * 2 ls_real; the pairs and binned triangles are counted here by the binning
+ * pass, without memory. Errors: LS_ERR_INVALID (NULL, counts differing from
+ * the rasterized ones), LS_ERR_STATE (vis not rasterized, table not built),
  * LS_ERR_MESH (an index out of range), LS_ERR_TOO_LARGE.
- * O(samples + triangles + bin entries). */
+ * O(samples + triangles). */
 ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                                       uint32_t triangle_count, size_t *bytes);
 
 /* ls_silhouette_scratch_bytes_bound: a worst case of the above for any
- * geometry of this size (every triangle in every tile): for sizing an arena
- * up front; usually far more than the exact figure. Errors: LS_ERR_INVALID
- * (NULL, zero size), LS_ERR_TOO_LARGE. O(1). */
+ * geometry of this size (every triangle in every tile, one slot per
+ * triangle): for sizing an arena up front; usually far more than the exact
+ * figure. Errors: LS_ERR_INVALID (NULL, zero size), LS_ERR_TOO_LARGE. O(1). */
 ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t vertex_count,
                                             uint32_t triangle_count, size_t *bytes);
 
@@ -172,8 +181,9 @@ ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint
  * table of another mesh, unknown mode), LS_ERR_STATE (vis not rasterized,
  * table not built), LS_ERR_MESH (an index out of range; diag->index is the
  * face), LS_ERR_NOMEM, LS_ERR_TOO_LARGE. Nothing is written on error.
- * Cost O(triangles + bin entries + pixels crossed by silhouette segments x
- * the candidates of their tiles). */
+ * Cost O(triangles + bin entries + runs of silhouette segments x
+ * the candidates of their runs, each sub-piece tested against the
+ * candidates whose intervals hold it). */
 ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                                  uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
                                  const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
