@@ -6,20 +6,34 @@
  *      is, at most 10);
  *   2. collapse every edge shorter than 4/5 h when the link condition holds
  *      (ls_he_collapse_ok), no edge of the merged vertex becomes longer than
- *      4/3 h, and no remaining face normal turns by more than 60 degrees or
- *      becomes degenerate. Two interior ends merge at the midpoint (the end
- *      with fewer edges is removed first); a boundary or kept (sharp, see
- *      sharp_angle) vertex is removed only into one of its kind, and an end
- *      of that kind keeps its position (at most 10 passes);
+ *      4/3 h, no remaining face normal turns by more than 60 degrees or
+ *      becomes degenerate, and no remaining face around the merged vertex
+ *      meets a face around its other corners (by ls_tangle_pair's rules).
+ *      Two interior ends merge at the midpoint (the end with fewer edges is
+ *      removed first); a boundary or kept (sharp, see sharp_angle) vertex is
+ *      removed only into one of its kind, and an end of that kind keeps its
+ *      position (at most 10 passes);
  *   3. flip interior edges when that lowers the sum of squared deviations of
- *      the four vertices' valences from 6 (4 on the boundary) and neither new
- *      face normal turns by more than 60 degrees from either old one (at most
- *      10 passes);
+ *      the four vertices' valences from 6 (4 on the boundary), neither new
+ *      face normal turns by more than 60 degrees from either old one, and
+ *      neither new face meets a face around its corners (at most 10 passes);
  *   4. tangential relaxation: each interior vertex moves to the mean of its
  *      neighbours, minus the component along its area-weighted normal
  *      (all vertices from the same old positions);
  *   5. projection of every interior vertex to the closest point of the input
- *      surface (a BVH of the input, largesteps/bvh.h, built once).
+ *      surface (a BVH of the input, largesteps/bvh.h, built once) among the
+ *      input faces whose normals point the way the vertex's does (within
+ *      the plain closest distance plus h; else the vertex stays): the
+ *      nearest point of a part thinner than h is often on its other side,
+ *      and moving there folds the mesh through the part. A move longer than
+ *      h/32 is skipped when the vertex's faces would meet faces around
+ *      their corners.
+ * The local checks of 2, 3 and 5 are what keeps the remesh from adding
+ * self-intersections (the armadillo at h = 2x its mean edge got 3
+ * intersecting pairs without them); they look at the faces around the
+ * corners only, so two sheets farther apart in the mesh than that can
+ * still be pushed through each other (none in the tests). A vertex with
+ * more than 64 faces is not moved by a checked operation.
  * Kept vertices (input vertices sharper than params.sharp_angle) are neither
  * relaxed nor projected: without them the tips and rims that are sharper than
  * the target resolution get rounded off (the bunny's ear rims move by 0.8 h).
