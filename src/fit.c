@@ -18,6 +18,63 @@ static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t ind
 
 static int finite_r(ls_real x) { return x - x == x - x; }
 
+/* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
+ * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
+ * with the mesh by any power of two: the bounds, the halving and the
+ * doubling/halving loop are exact. */
+static void measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius)
+{
+    ls_real lo[3], hi[3], r = (ls_real)0, s = (ls_real)1;
+    if (ls_mesh_bounds(m, lo, hi) == LS_OK) {
+        uint32_t k;
+        for (k = 0; k < 3; k++) {
+            ls_real h = (ls_real)0.5 * hi[k] - (ls_real)0.5 * lo[k];
+            if (h > r) r = h;
+        }
+    }
+    if (!(r > (ls_real)0) || !finite_r(r)) {
+        *scale = *radius = (ls_real)1;
+        return;
+    }
+    while (s > r) s *= (ls_real)0.5;
+    while ((ls_real)2 * s <= r) s *= (ls_real)2;
+    *scale = s;
+    *radius = r;
+}
+
+/* out[16 count] (optional) = the views' transforms in the frame of unit
+ * `scale`: the translation column divided by it, so that M (S x, 1) =
+ * S (M' (x, 1)) and the normalized device coordinates are the same bits. */
+static ls_status frame_views(const ls_fit_views *v, ls_real scale, ls_real *out, ls_diag *diag)
+{
+    uint32_t i, j;
+    for (i = 0; i < v->count; i++)
+        for (j = 0; j < 16u; j++) {
+            ls_real a = v->mvp[16u * (size_t)i + j];
+            if ((j & 3u) == 3u) a /= scale;
+            if (!finite_r(a)) {
+                diag_set(diag, LS_ERR_NONFINITE, "view transform: not finite in the fit's frame", i);
+                return LS_ERR_NONFINITE;
+            }
+            if (out != NULL) out[16u * (size_t)i + j] = a;
+        }
+    return LS_OK;
+}
+
+/* out[3 n] = positions / scale; LS_ERR_NONFINITE when one is not finite. */
+static ls_status frame_positions(const ls_mesh *m, ls_real scale, ls_real *out, ls_diag *diag)
+{
+    size_t i;
+    for (i = 0; i < 3u * (size_t)m->vertex_count; i++) {
+        out[i] = m->positions[i] / scale;
+        if (!finite_r(out[i])) {
+            diag_set(diag, LS_ERR_NONFINITE, "initial mesh: a coordinate not finite in the fit's frame", i / 3u);
+            return LS_ERR_NONFINITE;
+        }
+    }
+    return LS_OK;
+}
+
 void ls_fit_config_default(ls_fit_config *c)
 {
     if (c == NULL) return;
@@ -87,7 +144,7 @@ typedef struct fit_sizes {
     size_t arrays, lap, param, optim, edges, vis, iteration;
 } fit_sizes;
 
-static ls_status array_sizes(const ls_fit_config *c, uint32_t n, uint32_t f, size_t *bytes)
+static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, size_t *bytes)
 {
     ls_size s;
     size_t px = (size_t)c->width * c->height * 4u;
@@ -107,6 +164,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t n, uint32_t f, siz
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_image */
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_gimage */
     }
+    ls_size_add(&s, 16u * (size_t)views, sizeof(ls_real)); /* mvp */
     return ls_size_get(&s, bytes);
 }
 
@@ -118,9 +176,15 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t n, uint32_t f, siz
 #define LS_FIT_BIN_PER_TRIANGLE 8u
 #define LS_FIT_BIN_PER_TILE 16u
 
+/* The scratch of one iteration: the step's own arrays (the solved positions,
+ * a copy of the CG warm starts) for the whole step, then the larger of the
+ * views' pass (raster, silhouettes, normals backward, the regularizer) and
+ * the optimizer's snapshot (parameters and both moments), which follow one
+ * another. */
 static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes)
 {
     size_t a = 0, b = 0, e = 0, sil = 0;
+    ls_size s, pass, snap;
     ls_status st = ls_raster_scratch_bytes_bound(c->width, c->height, c->ss, n, f, &a);
     if (st == LS_OK)
         st = ls_silhouette_scratch_bytes_bins(c->width, c->height, n, f, LS_FIT_BIN_PER_TRIANGLE, LS_FIT_BIN_PER_TILE, &sil);
@@ -129,9 +193,22 @@ static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t 
     if (st == LS_OK && c->method == LS_FIT_LAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 0, 1, &e);
     if (st == LS_OK && c->method == LS_FIT_BILAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 1, 1, &e);
     if (st != LS_OK) return st;
-    *bytes = a > b ? a : b;
-    if (e > *bytes) *bytes = e;
-    return LS_OK;
+    if (b > a) a = b;
+    if (e > a) a = e;
+    ls_size_init(&s);
+    if (c->method == LS_FIT_LARGE_STEPS) {
+        ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real));                                /* solved x */
+        if (c->solver == LS_PARAM_CG) ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real)); /* warm starts */
+    }
+    ls_size_init(&pass);
+    ls_size_add(&pass, a, 1);
+    ls_size_init(&snap);
+    ls_size_add(&snap, 3u * (size_t)n + 3u, sizeof(ls_real)); /* params */
+    ls_size_add(&snap, 3u * (size_t)n + 3u, sizeof(ls_real)); /* m1 */
+    ls_size_add(&snap, 3u * (size_t)n + 3u, sizeof(ls_real)); /* m2 */
+    ls_size_max(&pass, &snap);
+    ls_size_add_size(&s, &pass);
+    return ls_size_get(&s, bytes);
 }
 
 static ls_status total(const fit_sizes *z, size_t *bytes)
@@ -149,12 +226,12 @@ static ls_status total(const fit_sizes *z, size_t *bytes)
 }
 
 /* Sizes of everything but the solver, for a mesh with `edges` unique edges. */
-static ls_status base_sizes(const ls_fit_config *c, const ls_mesh *m, uint32_t edges, fit_sizes *z)
+static ls_status base_sizes(const ls_fit_config *c, uint32_t views, const ls_mesh *m, uint32_t edges, fit_sizes *z)
 {
     ls_status st;
     uint32_t n = m->vertex_count, f = m->face_count;
     memset(z, 0, sizeof *z);
-    st = array_sizes(c, n, f, &z->arrays);
+    st = array_sizes(c, views, n, f, &z->arrays);
     if (st == LS_OK) st = ls_laplacian_bytes(n, f, edges, LS_LAP_UPPER, &z->lap);
     if (st == LS_OK) st = ls_optim_bytes(3u * n + 3u, &z->optim);
     if (st == LS_OK) st = ls_edge_table_bytes(f, &z->edges);
@@ -162,30 +239,34 @@ static ls_status base_sizes(const ls_fit_config *c, const ls_mesh *m, uint32_t e
     return st;
 }
 
-ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+/* ls_fit_bytes in the frame of unit `scale`: the ordering of the factor
+ * sees the normalized coordinates, as ls_fit_init gives them. */
+static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                                 ls_real scale, ls_arena *scratch, size_t *bytes, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_mesh_edges e;
     ls_param_config pc;
     ls_csc lap;
     fit_sizes z;
+    ls_real *xyz;
     size_t peak, used, block;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
-    st = check_config(config, views, initial);
-    if (st != LS_OK) return st;
     mark = ls_arena_save(scratch);
     peak = scratch->peak;
     used = ls_arena_used(scratch);
     ls_arena_reset_peak(scratch);
-    st = ls_mesh_edges_build(initial, scratch, &e, diag);
-    if (st == LS_OK) st = base_sizes(config, initial, e.count, &z);
+    st = frame_views(views, scale, NULL, diag);
+    xyz = st == LS_OK ? (ls_real *)ls_arena_scratch(scratch, 3u * (size_t)initial->vertex_count, sizeof(ls_real)) : NULL;
+    if (st == LS_OK && xyz == NULL) st = LS_ERR_NOMEM;
+    if (st == LS_OK) st = frame_positions(initial, scale, xyz, diag);
+    if (st == LS_OK) st = ls_mesh_edges_build(initial, scratch, &e, diag);
+    if (st == LS_OK) st = base_sizes(config, views->count, initial, e.count, &z);
     if (st == LS_OK) st = ls_laplacian_uniform(initial, LS_LAP_UPPER, scratch, &lap, diag);
     if (st == LS_OK) st = iteration_scratch(config, initial->vertex_count, initial->face_count, &lap, &z.iteration);
     if (st == LS_OK && config->method == LS_FIT_LARGE_STEPS) {
         param_config(config, &pc);
-        st = ls_param_bytes(&lap, &pc, initial->positions, scratch, &z.param);
+        st = ls_param_bytes(&lap, &pc, xyz, scratch, &z.param);
     }
     /* ls_fit_init runs this same measurement in its arena before taking the
      * block: the answer covers both */
@@ -197,6 +278,18 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
     if (st != LS_OK) return st;
     *bytes = block > used ? block : used;
     return LS_OK;
+}
+
+ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    ls_real scale, radius;
+    ls_status st;
+    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
+    st = check_config(config, views, initial);
+    if (st != LS_OK) return st;
+    measure_frame(initial, &scale, &radius);
+    return fit_bytes_frame(config, views, initial, scale, scratch, bytes, diag);
 }
 
 /* Allocations from the block, in the layout's order. */
@@ -220,43 +313,40 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
         fit->pair_gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
         if (fit->pair_gimage == NULL) return 0;
     }
-    return fit->gimage != NULL;
+    fit->mvp = (ls_real *)ls_arena_alloc(a, 16u * (size_t)fit->views.count, sizeof(ls_real));
+    return fit->mvp != NULL;
 }
 
-ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                      ls_arena *arena, ls_diag *diag)
+/* ls_fit_init in a given frame (ls_fit_remesh keeps the first fit's). */
+static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
+                                const ls_mesh *initial, ls_real scale, ls_real radius, ls_arena *arena, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_param_config pc;
+    ls_optim_config oc;
     size_t bytes, reserve;
     void *mem;
-    uint32_t n, nf, i;
+    uint32_t n, nf;
     ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
-    memset(fit, 0, sizeof *fit);
-    st = check_config(config, views, initial);
-    if (st != LS_OK) return st;
-    for (i = 0; i < 3u * initial->vertex_count; i++)
-        if (!finite_r(initial->positions[i])) {
-            diag_set(diag, LS_ERR_NONFINITE, "initial mesh: non-finite coordinate", i / 3u);
-            return LS_ERR_NONFINITE;
-        }
     mark = ls_arena_save(arena);
     /* the block: measured with the arena's free top as scratch */
-    st = ls_fit_bytes(config, views, initial, arena, &bytes, diag);
+    st = fit_bytes_frame(config, views, initial, scale, arena, &bytes, diag);
     if (st != LS_OK) return st;
     mem = ls_arena_alloc(arena, bytes, 1);
     if (mem == NULL) return LS_ERR_NOMEM;
     fit->config = *config;
     fit->views = *views;
+    fit->scale = scale;
+    fit->radius = radius;
     n = initial->vertex_count;
     nf = initial->face_count;
     fit->vertex_count = n;
     fit->face_count = nf;
     st = ls_arena_init(&fit->block, mem, bytes);
     if (st == LS_OK && !take_arrays(fit, n, nf)) st = LS_ERR_NOMEM;
+    if (st == LS_OK) st = frame_positions(initial, scale, fit->x, diag);
+    if (st == LS_OK) st = frame_views(views, scale, fit->mvp, diag);
     if (st == LS_OK) {
-        memcpy(fit->x, initial->positions, 3u * (size_t)n * sizeof(ls_real));
         memcpy(fit->triangles, initial->triangles, 3u * (size_t)nf * sizeof(uint32_t));
         st = ls_laplacian_uniform(initial, LS_LAP_UPPER, &fit->block, &fit->lap, diag);
     }
@@ -269,7 +359,10 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
         uint32_t blocks[2];
         blocks[0] = 3u * n;
         blocks[1] = 3u;
-        st = ls_optim_init(&fit->optim, &config->optim, 3u * n + 3u, config->use_translation ? 2u : 1u, blocks, &fit->block);
+        /* the learning rate in units of R, inside a frame of unit S */
+        oc = config->optim;
+        oc.lr = oc.lr * (radius / scale);
+        st = ls_optim_init(&fit->optim, &oc, 3u * n + 3u, config->use_translation ? 2u : 1u, blocks, &fit->block);
     }
     if (st == LS_OK) st = ls_edge_table_build(&fit->edges, fit->triangles, nf, n, &fit->block, diag);
     if (st == LS_OK) st = ls_vis_init(&fit->vis, &fit->block, config->width, config->height, config->ss, n);
@@ -287,6 +380,25 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
     memcpy(fit->params, optimizes_u(config) ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
     fit->params[3u * (size_t)n] = fit->params[3u * (size_t)n + 1u] = fit->params[3u * (size_t)n + 2u] = (ls_real)0;
     return LS_OK;
+}
+
+ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                      ls_arena *arena, ls_diag *diag)
+{
+    ls_real scale, radius;
+    uint32_t i;
+    ls_status st;
+    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    memset(fit, 0, sizeof *fit);
+    st = check_config(config, views, initial);
+    if (st != LS_OK) return st;
+    for (i = 0; i < 3u * initial->vertex_count; i++)
+        if (!finite_r(initial->positions[i])) {
+            diag_set(diag, LS_ERR_NONFINITE, "initial mesh: non-finite coordinate", i / 3u);
+            return LS_ERR_NONFINITE;
+        }
+    measure_frame(initial, &scale, &radius);
+    return fit_init_frame(fit, config, views, initial, scale, radius, arena, diag);
 }
 
 static uint64_t now(const ls_monitor *m)
@@ -324,7 +436,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, fit->views.count);
     if (st != LS_OK) return st;
     for (v = 0; v < fit->views.count; v++) {
-        const ls_real *mvp = fit->views.mvp + 16u * (size_t)v;
+        const ls_real *mvp = fit->mvp + 16u * (size_t)v;
         uint64_t t1, t2, t3;
         st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
         if (st == LS_OK) st = ls_raster(&fit->vis, &fit->block, mvp, fit->xr, n, fit->triangles, nf, diag);
@@ -367,41 +479,46 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     return ls_loss_finish(&acc, &fit->loss);
 }
 
-ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+/* The iteration up to the optimizer: positions xs (= M^-1 params for large
+ * steps, the fit's x for the baselines), rendered at xs + translation, the
+ * loss, dL/dx in fit->gx and the optimizer's gradient in fit->grad. Writes
+ * only working arrays, the loss fields and the timing (the caller restores
+ * those on failure). */
+static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monitor, ls_diag *diag)
 {
-    const ls_fit_config *c;
-    uint32_t n, i, k;
+    const ls_fit_config *c = &fit->config;
+    const uint32_t n = fit->vertex_count;
+    uint32_t i, k;
     ls_real tr[3];
     uint64_t t0;
-    size_t bad;
     ls_status st = LS_OK;
-    if (fit == NULL || fit->x == NULL) return LS_ERR_INVALID;
-    c = &fit->config;
-    n = fit->vertex_count;
     t0 = now(monitor);
-    if (optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, fit->x);
+    if (optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, xs);
     fit->timing.solve_ns += now(monitor) - t0;
     if (st != LS_OK) {
-        if (diag != NULL && st == LS_ERR_NONFINITE) diag_set(diag, st, "solve: non-finite differential coordinates", fit->iteration);
+        if (st == LS_ERR_NONFINITE) diag_set(diag, st, "solve: non-finite differential coordinates", fit->iteration);
         return st;
     }
     for (k = 0; k < 3; k++) tr[k] = c->use_translation ? fit->params[3u * n + k] : (ls_real)0;
     for (i = 0; i < n; i++)
-        for (k = 0; k < 3; k++) fit->xr[3u * i + k] = fit->x[3u * i + k] + tr[k];
+        for (k = 0; k < 3; k++) fit->xr[3u * i + k] = xs[3u * i + k] + tr[k];
     st = views_pass(fit, monitor, diag);
     if (st == LS_ERR_NONFINITE && diag != NULL) diag->index = fit->iteration, diag->has_index = 1;
     if (st != LS_OK) return st;
-    bad = first_nonfinite(fit->gx, 3u * (size_t)n);
-    if (bad < 3u * (size_t)n) {
+    if (first_nonfinite(fit->gx, 3u * (size_t)n) < 3u * (size_t)n) {
         diag_set(diag, LS_ERR_NONFINITE, "non-finite gradient of the vertex positions", fit->iteration);
+        return LS_ERR_NONFINITE;
+    }
+    if (!finite_r(fit->loss)) {
+        diag_set(diag, LS_ERR_NONFINITE, "non-finite loss", fit->iteration);
         return LS_ERR_NONFINITE;
     }
     fit->reg_loss = (ls_real)0;
     if (c->method == LS_FIT_LAPLACIAN || c->method == LS_FIT_BILAPLACIAN) {
         /* w mean(...) over the 3n values: value and gradient scaled by w / (3n) */
         const ls_real w = c->reg_weight / (ls_real)(3u * n);
-        st = c->method == LS_FIT_LAPLACIAN ? ls_laplacian_energy(&fit->lap, 3, fit->x, w, &fit->reg_loss, fit->grad, &fit->block)
-                                           : ls_laplacian_bilaplacian(&fit->lap, 3, fit->x, w, &fit->reg_loss, fit->grad, &fit->block);
+        st = c->method == LS_FIT_LAPLACIAN ? ls_laplacian_energy(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block)
+                                           : ls_laplacian_bilaplacian(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block);
         if (st != LS_OK) return st;
         for (i = 0; i < 3u * n; i++) fit->gx[i] += fit->grad[i];
     }
@@ -418,34 +535,144 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
         memcpy(fit->grad, fit->gx, 3u * (size_t)n * sizeof(ls_real));
     }
     fit->timing.solve_ns += now(monitor) - t0;
-    if (st != LS_OK) return st;
-    t0 = now(monitor);
-    st = ls_optim_step(&fit->optim, fit->params, fit->grad, diag);
-    fit->timing.optimizer_ns += now(monitor) - t0;
-    if (st != LS_OK) {
-        if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
-        return st;
+    if (st == LS_ERR_NONFINITE) diag_set(diag, st, "adjoint solve: non-finite gradient", fit->iteration);
+    return st;
+}
+
+/* The optimizer step, undone when a parameter overflows (its snapshot in
+ * the block's scratch, released on return). */
+static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+{
+    ls_optim *o = &fit->optim;
+    const size_t count = o->count;
+    ls_arena_mark mark = ls_arena_save(&fit->block);
+    ls_real *p0 = (ls_real *)ls_arena_scratch(&fit->block, count, sizeof(ls_real));
+    ls_real *m1 = (ls_real *)ls_arena_scratch(&fit->block, count, sizeof(ls_real));
+    ls_real *m2 = (ls_real *)ls_arena_scratch(&fit->block, count, sizeof(ls_real));
+    ls_real last[LS_OPTIM_MAX_BLOCKS];
+    uint32_t t = o->step;
+    uint64_t t0;
+    ls_status st;
+    if (m2 == NULL) { /* not reached: reserved by iteration_scratch */
+        ls_arena_restore(&fit->block, mark);
+        return LS_ERR_NOMEM;
     }
-    if (!optimizes_u(c)) memcpy(fit->x, fit->params, 3u * (size_t)n * sizeof(ls_real));
-    fit->iteration++;
+    memcpy(p0, fit->params, count * sizeof(ls_real));
+    memcpy(m1, o->m1, count * sizeof(ls_real));
+    memcpy(m2, o->m2, count * sizeof(ls_real));
+    memcpy(last, o->last_scale, sizeof last);
+    t0 = now(monitor);
+    st = ls_optim_step(o, fit->params, fit->grad, diag);
+    fit->timing.optimizer_ns += now(monitor) - t0;
+    if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
+    if (st == LS_OK && first_nonfinite(fit->params, count) < count) {
+        diag_set(diag, LS_ERR_NONFINITE, "optimizer step: a parameter overflowed", fit->iteration);
+        memcpy(fit->params, p0, count * sizeof(ls_real));
+        memcpy(o->m1, m1, count * sizeof(ls_real));
+        memcpy(o->m2, m2, count * sizeof(ls_real));
+        memcpy(o->last_scale, last, sizeof last);
+        o->step = t;
+        st = LS_ERR_NONFINITE;
+    }
+    ls_arena_restore(&fit->block, mark);
+    return st;
+}
+
+ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_fit_timing timing;
+    ls_cg_info cg;
+    ls_real loss, reg_loss, *xs, *warm = NULL;
+    size_t nn;
+    ls_status st = LS_OK;
+    if (fit == NULL || fit->x == NULL) return LS_ERR_INVALID;
+    nn = 3u * (size_t)fit->vertex_count;
+    /* what a failure restores: the scalars here, the CG warm starts copied
+     * to scratch; x is written only once the step has succeeded */
+    timing = fit->timing;
+    loss = fit->loss;
+    reg_loss = fit->reg_loss;
+    cg = fit->param.cg;
+    mark = ls_arena_save(&fit->block);
+    xs = fit->x;
+    if (optimizes_u(&fit->config)) {
+        xs = (ls_real *)ls_arena_scratch(&fit->block, nn, sizeof(ls_real));
+        if (fit->config.solver == LS_PARAM_CG) {
+            warm = (ls_real *)ls_arena_scratch(&fit->block, 2u * nn, sizeof(ls_real));
+            if (warm != NULL) {
+                memcpy(warm, fit->param.warm_fwd, nn * sizeof(ls_real));
+                memcpy(warm + nn, fit->param.warm_adj, nn * sizeof(ls_real));
+            }
+        }
+        if (xs == NULL || (fit->config.solver == LS_PARAM_CG && warm == NULL)) st = LS_ERR_NOMEM; /* not reached */
+    }
+    if (st == LS_OK) st = step_gradient(fit, xs, monitor, diag);
+    if (st == LS_OK) st = step_optimizer(fit, monitor, diag);
+    if (st == LS_OK) {
+        if (optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
+        else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
+        fit->iteration++;
+    } else {
+        fit->timing = timing;
+        fit->loss = loss;
+        fit->reg_loss = reg_loss;
+        fit->param.cg = cg;
+        if (warm != NULL) {
+            memcpy(fit->param.warm_fwd, warm, nn * sizeof(ls_real));
+            memcpy(fit->param.warm_adj, warm + nn, nn * sizeof(ls_real));
+        }
+    }
+    ls_arena_restore(&fit->block, mark);
+    return st;
+}
+
+/* The current mesh in the fit's frame: M^-1 u (large steps; the CG's warm
+ * start and statistics are put back, from the block's scratch) or x, plus
+ * the translation. */
+static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
+{
+    const uint32_t n = fit->vertex_count;
+    if (optimizes_u(&fit->config)) {
+        const size_t nn = 3u * (size_t)n;
+        const ls_cg_info cg = fit->param.cg;
+        ls_arena_mark mark = ls_arena_save(&fit->block);
+        ls_real *warm = NULL;
+        ls_status st;
+        if (fit->config.solver == LS_PARAM_CG) {
+            warm = (ls_real *)ls_arena_scratch(&fit->block, nn, sizeof(ls_real));
+            if (warm == NULL) return LS_ERR_NOMEM; /* not reached: the iteration's reserve */
+            memcpy(warm, fit->param.warm_fwd, nn * sizeof(ls_real));
+        }
+        st = ls_param_from_differential(&fit->param, fit->params, positions);
+        if (warm != NULL) {
+            memcpy(fit->param.warm_fwd, warm, nn * sizeof(ls_real));
+            fit->param.cg = cg;
+        }
+        ls_arena_restore(&fit->block, mark);
+        if (st != LS_OK) return st;
+    } else {
+        memcpy(positions, fit->x, 3u * (size_t)n * sizeof(ls_real));
+    }
+    if (fit->config.use_translation) {
+        uint32_t i, k;
+        for (i = 0; i < n; i++)
+            for (k = 0; k < 3; k++) positions[3u * i + k] += fit->params[3u * n + k];
+    }
     return LS_OK;
 }
 
 ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
 {
-    uint32_t i, k, n;
+    size_t i;
+    ls_status st;
     if (fit == NULL || positions == NULL || mesh == NULL || fit->x == NULL) return LS_ERR_INVALID;
-    n = fit->vertex_count;
-    if (optimizes_u(&fit->config)) {
-        ls_status st = ls_param_from_differential(&fit->param, fit->params, fit->x);
-        if (st != LS_OK) return st;
-    }
-    for (i = 0; i < n; i++)
-        for (k = 0; k < 3; k++)
-            positions[3u * i + k] = fit->x[3u * i + k] + (fit->config.use_translation ? fit->params[3u * n + k] : (ls_real)0);
+    st = frame_mesh(fit, positions);
+    if (st != LS_OK) return st;
+    for (i = 0; i < 3u * (size_t)fit->vertex_count; i++) positions[i] *= fit->scale;
     mesh->positions = positions;
     mesh->triangles = fit->triangles;
-    mesh->vertex_count = n;
+    mesh->vertex_count = fit->vertex_count;
     mesh->face_count = fit->face_count;
     return LS_OK;
 }
@@ -459,7 +686,7 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     ls_fit_timing timing;
     ls_remesh_params params;
     ls_mesh cur, out, copy;
-    ls_real *pos, mean;
+    ls_real *pos, mean, scale, radius;
     size_t start, new_bytes, copy_bytes;
     uint32_t iteration, remeshes;
     ls_status st;
@@ -471,7 +698,15 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     mark = ls_arena_save(arena);
     pos = (ls_real *)ls_arena_scratch(arena, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     if (pos == NULL) return LS_ERR_NOMEM;
-    st = ls_fit_mesh(fit, pos, &cur);
+    /* remeshed in the fit's frame, so that the result does not depend on
+     * the scene's scale */
+    scale = fit->scale;
+    radius = fit->radius;
+    st = frame_mesh(fit, pos);
+    cur.positions = pos;
+    cur.triangles = fit->triangles;
+    cur.vertex_count = fit->vertex_count;
+    cur.face_count = fit->face_count;
     if (st == LS_OK) st = ls_remesh_mean_edge(&cur, &mean);
     if (st == LS_OK) {
         ls_remesh_params_default(&params, h_factor * mean);
@@ -479,7 +714,12 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     }
     cfg = fit->config;
     cfg.optim.lr = cfg.optim.lr * lr_factor;
-    if (st == LS_OK) st = ls_fit_bytes(&cfg, &fit->views, &out, arena, &new_bytes, diag);
+    /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
+    if (st == LS_OK) {
+        size_t i;
+        for (i = 0; i < 3u * (size_t)out.vertex_count; i++) out.positions[i] *= scale;
+    }
+    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, scale, arena, &new_bytes, diag);
     if (st == LS_OK) st = ls_mesh_bytes(out.vertex_count, out.face_count, &copy_bytes);
     if (st == LS_OK) {
         /* after the swap: [start, start + new fit) at the bottom, the copy of the
@@ -519,7 +759,8 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     keep.bottom = start;
     keep.top = arena->top;
     ls_arena_restore(arena, keep);
-    st = ls_fit_init(fit, &cfg, &views, &copy, arena, diag);
+    memset(fit, 0, sizeof *fit);
+    st = fit_init_frame(fit, &cfg, &views, &copy, scale, radius, arena, diag);
     keep.bottom = arena->bottom;
     keep.top = mark.top;
     ls_arena_restore(arena, keep);

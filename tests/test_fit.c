@@ -38,10 +38,12 @@ static void config_for(ls_fit_config *c, uint32_t method)
     c->width = c->height = RES;
     c->shading.mode = LS_SHADE_SH;
     c->shading.sh = sh_coeffs;
-    c->optim.lr = (ls_real)0.05;
+    /* learning rates in units of the initial sphere's radius 0.6 (fit.h):
+     * steps of 0.05 and 5e-3 scene units */
+    c->optim.lr = (ls_real)(0.05 / 0.6);
     if (method != LS_FIT_LARGE_STEPS) {
         (void)ls_optim_config_default(LS_OPTIM_ADAM, &c->optim);
-        c->optim.lr = (ls_real)5e-3;
+        c->optim.lr = (ls_real)(5e-3 / 0.6);
         c->reg_weight = (ls_real)1;
     }
 }
@@ -156,7 +158,7 @@ static void fit_large_steps_converges(void)
     shape_error(&init, &e0[0], &e0[1]);
     a = run_fit(LS_FIT_LARGE_STEPS, 80, &l0, &l1, e);
     REQUIRE(a != NULL);
-    printf("     large steps (lr 0.05), 80 iterations: loss %.4g -> %.4g, shape error mean %.4f max %.4f (initial %.4f / %.4f)\n",
+    printf("     large steps (lr 0.05 scene units), 80 iterations: loss %.4g -> %.4g, shape error mean %.4f max %.4f (initial %.4f / %.4f)\n",
            (double)l0, (double)l1, e[0], e[1], e0[0], e0[1]);
     CHECK(l1 < (ls_real)0.25 * l0);
     CHECK(e[0] < 0.1 * e0[0]);

@@ -102,8 +102,9 @@ static double *dense_m(const ls_mesh *m, double lambda)
     return a;
 }
 
-/* One SGD step (no momentum) from the sphere; checks x1 = x0 - lr M^-p g with
- * g = dL/dx of that iteration (fit.gx) and M dense. */
+/* One SGD step (no momentum) from the sphere; checks x1 = x0 - lr R M^-p g
+ * with g = dL/dx of that iteration in the fit's frame (fit.gx), R the fit's
+ * length unit, and M dense. */
 static void one_step_power(uint32_t power)
 {
     ls_arena arena;
@@ -139,11 +140,14 @@ static void one_step_power(uint32_t power)
         memcpy(mcopy, m, (size_t)n * n * sizeof(double));
         REQUIRE(dense_solve(mcopy, (int)n, rhs, 3));
     }
+    /* in the fit's frame (fit.h): x_f = x / S, g_f = S dL/dx (fit.gx), the
+     * step lr R / S: back in caller units x1 = x0 - lr R M^-p g_f */
     for (i = 0; i < 3u * n; i++) {
-        double want = (double)init.positions[i] - lr * rhs[i];
+        double step = lr * (double)fit.radius * rhs[i];
+        double want = (double)init.positions[i] - step;
         double d = fabs((double)pos[i] - want);
         if (d > err) err = d;
-        if (fabs(lr * rhs[i]) > scale) scale = fabs(lr * rhs[i]);
+        if (fabs(step) > scale) scale = fabs(step);
     }
     printf("     p = %u: step size %.3g, |x1 - (x0 - lr M^-%u g)| = %.3g\n", (unsigned)power, scale, (unsigned)power, err);
     CHECK(scale > 1e-6);

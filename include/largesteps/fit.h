@@ -27,9 +27,39 @@
  * iteration allocates nothing: everything it needs is in the block.
  *
  * Errors during an iteration name what failed: a NaN or infinity in a
- * gradient or a rendered image gives LS_ERR_NONFINITE with diag->index = the
- * iteration and diag->what naming the stage; the mesh, u and the optimizer
- * are then as before the iteration.
+ * target, a rendered image, the loss, a gradient or an updated parameter
+ * gives LS_ERR_NONFINITE with diag->index = the iteration and diag->what
+ * naming the stage. A failed step writes nothing half-done: x, u, params,
+ * the optimizer's state, the solver's state (CG warm starts), iteration,
+ * loss, reg_loss and timing are byte for byte as before the call; only the
+ * working arrays (grad, gx, xr, normals, gnormals, image, gimage, vis) hold
+ * whatever the step left in them.
+ *
+ * Scale: the fit works in a normalized frame. At init it measures the
+ * initial mesh: R = half the largest side of its bounding box and S = the
+ * largest power of two <= R (R = S = 1 for a mesh collapsed to a point).
+ * Inside, positions are the caller's divided by S and the views' transforms
+ * have their translation column divided by S (the same normalized device
+ * coordinates, bit for bit); the learning rate is in units of R (the
+ * optimizer moves by lr R / S in the frame). Everything else is measured in
+ * the frame: Adam's eps (on gradients of frame coordinates), the
+ * regularizers, the remeshing target (a fraction of the mean edge), the
+ * remesher's, BVH's and rasterizer's tolerances. Because S is a power of
+ * two, scaling the scene (initial mesh and the views' camera positions, near
+ * and far planes; target images unchanged) by 2^k leaves every bit inside
+ * the fit unchanged and scales ls_fit_mesh's result by exactly 2^k, as long
+ * as no coordinate overflows or becomes subnormal (tests/test_extreme.c:
+ * k = -20 ... 20). x, u, params (with the translation), reg_loss and the
+ * optimizer's state are in the frame; ls_fit_mesh returns caller units.
+ * ls_fit_remesh keeps the first fit's frame (S and R).
+ *
+ * Extremes (tests/test_extreme.c): lambda = 0 and 1e-8 fit as usual;
+ * lambda = 1e8 fits in double and is LS_ERR_NOT_SPD at init in float
+ * (param.h). In the alpha form M = (1 - alpha) I + alpha L moves the mean of
+ * x by lr / (1 - alpha) per unit step of u: alpha = 0.999999 stays finite
+ * but runs away (|x| ~ 5e4 after 4 steps at lr 0.05) unless lr is scaled by
+ * 1 - alpha. A mesh collapsed to a point or behind every camera draws
+ * nothing and gets zero gradients; a camera inside the mesh sees its inside.
  *
  * Determinism: views, pixels, edges and vertices are visited in a fixed
  * order; the same inputs give the same bits on every target.
@@ -70,7 +100,7 @@ typedef struct ls_fit_config {
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
     ls_real weight;           /* lambda or alpha (large steps) */
     uint32_t solver;          /* LS_PARAM_LDLT, LS_PARAM_CG or LS_PARAM_AUTO (= LDL^T on a mesh) */
-    ls_optim_config optim;    /* optimizer of u (large steps) or x (baselines) */
+    ls_optim_config optim;    /* optimizer of u (large steps) or x (baselines); lr in units of R (above) */
     uint32_t use_translation; /* 1: optimize a global translation too */
     ls_real reg_weight;       /* LS_FIT_LAPLACIAN / LS_FIT_BILAPLACIAN */
     uint32_t loss;            /* LS_LOSS_L1 or LS_LOSS_L2 */
@@ -109,7 +139,8 @@ typedef struct ls_fit {
     ls_fit_views views;
     ls_arena block;           /* the object's memory */
     uint32_t vertex_count, face_count;
-    ls_real *x;               /* [3 n] current vertex positions (before translation) */
+    ls_real *x;               /* [3 n] vertex positions (frame units, before translation) rendered by the
+                                 last step (large steps: M^-1 u before its update) */
     uint32_t *triangles;      /* [3 f] */
     ls_real *u;               /* [3 n] differential coordinates (large steps) */
     ls_real *params;          /* [3 n + 3] what the optimizer moves: u or x, then the translation */
@@ -129,6 +160,9 @@ typedef struct ls_fit {
     ls_vis vis;
     size_t scratch_bytes;     /* scratch reserved for one iteration */
     uint32_t iteration;       /* iterations done */
+    ls_real scale;            /* S: the frame's unit, a power of two (caller units per frame unit) */
+    ls_real radius;           /* R: half the initial mesh's largest bounding-box side (caller units); lr unit */
+    ls_real *mvp;             /* [16 views] the views' transforms in the frame */
     ls_real loss;             /* image loss of the last iteration (before its step) */
     ls_real reg_loss;         /* regularizer value of the last iteration (baselines) */
     ls_fit_timing timing;
@@ -152,20 +186,26 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
 /* ls_fit_init: a fit starting from `initial` (copied; closed or open
  * manifold triangle mesh with finite positions). Builds the Laplacian, M and
  * its factor, u = M x, the optimizer, the edge table and the visibility
- * buffer. Errors: LS_ERR_INVALID (NULL, a bad configuration: zero views or
- * resolution, negative lambda, alpha outside [0, 1), an unknown method,
- * solver, loss, optimizer or silhouette mode, the pair mode with S > 1, p
- * outside {0, 1, 2}, a negative or non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
- * (the initial mesh), LS_ERR_NOT_SPD (M), LS_ERR_NOMEM; on failure the arena
+ * buffer, all in the normalized frame (above). Errors: LS_ERR_INVALID (NULL,
+ * a bad configuration: zero views or resolution, negative lambda, alpha
+ * outside [0, 1), an unknown method, solver, loss, optimizer or silhouette
+ * mode, the pair mode with S > 1, p outside {0, 1, 2}, a negative or
+ * non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
+ * (the initial mesh; also a coordinate or a view transform that overflows in
+ * the frame: a mesh tiny against its distance from the origin),
+ * LS_ERR_NOT_SPD (M: lambda too large for the precision, see param.h),
+ * LS_ERR_NOMEM; on failure the arena
  * is unchanged and *fit is zeroed. */
 ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                       ls_arena *arena, ls_diag *diag);
 
 /* ls_fit_step: one iteration (above). monitor (optional) gives the stage
- * timing clock and may cancel (checked once per view). Errors:
- * LS_ERR_NONFINITE (diag->index = iteration, what = the stage),
- * LS_ERR_CANCELLED, and the errors of the stages; the fit is then as before
- * the call. */
+ * timing clock and may cancel (checked once per view). Memory: the block's
+ * reserved scratch (the solved positions and, for the optimizer's undo, a
+ * copy of the parameters and moments). Errors: LS_ERR_NONFINITE
+ * (diag->index = iteration, what = the stage), LS_ERR_CANCELLED, and the
+ * errors of the stages (LS_ERR_NOMEM: a view whose silhouette binning needs
+ * more than the reserve); the fit is then as before the call (above). */
 ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
 
 /* ls_fit_remesh: the method's remeshing step: the current mesh (x plus the
@@ -188,9 +228,11 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
                         ls_diag *diag);
 
 /* ls_fit_mesh: the current mesh: x = M^{-1} u (large steps; one solve) plus
- * the translation, written into positions [3 vertex_count]; the triangles
- * point into the fit. O(n) plus the solve. Errors: LS_ERR_INVALID, the
- * solve's. */
+ * the translation, times S (caller units), written into positions
+ * [3 vertex_count]; the triangles point into the fit. The fit is not
+ * changed (with LS_PARAM_CG the forward solve's warm start is put back, so
+ * the result is the same before and after any number of calls). O(n) plus
+ * the solve. Errors: LS_ERR_INVALID, the solve's. */
 ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh);
 
 #ifdef __cplusplus

@@ -63,7 +63,8 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     ls_fit_config c = *cfg;
     exp_result e;
     memset(&e, 0, sizeof e);
-    c.optim.lr = c.optim.lr * p->framing.radius; /* learning rates in units of the target's radius, as largesteps fit */
+    /* learning rates are in units of the initial mesh's radius (fit.h): the
+     * icosphere on the target's bounding sphere, as largesteps fit */
     if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
         e.ok = 1;
         e.h = (double)d.vertex_hausdorff;

@@ -48,8 +48,8 @@ static int usage(FILE *f)
             "  --iters N          iterations (default 400)\n"
             "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
             "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha))\n"
-            "  --lr X             learning rate, in units of the target's bounding-sphere radius\n"
-            "                     (default 0.01; the paper's scenes are about unit size)\n"
+            "  --lr X             learning rate, in units of the initial mesh's radius (the target's\n"
+            "                     bounding-sphere radius for the default icosphere; default 0.01)\n"
             "  --method M         large (default) | naive | laplacian | bilaplacian\n"
             "  --reg W            regularizer weight of the laplacian/bilaplacian baselines (default 1)\n"
             "  --optimizer O      uniform (default for large) | adam (default otherwise) | sgd\n"
@@ -190,7 +190,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
     if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
     (void)ls_optim_config_default(optimizer, &a->cfg.optim);
-    a->cfg.optim.lr = lr; /* scaled by the target's radius once it is loaded */
+    a->cfg.optim.lr = lr; /* in units of the initial mesh's radius (fit.h) */
     (void)lr_set;
     a->cfg.width = a->cfg.height = a->res;
     return 1;
@@ -377,7 +377,6 @@ int ls_cmd_fit(int argc, char **argv)
     st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
     if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     tty = isatty(1);
-    a.cfg.optim.lr = a.cfg.optim.lr * p.framing.radius;
     if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1,
                     a.track > 0 ? a.track : a.iters + 1u, &arena, &run))
         return 1;

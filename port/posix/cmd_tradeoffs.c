@@ -149,7 +149,6 @@ static void run_setting(const tr_setting *s, const ls_job_options *base, const c
     o.width = o.height = s->res;
     o.views = s->views;
     if (!ls_job_load(&p, &o, arena)) return;
-    c.optim.lr = c.optim.lr * p.framing.radius; /* learning rates in units of the target's radius */
     if (s->gradient) row->grad_err = gradient_error(&p, &c, arena);
     if (s->iters == 0) {
         ls_arena_restore(arena, mark);
