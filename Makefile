@@ -363,6 +363,46 @@ install: $(LIB) $(CONFIG_H)
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/$(VARIANT_NAME).pc
 	@echo "installed $(VARIANT_NAME) into $(DESTDIR)$(PREFIX)"
 
+# --- hardening: fuzzing (tests/fuzz/) and valgrind --------------------------
+# libFuzzer targets, one per decoder of untrusted bytes, built with clang
+# against a copy of the library instrumented for coverage, with ASan and
+# UBSan (float-cast-overflow included, every report fatal); Debian packages
+# clang and libclang-rt-14-dev (the fuzzer runtime).
+#   make fuzz          each target fuzzes for FUZZ_TIME seconds (default 60)
+#                      after replaying its corpus tests/fuzz/corpus/NAME/
+#   make fuzz-replay   the same for at most 10 s per target (the stage
+#                      tests/stage_fuzz.sh of `make test`)
+#   make fuzz-build    only build them ($(FUZZ_BUILD)/fuzz_NAME)
+#   make valgrind      the stage tests/stage_valgrind.sh (a subset of the
+#                      unit tests under valgrind --leak-check=full)
+# New inputs found go to $(FUZZ_BUILD)/work/NAME/, never into the repository.
+FUZZ_TARGETS := obj ply off png ppm pfm scene mitsuba
+FUZZ_BUILD   ?= build/fuzz
+FUZZ_TIME    ?= 60
+FUZZ_CC      ?= clang
+FUZZ_CFLAGS  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wvla -g -O1 -fno-omit-frame-pointer \
+                -ffp-contract=off -fsanitize=fuzzer,address,undefined,float-cast-overflow \
+                -fno-sanitize-recover=all -Iinclude -I$(FUZZ_BUILD)/include -Itests/fuzz
+FUZZ_BINS    := $(FUZZ_TARGETS:%=$(FUZZ_BUILD)/fuzz_%)
+
+.PHONY: fuzz fuzz-build fuzz-replay valgrind
+fuzz-build:
+	@$(MAKE) --no-print-directory CC=$(FUZZ_CC) SAN=1 REAL=double TARGET= BUILD=$(FUZZ_BUILD) \
+	  ARCHFLAGS=-fsanitize=fuzzer-no-link $(FUZZ_BUILD)/liblargesteps.a
+	@$(MAKE) --no-print-directory FUZZ_BUILD=$(FUZZ_BUILD) FUZZ_CC=$(FUZZ_CC) $(FUZZ_BINS)
+
+$(FUZZ_BUILD)/fuzz_%: tests/fuzz/fuzz_%.c $(wildcard tests/fuzz/*.h) $(FUZZ_BUILD)/liblargesteps.a
+	$(FUZZ_CC) $(FUZZ_CFLAGS) $< $(FUZZ_BUILD)/liblargesteps.a -lz -lm -o $@
+
+fuzz:
+	@FUZZ_TIME=$(FUZZ_TIME) FUZZ_BUILD=$(FUZZ_BUILD) sh tests/stage_fuzz.sh
+
+fuzz-replay:
+	@FUZZ_TIME=10 FUZZ_BUILD=$(FUZZ_BUILD) sh tests/stage_fuzz.sh
+
+valgrind:
+	@sh tests/stage_valgrind.sh
+
 clean:
 	rm -rf build
 

@@ -177,6 +177,10 @@ static ls_status text_prepare(const unsigned char *d, size_t n, size_t *start, l
     return LS_OK;
 }
 
+/* Coordinates must be finite ("nan", "inf" and binary NaN/infinity are rejected). */
+#define COORD_NONFINITE "vertex coordinate is NaN or infinite"
+static int coord_finite(ls_real v) { return v - v == (ls_real)0; }
+
 /* Reads one coordinate token into *v. */
 static ls_status read_coord(text *t, ls_real *v, ls_diag *diag, const char *missing)
 {
@@ -190,6 +194,7 @@ static ls_status read_coord(text *t, ls_real *v, ls_diag *diag, const char *miss
     st = ls_parse_real(tok, len, v);
     if (st == LS_ERR_TOO_LARGE) return text_error(diag, t, at, LS_ERR_TOO_LARGE, "number too large for ls_real");
     if (st != LS_OK) return text_error(diag, t, at, LS_ERR_PARSE, "invalid number");
+    if (!coord_finite(*v)) return text_error(diag, t, at, LS_ERR_NONFINITE, COORD_NONFINITE);
     return LS_OK;
 }
 
@@ -696,9 +701,11 @@ static ls_status ply_real(ply_in *in, uint8_t type, ls_real *out, ls_diag *diag)
         st = ls_parse_real(tok, len, out);
         if (st == LS_ERR_TOO_LARGE) return text_error(diag, &in->t, at, LS_ERR_TOO_LARGE, "number too large for ls_real");
         if (st != LS_OK) return text_error(diag, &in->t, at, LS_ERR_PARSE, "invalid number");
+        if (!coord_finite(*out)) return text_error(diag, &in->t, at, LS_ERR_NONFINITE, COORD_NONFINITE);
         return LS_OK;
     } else {
         uint64_t raw = 0;
+        size_t at = in->t.pos;
         ls_status st = ply_raw(in, type, &raw, diag);
         if (st != LS_OK) return st;
         if (type == 7) {
@@ -721,6 +728,12 @@ static ls_status ply_real(ply_in *in, uint8_t type, ls_real *out, ls_diag *diag)
                 memcpy(&i, &raw, sizeof i);
                 *out = (ls_real)(int32_t)i;
             }
+        }
+        if (!coord_finite(*out)) {
+            /* a finite double beyond float's range (float build) is too large, as in text */
+            if (type == 8 && ((raw >> 52) & 0x7ffu) != 0x7ffu)
+                return offset_error(diag, at, LS_ERR_TOO_LARGE, "number too large for ls_real");
+            return offset_error(diag, at, LS_ERR_NONFINITE, COORD_NONFINITE);
         }
         return LS_OK;
     }

@@ -536,9 +536,11 @@ NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
         }
         if (v[0]->flags | v[1]->flags | v[2]->flags) cp->clipped++;
         if (!triangle_tiles(cx, v, cb, &tb)) {
-            if (cp->rects != NULL) {
+            if (cp->rects != NULL) { /* an empty range, every field set (valgrind) */
                 cp->rects[4 * (size_t)t] = 1;
+                cp->rects[4 * (size_t)t + 1] = 1;
                 cp->rects[4 * (size_t)t + 2] = 0;
+                cp->rects[4 * (size_t)t + 3] = 0;
             }
             continue;
         }

@@ -455,8 +455,9 @@ static void ply_double_coordinates_round_correctly(void)
         uint64_t b;
         r ^= r << 13, r ^= r >> 7, r ^= r << 17;
         b = r;
-        /* exponents around the float range, its subnormals and beyond; ties too */
-        b = (b & 0x800fffffffffffffull) | ((uint64_t)(1023 - 160 + (int)((r >> 20) % 300)) << 52);
+        /* exponents around the float range and its subnormals, below 2^127 (beyond
+         * float's range is LS_ERR_TOO_LARGE in the float build, checked below); ties too */
+        b = (b & 0x800fffffffffffffull) | ((uint64_t)(1023 - 160 + (int)((r >> 20) % 287)) << 52);
         if (i % 7 == 0) b &= ~(uint64_t)0x0fffffff, b |= 0x10000000; /* exactly halfway between floats */
         if (i % 11 == 0) b &= 0x800fffffffffffffull;                  /* double subnormals */
         memcpy(&vals[i], &b, 8);
@@ -471,6 +472,10 @@ static void ply_double_coordinates_round_correctly(void)
         if (!real_bits_equal(want, m.positions[i]) && bad++ < 3) CHECK_MSG(0, "value %.17g read as %.9g", vals[i], (double)m.positions[i]);
     }
     CHECK_EQ(bad, 0);
+    /* one double beyond float's range: too large in the float build, kept in double */
+    vals[0] = ldexp(1.0, 128);
+    (void)put_value(buf + (n - 13 - 24 * NV), 7, vals[0], 1);
+    CHECK_STATUS(read_mem(buf, n, LS_MESH_FORMAT_AUTO, &m, &d), LS_REAL_IS_FLOAT ? LS_ERR_TOO_LARGE : LS_OK);
 }
 
 static void off_variants(void)
@@ -599,7 +604,8 @@ static void prefixes_and_byte_flips_never_crash(void)
             memcpy(c, d, cut);
             st = read_mem(c, cut, LS_MESH_FORMAT_AUTO, &m, &dg);
             if (st == LS_OK) ok++;
-            else if (st == LS_ERR_PARSE || st == LS_ERR_MESH || st == LS_ERR_UNSUPPORTED || st == LS_ERR_TOO_LARGE) err++;
+            else if (st == LS_ERR_PARSE || st == LS_ERR_MESH || st == LS_ERR_UNSUPPORTED || st == LS_ERR_TOO_LARGE ||
+                     st == LS_ERR_NONFINITE) err++;
             else other++;
         }
         for (k = 0; k < 3000; k++) {
@@ -617,7 +623,8 @@ static void prefixes_and_byte_flips_never_crash(void)
                 uint32_t t;
                 for (t = 0; t < 3 * m.face_count; t++) other += m.triangles[t] >= m.vertex_count;
                 ok++;
-            } else if (st == LS_ERR_PARSE || st == LS_ERR_MESH || st == LS_ERR_UNSUPPORTED || st == LS_ERR_TOO_LARGE) {
+            } else if (st == LS_ERR_PARSE || st == LS_ERR_MESH || st == LS_ERR_UNSUPPORTED || st == LS_ERR_TOO_LARGE ||
+                     st == LS_ERR_NONFINITE) {
                 err++;
                 other += dg.what == NULL || dg.what[0] == 0;
             } else {
@@ -629,6 +636,37 @@ static void prefixes_and_byte_flips_never_crash(void)
     }
     CHECK_EQ(other, 0);
     CHECK(ok > 100 && err > 100);
+}
+
+/* NaN and infinite coordinates are rejected (found by tests/fuzz/fuzz_ply), in
+ * text and binary files, with the place named. */
+static void nonfinite_coordinates_rejected(void)
+{
+    static const char *const texts[] = {"v nan 0 0\nv 0 1 0\nv 1 0 0\nf 1 2 3\n",
+                                        "v 0 0 0\nv 0 -INF 0\nv 1 0 0\nf 1 2 3\n",
+                                        "OFF\n3 1 0\n0 0 0\n0 1 infinity\n1 0 0\n3 0 1 2\n",
+                                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                        "0 0 0\n0 1 0\n1 0 -nan\n3 0 1 2\n"};
+    static const unsigned char ply_le[] = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                                          "property float y\nproperty float z\nelement face 1\n"
+                                          "property list uchar int vertex_indices\nend_header\n";
+    static const uint32_t lines[] = {1, 2, 4, 12};
+    unsigned char bin[sizeof ply_le - 1 + 36 + 13];
+    size_t i, h = sizeof ply_le - 1;
+    ls_mesh m;
+    ls_diag dg;
+    for (i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+        CHECK_STATUS(read_str(texts[i], LS_MESH_FORMAT_AUTO, &m, &dg), LS_ERR_NONFINITE);
+        CHECK_MSG(dg.has_line && dg.line == lines[i] && dg.what != NULL && strstr(dg.what, "NaN") != NULL, "text %d: line %u what %s",
+                  (int)i, (unsigned)dg.line, dg.what);
+    }
+    memcpy(bin, ply_le, h);
+    memset(bin + h, 0, sizeof bin - h);
+    bin[h + 4 * 4 + 2] = 0x80, bin[h + 4 * 4 + 3] = 0x7f; /* vertex 1's y = +inf (0x7f800000) */
+    bin[h + 36] = 3, bin[h + 36 + 5] = 1, bin[h + 36 + 9] = 2;
+    CHECK_STATUS(read_mem(bin, sizeof bin, LS_MESH_FORMAT_AUTO, &m, &dg), LS_ERR_NONFINITE);
+    CHECK(dg.has_offset && dg.offset == h + 16);
 }
 
 /* --- sweep ------------------------------------------------------------------------ */
@@ -735,6 +773,7 @@ int main(int argc, char **argv)
     TEST_RUN(obj_fixtures_match_strtod);
     TEST_RUN(obj_features);
     TEST_RUN(malformed_text_inputs);
+    TEST_RUN(nonfinite_coordinates_rejected);
     TEST_RUN(assimp_files);
     TEST_RUN(ply_every_type_and_byte_order);
     TEST_RUN(ply_double_coordinates_round_correctly);

@@ -165,6 +165,9 @@ static ls_arena big_arena(size_t bytes, void **mem)
 {
     ls_arena a;
     *mem = malloc(bytes + 8);
+    /* defined contents: the sweeps hash vis buffers before the first raster
+     * call writes them (valgrind would flag the hash of fresh malloc memory) */
+    if (*mem != NULL) memset(*mem, 0, bytes + 8);
     ls_arena_init(&a, *mem, bytes);
     return a;
 }

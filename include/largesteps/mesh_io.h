@@ -37,7 +37,10 @@
  * binary body", "element count larger than the file", ...),
  * LS_ERR_UNSUPPORTED (UTF-16, 4D OFF, binary OFF, ...), LS_ERR_TOO_LARGE
  * (more than 2^32 - 1 vertices or triangles), LS_ERR_MESH (the file has no
- * triangles, e.g. a point cloud), LS_ERR_NOMEM, LS_ERR_INVALID.
+ * triangles, e.g. a point cloud), LS_ERR_NONFINITE (a vertex coordinate
+ * that is NaN or infinite: "nan", "inf", or such a binary value; a finite
+ * number beyond ls_real's range, in text or as a binary double in the float
+ * build, is LS_ERR_TOO_LARGE), LS_ERR_NOMEM, LS_ERR_INVALID.
  */
 #ifndef LARGESTEPS_MESH_IO_H
 #define LARGESTEPS_MESH_IO_H
