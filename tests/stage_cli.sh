@@ -112,5 +112,10 @@ check experiment_tradeoffs "$ls" experiment tradeoffs --iters 8 --res 24 --views
 if [ "$(grep -c '^| bunny | ' "$out/trade/tradeoffs.md" 2>/dev/null)" = 7 ] && grep -q '</svg>' "$out/trade/tradeoffs.svg" 2>/dev/null &&
     [ "$(wc -l < "$out/trade/tradeoffs.tsv")" = 6 ]; then ok "experiment_tradeoffs_tables_plot_rows"; else bad "experiment_tradeoffs_tables_plot_rows"; fi
 
+# 6. the texture experiment (tiny; its runs are timed, so only the outputs are checked)
+check experiment_texture "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 -o "$out/tex"
+if grep -q '^| large steps' "$out/tex/texture.md" 2>/dev/null && [ -s "$out/tex/texture.png" ]; then
+    ok "experiment_texture_table_and_figure"; else bad "experiment_texture_table_and_figure"; fi
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]
