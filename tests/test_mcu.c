@@ -159,7 +159,7 @@ static void job_fit(ls_arena *arena)
     ls_camera_framing fr;
     ls_fit_config c;
     ls_fit_views views;
-    ls_fit fit;
+    static ls_fit fit; /* not on the job's stack: the object is the caller's to place (about 1 KiB) */
     ls_vis vis;
     ls_real mvp[16], *img, *normals, first = 0;
     const ls_real *targets[1];

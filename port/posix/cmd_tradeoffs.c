@@ -496,7 +496,7 @@ static void svg_plot(FILE *f, const tr_row *rows, uint32_t n)
         if (front[i])
             fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"8\" fill=\"none\" stroke=\"black\"/>"
                        "<text x=\"%.1f\" y=\"%.1f\" font-size=\"10\">%s</text>\n",
-                    px, py, px + 10, py - 6, q->value);
+                    px, py, px + 10, py - 6, strcmp(q->knob, "default") == 0 ? q->build : q->value);
     }
     for (k = 0; k < 10; k++)
         fprintf(f, "<circle cx=\"%.0f\" cy=\"%.0f\" r=\"4\" fill=\"%s\"/><text x=\"%.0f\" y=\"%.0f\">%s</text>\n",
