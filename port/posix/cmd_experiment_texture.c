@@ -576,7 +576,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         a.run_s = a.run_s == 12 ? 90 : a.run_s;
     }
     if (a.side == 0) a.side = 256;
-    work_bytes = (size_t)3 << 30;
+    work_bytes = sizeof(size_t) > 4u ? (size_t)3 << 30 : (size_t)1 << 30; /* 1 GiB on 32-bit hosts */
     work = (unsigned char *)malloc(work_bytes);
     if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) return fprintf(stderr, "out of memory\n"), 1;
     p.arena = &arena;

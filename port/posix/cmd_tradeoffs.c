@@ -562,7 +562,7 @@ int ls_cmd_tradeoffs(int argc, char **argv)
     tr_row *rows;
     tr_setting s[8];
     uint32_t nrows = 0, k, i, own_start;
-    size_t work_bytes = (size_t)3 << 30;
+    size_t work_bytes = sizeof(size_t) > 4u ? (size_t)3 << 30 : (size_t)1 << 30; /* 1 GiB on 32-bit hosts */
     unsigned char *work;
     ls_arena arena;
     const char *mesh_name;
