@@ -255,11 +255,11 @@ static int write_svg(FILE *f, void *ctx)
     const ls_job_run *r = ((const log_data *)ctx)->r;
     const double w = 900, h = 620;
     uint32_t n = r->iterations, t = r->tracked, i;
-    double *it = (double *)malloc((n + t + 1u) * sizeof(double));
-    double *loss = (double *)malloc((n + 1u) * sizeof(double));
-    double *hit = (double *)malloc((t + 1u) * sizeof(double));
-    double *hms = (double *)malloc((t + 1u) * sizeof(double));
-    double *hv = (double *)malloc((t + 1u) * sizeof(double));
+    double *it = (double *)calloc(n + t + 1u, sizeof(double));
+    double *loss = (double *)calloc(n + 1u, sizeof(double));
+    double *hit = (double *)calloc(t + 1u, sizeof(double));
+    double *hms = (double *)calloc(t + 1u, sizeof(double));
+    double *hv = (double *)calloc(t + 1u, sizeof(double));
     int ok = it != NULL && loss != NULL && hit != NULL && hms != NULL && hv != NULL;
     if (ok) {
         for (i = 0; i < n; i++) it[i] = (double)i, loss[i] = (double)r->loss[i];
