@@ -37,4 +37,9 @@ void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_r
 ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const uint32_t *indices,
                               const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag);
 
+/* ls_grid_values_bytes: the bytes of width x height x channels ls_real
+ * values (an image or a texture): LS_ERR_INVALID for a zero side or NULL,
+ * LS_ERR_TOO_LARGE on overflow. O(1). (texture.c) */
+ls_status ls_grid_values_bytes(uint32_t width, uint32_t height, uint32_t channels, size_t *bytes);
+
 #endif /* LS_RENDER_INTERNAL_H */

@@ -35,15 +35,7 @@ void ls_shade_opts_init(ls_shade_opts *opts)
 
 ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes)
 {
-    ls_size s;
-    size_t n;
-    if (bytes == NULL) return LS_ERR_INVALID;
-    *bytes = 0;
-    if (width == 0 || height == 0) return LS_ERR_INVALID;
-    if (ls_size_mul(width, height, &n) != LS_OK) return LS_ERR_TOO_LARGE;
-    ls_size_init(&s);
-    ls_size_add(&s, n, 4 * sizeof(ls_real));
-    return ls_size_get(&s, bytes);
+    return ls_grid_values_bytes(width, height, 4, bytes);
 }
 
 void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])

@@ -1,5 +1,6 @@
 /* texture.c - RGB textures: bilinear lookup and its adjoint (see largesteps/texture.h). */
 #include <largesteps/texture.h>
+#include "render_internal.h"
 #include <largesteps/math.h>
 #include <largesteps/arena.h>
 
@@ -53,7 +54,7 @@ static void make_taps(const ls_texture *t, ls_real u, ls_real v, taps *tp)
     tp->off[3] = 3 * ((size_t)j1 * t->width + i1);
 }
 
-ls_status ls_texture_bytes(uint32_t width, uint32_t height, size_t *bytes)
+ls_status ls_grid_values_bytes(uint32_t width, uint32_t height, uint32_t channels, size_t *bytes)
 {
     ls_size s;
     size_t n;
@@ -62,8 +63,13 @@ ls_status ls_texture_bytes(uint32_t width, uint32_t height, size_t *bytes)
     if (width == 0 || height == 0) return LS_ERR_INVALID;
     if (ls_size_mul(width, height, &n) != LS_OK) return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
-    ls_size_add(&s, n, 3 * sizeof(ls_real));
+    ls_size_add(&s, n, channels * sizeof(ls_real));
     return ls_size_get(&s, bytes);
+}
+
+ls_status ls_texture_bytes(uint32_t width, uint32_t height, size_t *bytes)
+{
+    return ls_grid_values_bytes(width, height, 3, bytes);
 }
 
 ls_status ls_texture_check(const ls_texture *tex)

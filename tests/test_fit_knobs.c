@@ -248,7 +248,6 @@ static void fit_silhouette_modes(void)
 static void fit_cg_tolerance(void)
 {
     ls_fit_config c;
-    ls_real g[3 * 42], l;
     ls_real *x[3];
     static const double tols[3] = {0, 1e-12, 1e-2};
     double d_tight = 0, d_loose = 0, scale = 0;
@@ -280,8 +279,6 @@ static void fit_cg_tolerance(void)
     CHECK(d_tight <= (sizeof(ls_real) == sizeof(float) ? 1e-4 : 1e-9) * scale);
     CHECK(d_loose > 10 * d_tight);
     for (k = 0; k < 3; k++) free(x[k]);
-    (void)g;
-    (void)l;
 }
 
 /* Bad knob values are named errors; the pair mode's two images cost memory

@@ -335,10 +335,9 @@ int ls_cmd_experiment(int argc, char **argv)
     }
     if (fclose(f) != 0 || rename(tmp, path) != 0) return fprintf(stderr, "largesteps experiment: cannot write %s\n", path), 1;
     {
-        unsigned char *text = NULL;
-        size_t bytes = 0;
-        if (ls_posix_read_file(path, &text, &bytes) == LS_OK) fwrite(text, 1, bytes, stdout);
-        free(text);
+        char md[256];
+        snprintf(md, sizeof md, "%s.md", a.name);
+        (void)ls_posix_print_file_in(a.out, md);
     }
     free(work);
     return 0;

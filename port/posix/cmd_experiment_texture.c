@@ -667,12 +667,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     if (!write_figure(&p, a.out, fitted, buf)) fprintf(stderr, "largesteps experiment texture: cannot write the figure\n");
     else fprintf(f, "\nFigure: %s/texture.png (target texture | held-out target render | naive | regularized | large steps).\n", a.out);
     if (fclose(f) != 0 || rename(tmp, path) != 0) return fprintf(stderr, "largesteps experiment texture: cannot write %s\n", path), 1;
-    {
-        unsigned char *text = NULL;
-        size_t bytes = 0;
-        if (ls_posix_read_file(path, &text, &bytes) == LS_OK) fwrite(text, 1, bytes, stdout);
-        free(text);
-    }
+    (void)ls_posix_print_file_in(a.out, "texture.md");
     free(work);
     return 0;
 }

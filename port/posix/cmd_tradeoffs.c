@@ -419,8 +419,8 @@ static void md_table(FILE *f, const tr_row *rows, uint32_t n, const char *knob)
     }
 }
 
-/* log10 without libm's log10 being needed for anything but the plot. */
-static double lg(double x) { return log(x) / log(10.0); }
+/* The plot's log scale. */
+static double lg(double x) { return log10(x); }
 
 static void svg_plot(FILE *f, const tr_row *rows, uint32_t n)
 {
@@ -508,19 +508,44 @@ static void svg_plot(FILE *f, const tr_row *rows, uint32_t n)
     free(front);
 }
 
-/* Writes path whole: a temporary file renamed when complete. */
-static FILE *open_tmp(const char *dir, const char *name, char *tmp, size_t cap)
+/* The output files' bodies, for ls_posix_write_whole: rows [from, n) as
+ * TSV, the tables, the plot. */
+typedef struct tr_out {
+    const tr_args *a;
+    const tr_row *rows;
+    uint32_t from, n;
+} tr_out;
+
+static int write_tsv(FILE *f, void *ctx)
 {
-    int len = snprintf(tmp, cap, "%s/.%s.tmp", dir, name);
-    if (len < 0 || (size_t)len >= cap) return NULL;
-    return fopen(tmp, "w");
+    const tr_out *o = (const tr_out *)ctx;
+    uint32_t i;
+    for (i = o->from; i < o->n; i++) tsv_write(f, &o->rows[i]);
+    return 1;
 }
 
-static int close_tmp(FILE *f, const char *dir, const char *name, const char *tmp)
+static int write_md(FILE *f, void *ctx)
 {
-    char path[4096];
-    int len = snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (fclose(f) != 0 || len < 0 || (size_t)len >= sizeof path || rename(tmp, path) != 0) return fprintf(stderr, "largesteps: cannot write %s\n", path), 0;
+    const tr_out *o = (const tr_out *)ctx;
+    const tr_args *a = o->a;
+    uint32_t k;
+    fprintf(f, "# Speed against accuracy\n\nEach table varies one knob from the default configuration (`largesteps fit`'s: "
+               "alpha 0.95 (M = 0.05 I + 0.95 L), UniformAdam with lr 0.01 x the target's radius, LDL^T, exact silhouettes, S = 1, %u x %u, %u views, %u iterations, remeshing "
+               "before iterations %u and %u, initial icosphere level %u). Times are per iteration (ms) by stage and in "
+               "total (s); ratios are to the default run of the same mesh in the same table set. H is the dense "
+               "(area-sampled) symmetric Hausdorff distance over the target's bounding-box diagonal. The gradient error "
+               "is ||g - g_ref|| / ||g_ref|| of the first iteration's dL/dx, g_ref with exact silhouettes at S = 4.\n",
+            (unsigned)a->res, (unsigned)a->res, (unsigned)a->views, (unsigned)a->iters, (unsigned)(a->iters / 4u),
+            (unsigned)(a->iters * 5u / 8u), (unsigned)a->level);
+    md_table(f, o->rows, o->n, "default");
+    for (k = 0; k < 10; k++) md_table(f, o->rows, o->n, knob_names[k]);
+    return 1;
+}
+
+static int write_svg(FILE *f, void *ctx)
+{
+    const tr_out *o = (const tr_out *)ctx;
+    svg_plot(f, o->rows, o->n);
     return 1;
 }
 
@@ -566,8 +591,7 @@ int ls_cmd_tradeoffs(int argc, char **argv)
     unsigned char *work;
     ls_arena arena;
     const char *mesh_name;
-    char tmp[4096];
-    FILE *f;
+    tr_out out;
     int pa = parse_args(argc, argv, &a);
     if (pa < 0) return 0;
     if (pa == 0) return usage(stderr);
@@ -618,46 +642,18 @@ int ls_cmd_tradeoffs(int argc, char **argv)
             }
         }
     }
-    if (a.rows_out != NULL) {
-        char dir[2048], *slash;
-        int len = snprintf(dir, sizeof dir, "%s", a.rows_out);
-        if (len < 0 || (size_t)len >= sizeof dir) return fprintf(stderr, "largesteps: path too long\n"), 1;
-        slash = strrchr(dir, '/');
-        if (slash != NULL) *slash = 0;
-        f = open_tmp(slash != NULL ? dir : ".", slash != NULL ? slash + 1 : a.rows_out, tmp, sizeof tmp);
-        if (f == NULL) return fprintf(stderr, "largesteps: cannot write %s\n", a.rows_out), 1;
-        for (i = own_start; i < nrows; i++) tsv_write(f, &rows[i]);
-        if (!close_tmp(f, slash != NULL ? dir : ".", slash != NULL ? slash + 1 : a.rows_out, tmp)) return 1;
-    }
-    f = open_tmp(a.out, "tradeoffs.tsv", tmp, sizeof tmp);
-    if (f == NULL) return 1;
-    for (i = 0; i < nrows; i++) tsv_write(f, &rows[i]);
-    if (!close_tmp(f, a.out, "tradeoffs.tsv", tmp)) return 1;
-    f = open_tmp(a.out, "tradeoffs.md", tmp, sizeof tmp);
-    if (f == NULL) return 1;
-    fprintf(f, "# Speed against accuracy\n\nEach table varies one knob from the default configuration (`largesteps fit`'s: "
-               "alpha 0.95 (M = 0.05 I + 0.95 L), UniformAdam with lr 0.01 x the target's radius, LDL^T, exact silhouettes, S = 1, %u x %u, %u views, %u iterations, remeshing "
-               "before iterations %u and %u, initial icosphere level %u). Times are per iteration (ms) by stage and in "
-               "total (s); ratios are to the default run of the same mesh in the same table set. H is the dense "
-               "(area-sampled) symmetric Hausdorff distance over the target's bounding-box diagonal. The gradient error "
-               "is ||g - g_ref|| / ||g_ref|| of the first iteration's dL/dx, g_ref with exact silhouettes at S = 4.\n",
-            (unsigned)a.res, (unsigned)a.res, (unsigned)a.views, (unsigned)a.iters, (unsigned)(a.iters / 4u),
-            (unsigned)(a.iters * 5u / 8u), (unsigned)a.level);
-    md_table(f, rows, nrows, "default");
-    for (k = 0; k < 10; k++) md_table(f, rows, nrows, knob_names[k]);
-    if (!close_tmp(f, a.out, "tradeoffs.md", tmp)) return 1;
-    f = open_tmp(a.out, "tradeoffs.svg", tmp, sizeof tmp);
-    if (f == NULL) return 1;
-    svg_plot(f, rows, nrows);
-    if (!close_tmp(f, a.out, "tradeoffs.svg", tmp)) return 1;
-    {
-        unsigned char *text = NULL;
-        size_t bytes = 0;
-        char path[4096];
-        snprintf(path, sizeof path, "%s/tradeoffs.md", a.out);
-        if (ls_posix_read_file(path, &text, &bytes) == LS_OK) fwrite(text, 1, bytes, stdout);
-        free(text);
-    }
+    out.a = &a;
+    out.rows = rows;
+    out.n = nrows;
+    out.from = own_start;
+    if (a.rows_out != NULL && !ls_posix_write_whole(a.rows_out, write_tsv, &out))
+        return fprintf(stderr, "largesteps: cannot write %s\n", a.rows_out), 1;
+    out.from = 0;
+    if (!ls_posix_write_whole_in(a.out, "tradeoffs.tsv", write_tsv, &out) ||
+        !ls_posix_write_whole_in(a.out, "tradeoffs.md", write_md, &out) ||
+        !ls_posix_write_whole_in(a.out, "tradeoffs.svg", write_svg, &out))
+        return fprintf(stderr, "largesteps: cannot write into %s\n", a.out), 1;
+    (void)ls_posix_print_file_in(a.out, "tradeoffs.md");
     free(work);
     free(rows);
     return 0;

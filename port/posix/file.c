@@ -92,6 +92,18 @@ int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE 
     return ls_posix_write_whole(path, body, ctx);
 }
 
+int ls_posix_print_file_in(const char *dir, const char *name)
+{
+    char path[4096];
+    unsigned char *text = NULL;
+    size_t bytes = 0;
+    int ok;
+    if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path) return 0;
+    ok = ls_posix_read_file(path, &text, &bytes) == LS_OK && fwrite(text, 1, bytes, stdout) == bytes;
+    free(text);
+    return ok;
+}
+
 ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag)
 {
     unsigned char *data = NULL;

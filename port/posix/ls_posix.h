@@ -34,4 +34,8 @@ int ls_posix_write_whole(const char *path, int (*body)(FILE *f, void *ctx), void
 /* The same for DIR/NAME. */
 int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx);
 
+/* Copies the file DIR/NAME to stdout (the experiments echo their tables);
+ * 1 on success, 0 if it cannot be read. */
+int ls_posix_print_file_in(const char *dir, const char *name);
+
 #endif /* LS_POSIX_H */
