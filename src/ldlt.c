@@ -486,7 +486,7 @@ ls_status ls_ldlt_bytes(const ls_ldlt *f, size_t *bytes)
     ls_size_add(&s, f->l_nnz, sizeof(uint32_t)); /* li */
     ls_size_add(&s, f->l_nnz, sizeof(ls_real));  /* lx */
     ls_size_add(&s, f->n, sizeof(ls_real));      /* dinv */
-    ls_size_add(&s, f->n, sizeof(ls_real));      /* y */
+    ls_size_add(&s, f->n, sizeof(ls_acc));       /* y */
     ls_size_add(&s, f->n, sizeof(uint32_t));     /* flag */
     ls_size_add(&s, f->n, sizeof(uint32_t));     /* stack */
     ls_size_add(&s, f->n, sizeof(uint32_t));     /* lnz */
@@ -498,25 +498,32 @@ static ls_real real_abs(ls_real v)
     return v < 0 ? -v : v;
 }
 
+static ls_acc acc_abs(ls_acc v)
+{
+    return v < 0 ? -v : v;
+}
+
 /* The up-looking factorization: row k of L solves L(0:k-1,0:k-1) D y = A(0:k-1,k)
  * over the elimination-tree reach of column k. Returns LS_OK or
- * LS_ERR_NOT_SPD with *bad_col = k and *bad_val = the pivot. */
+ * LS_ERR_NOT_SPD with *bad_col = k and *bad_val = the pivot. Sums (y, d) are
+ * ls_acc; each entry of L and 1/D is rounded once to ls_real when stored. */
 static ls_status numeric(ls_ldlt *f, const ls_real *ax, uint32_t *bad_col, ls_real *bad_val)
 {
     uint32_t n = f->n, k, p, i, len;
     const uint32_t *cp = f->cp, *ci = f->ci, *csrc = f->csrc, *parent = f->parent, *lp = f->lp;
     uint32_t *li = f->li, *flag = f->flag, *stack = f->stack, *lnz = f->lnz;
-    ls_real *lx = f->lx, *y = f->y, *dinv = f->dinv;
-    const ls_real tiny = LS_LDLT_FLUSH;
+    ls_real *lx = f->lx, *dinv = f->dinv;
+    ls_acc *y = f->y;
+    const ls_acc tiny = (ls_acc)LS_LDLT_FLUSH;
     for (k = 0; k < n; k++) y[k] = 0;
     for (k = 0; k < n; k++) {
-        ls_real d;
+        ls_acc d;
         uint32_t top = n;
         flag[k] = k;
         lnz[k] = 0;
         for (p = cp[k]; p < cp[k + 1u]; p++) {
             i = ci[p];
-            y[i] += ax[csrc[p]];
+            y[i] += (ls_acc)ax[csrc[p]];
             for (len = 0; flag[i] != k; i = parent[i]) {
                 stack[len++] = i;
                 flag[i] = k;
@@ -526,7 +533,8 @@ static ls_status numeric(ls_ldlt *f, const ls_real *ax, uint32_t *bad_col, ls_re
         d = y[k];
         y[k] = 0;
         for (; top < n; top++) {
-            ls_real yi, lki;
+            ls_acc yi;
+            ls_real lki;
             uint32_t p2;
             i = stack[top];
             yi = y[i];
@@ -538,30 +546,30 @@ static ls_status numeric(ls_ldlt *f, const ls_real *ax, uint32_t *bad_col, ls_re
              * the two separate steps: the same bits. */
             if (top + 1u < n && stack[top + 1u] == i + 1u && parent[i] == i + 1u && lnz[i] > 0 &&
                 lnz[i] == lnz[i + 1u] + 1u && lp[i + 1u] - lp[i] == lp[i + 2u] - lp[i + 1u] + 1u &&
-                !(real_abs(yi) < tiny)) {
+                !(acc_abs(yi) < tiny)) {
                 const uint32_t i2 = i + 1u, q1 = lp[i] + 1u, q2 = lp[i2], m = lnz[i2];
-                const ls_real myi = -yi;
-                ls_real yi2;
-                y[i2] += lx[lp[i]] * myi;
+                const ls_acc myi = -yi;
+                ls_acc yi2;
+                y[i2] += (ls_acc)lx[lp[i]] * myi;
                 yi2 = y[i2];
-                if (!(real_abs(yi2) < tiny)) {
-                    const ls_real myi2 = -yi2;
+                if (!(acc_abs(yi2) < tiny)) {
+                    const ls_acc myi2 = -yi2;
                     ls_real lki2;
                     uint32_t t;
                     y[i2] = 0;
                     for (t = 0; t < m; t++) {
                         const uint32_t r = li[q2 + t];
-                        y[r] = (y[r] + lx[q1 + t] * myi) + lx[q2 + t] * myi2;
+                        y[r] = (y[r] + (ls_acc)lx[q1 + t] * myi) + (ls_acc)lx[q2 + t] * myi2;
                     }
-                    lki = yi * dinv[i];
-                    if (real_abs(lki) < tiny) lki = 0;
-                    d -= lki * yi;
+                    lki = (ls_real)(yi * (ls_acc)dinv[i]);
+                    if ((ls_acc)real_abs(lki) < tiny) lki = 0;
+                    d -= (ls_acc)lki * yi;
                     li[p2] = k;
                     lx[p2] = lki;
                     lnz[i]++;
-                    lki2 = yi2 * dinv[i2];
-                    if (real_abs(lki2) < tiny) lki2 = 0;
-                    d -= lki2 * yi2;
+                    lki2 = (ls_real)(yi2 * (ls_acc)dinv[i2]);
+                    if ((ls_acc)real_abs(lki2) < tiny) lki2 = 0;
+                    d -= (ls_acc)lki2 * yi2;
                     li[q2 + m] = k;
                     lx[q2 + m] = lki2;
                     lnz[i2]++;
@@ -569,34 +577,34 @@ static ls_status numeric(ls_ldlt *f, const ls_real *ax, uint32_t *bad_col, ls_re
                     continue;
                 }
                 /* i+1's value is tiny: finish column i alone (its first row done) */
-                for (p = lp[i] + 1u; p < p2; p++) y[li[p]] += lx[p] * myi;
-                lki = yi * dinv[i];
-                if (real_abs(lki) < tiny) lki = 0;
-                d -= lki * yi;
+                for (p = lp[i] + 1u; p < p2; p++) y[li[p]] += (ls_acc)lx[p] * myi;
+                lki = (ls_real)(yi * (ls_acc)dinv[i]);
+                if ((ls_acc)real_abs(lki) < tiny) lki = 0;
+                d -= (ls_acc)lki * yi;
                 li[p2] = k;
                 lx[p2] = lki;
                 lnz[i]++;
                 continue;
             }
-            if (real_abs(yi) < tiny) {
+            if (acc_abs(yi) < tiny) {
                 lki = 0; /* flush: no subnormal fill */
             } else {
-                const ls_real myi = -yi;
-                for (p = lp[i]; p < p2; p++) y[li[p]] += lx[p] * myi;
-                lki = yi * dinv[i];
-                if (real_abs(lki) < tiny) lki = 0;
-                d -= lki * yi;
+                const ls_acc myi = -yi;
+                for (p = lp[i]; p < p2; p++) y[li[p]] += (ls_acc)lx[p] * myi;
+                lki = (ls_real)(yi * (ls_acc)dinv[i]);
+                if ((ls_acc)real_abs(lki) < tiny) lki = 0;
+                d -= (ls_acc)lki * yi;
             }
             li[p2] = k;
             lx[p2] = lki;
             lnz[i]++;
         }
-        if (!(d > 0) || d > LS_REAL_MAX) {
+        if (!(d > 0) || d > (ls_acc)LS_REAL_MAX) {
             *bad_col = k;
-            *bad_val = d;
+            *bad_val = (ls_real)d;
             return LS_ERR_NOT_SPD;
         }
-        dinv[k] = (ls_real)1 / d;
+        dinv[k] = (ls_real)((ls_acc)1 / d);
     }
     return LS_OK;
 }
@@ -650,7 +658,7 @@ ls_status ls_ldlt_factor(ls_ldlt *f, const ls_csc *a, ls_arena *arena, ls_diag *
     g.li = (uint32_t *)ls_arena_alloc(arena, g.l_nnz, sizeof(uint32_t));
     g.lx = (ls_real *)ls_arena_alloc(arena, g.l_nnz, sizeof(ls_real));
     g.dinv = (ls_real *)ls_arena_alloc(arena, g.n, sizeof(ls_real));
-    g.y = (ls_real *)ls_arena_alloc(arena, g.n, sizeof(ls_real));
+    g.y = (ls_acc *)ls_arena_alloc(arena, g.n, sizeof(ls_acc));
     g.flag = (uint32_t *)ls_arena_alloc(arena, g.n, sizeof(uint32_t));
     g.stack = (uint32_t *)ls_arena_alloc(arena, g.n, sizeof(uint32_t));
     g.lnz = (uint32_t *)ls_arena_alloc(arena, g.n, sizeof(uint32_t));

@@ -35,110 +35,110 @@ static inline int chained(const uint32_t *lp, const uint32_t *li, uint32_t c)
  * stay in registers): forward subtracts the chunk's final values from each w_i
  * in column order; backward subtracts l_ic w_i from each column's accumulator
  * in row order. */
-static void fwd_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+static void fwd_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *wc, ls_acc *w)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    const ls_acc v00 = wc[0], v01 = wc[1], v02 = wc[2];
     for (t = 0; t < r; t++) {
-        ls_real *wi = w + 3u * (size_t)ri[t];
-        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        x0 -= p0[t] * v00;
-        x1 -= p0[t] * v01;
-        x2 -= p0[t] * v02;
+        ls_acc *wi = w + 3u * (size_t)ri[t];
+        ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= (ls_acc)p0[t] * v00;
+        x1 -= (ls_acc)p0[t] * v01;
+        x2 -= (ls_acc)p0[t] * v02;
         wi[0] = x0;
         wi[1] = x1;
         wi[2] = x2;
     }
 }
 
-static void fwd_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+static void fwd_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *wc, ls_acc *w)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    const ls_acc v00 = wc[0], v01 = wc[1], v02 = wc[2];
     const ls_real *p1 = pc[1];
-    const ls_real v10 = wc[3], v11 = wc[4], v12 = wc[5];
+    const ls_acc v10 = wc[3], v11 = wc[4], v12 = wc[5];
     for (t = 0; t < r; t++) {
-        ls_real *wi = w + 3u * (size_t)ri[t];
-        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        x0 -= p0[t] * v00;
-        x1 -= p0[t] * v01;
-        x2 -= p0[t] * v02;
-        x0 -= p1[t] * v10;
-        x1 -= p1[t] * v11;
-        x2 -= p1[t] * v12;
+        ls_acc *wi = w + 3u * (size_t)ri[t];
+        ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= (ls_acc)p0[t] * v00;
+        x1 -= (ls_acc)p0[t] * v01;
+        x2 -= (ls_acc)p0[t] * v02;
+        x0 -= (ls_acc)p1[t] * v10;
+        x1 -= (ls_acc)p1[t] * v11;
+        x2 -= (ls_acc)p1[t] * v12;
         wi[0] = x0;
         wi[1] = x1;
         wi[2] = x2;
     }
 }
 
-static void fwd_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *wc, ls_real *w)
+static void fwd_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *wc, ls_acc *w)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    const ls_real v00 = wc[0], v01 = wc[1], v02 = wc[2];
+    const ls_acc v00 = wc[0], v01 = wc[1], v02 = wc[2];
     const ls_real *p1 = pc[1];
-    const ls_real v10 = wc[3], v11 = wc[4], v12 = wc[5];
+    const ls_acc v10 = wc[3], v11 = wc[4], v12 = wc[5];
     const ls_real *p2 = pc[2];
-    const ls_real v20 = wc[6], v21 = wc[7], v22 = wc[8];
+    const ls_acc v20 = wc[6], v21 = wc[7], v22 = wc[8];
     const ls_real *p3 = pc[3];
-    const ls_real v30 = wc[9], v31 = wc[10], v32 = wc[11];
+    const ls_acc v30 = wc[9], v31 = wc[10], v32 = wc[11];
     for (t = 0; t < r; t++) {
-        ls_real *wi = w + 3u * (size_t)ri[t];
-        ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        x0 -= p0[t] * v00;
-        x1 -= p0[t] * v01;
-        x2 -= p0[t] * v02;
-        x0 -= p1[t] * v10;
-        x1 -= p1[t] * v11;
-        x2 -= p1[t] * v12;
-        x0 -= p2[t] * v20;
-        x1 -= p2[t] * v21;
-        x2 -= p2[t] * v22;
-        x0 -= p3[t] * v30;
-        x1 -= p3[t] * v31;
-        x2 -= p3[t] * v32;
+        ls_acc *wi = w + 3u * (size_t)ri[t];
+        ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        x0 -= (ls_acc)p0[t] * v00;
+        x1 -= (ls_acc)p0[t] * v01;
+        x2 -= (ls_acc)p0[t] * v02;
+        x0 -= (ls_acc)p1[t] * v10;
+        x1 -= (ls_acc)p1[t] * v11;
+        x2 -= (ls_acc)p1[t] * v12;
+        x0 -= (ls_acc)p2[t] * v20;
+        x1 -= (ls_acc)p2[t] * v21;
+        x2 -= (ls_acc)p2[t] * v22;
+        x0 -= (ls_acc)p3[t] * v30;
+        x1 -= (ls_acc)p3[t] * v31;
+        x2 -= (ls_acc)p3[t] * v32;
         wi[0] = x0;
         wi[1] = x1;
         wi[2] = x2;
     }
 }
 
-static void back_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+static void back_rows1(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *w, ls_acc *acc)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    ls_acc a00 = acc[0], a01 = acc[1], a02 = acc[2];
     for (t = 0; t < r; t++) {
-        const ls_real *wi = w + 3u * (size_t)ri[t];
-        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        a00 -= p0[t] * x0;
-        a01 -= p0[t] * x1;
-        a02 -= p0[t] * x2;
+        const ls_acc *wi = w + 3u * (size_t)ri[t];
+        const ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= (ls_acc)p0[t] * x0;
+        a01 -= (ls_acc)p0[t] * x1;
+        a02 -= (ls_acc)p0[t] * x2;
     }
     acc[0] = a00;
     acc[1] = a01;
     acc[2] = a02;
 }
 
-static void back_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+static void back_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *w, ls_acc *acc)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    ls_acc a00 = acc[0], a01 = acc[1], a02 = acc[2];
     const ls_real *p1 = pc[1];
-    ls_real a10 = acc[3], a11 = acc[4], a12 = acc[5];
+    ls_acc a10 = acc[3], a11 = acc[4], a12 = acc[5];
     for (t = 0; t < r; t++) {
-        const ls_real *wi = w + 3u * (size_t)ri[t];
-        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        a00 -= p0[t] * x0;
-        a01 -= p0[t] * x1;
-        a02 -= p0[t] * x2;
-        a10 -= p1[t] * x0;
-        a11 -= p1[t] * x1;
-        a12 -= p1[t] * x2;
+        const ls_acc *wi = w + 3u * (size_t)ri[t];
+        const ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= (ls_acc)p0[t] * x0;
+        a01 -= (ls_acc)p0[t] * x1;
+        a02 -= (ls_acc)p0[t] * x2;
+        a10 -= (ls_acc)p1[t] * x0;
+        a11 -= (ls_acc)p1[t] * x1;
+        a12 -= (ls_acc)p1[t] * x2;
     }
     acc[0] = a00;
     acc[1] = a01;
@@ -148,32 +148,32 @@ static void back_rows2(uint32_t r, const uint32_t *ri, const ls_real *const *pc,
     acc[5] = a12;
 }
 
-static void back_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_real *w, ls_real *acc)
+static void back_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *w, ls_acc *acc)
 {
     uint32_t t;
     const ls_real *p0 = pc[0];
-    ls_real a00 = acc[0], a01 = acc[1], a02 = acc[2];
+    ls_acc a00 = acc[0], a01 = acc[1], a02 = acc[2];
     const ls_real *p1 = pc[1];
-    ls_real a10 = acc[3], a11 = acc[4], a12 = acc[5];
+    ls_acc a10 = acc[3], a11 = acc[4], a12 = acc[5];
     const ls_real *p2 = pc[2];
-    ls_real a20 = acc[6], a21 = acc[7], a22 = acc[8];
+    ls_acc a20 = acc[6], a21 = acc[7], a22 = acc[8];
     const ls_real *p3 = pc[3];
-    ls_real a30 = acc[9], a31 = acc[10], a32 = acc[11];
+    ls_acc a30 = acc[9], a31 = acc[10], a32 = acc[11];
     for (t = 0; t < r; t++) {
-        const ls_real *wi = w + 3u * (size_t)ri[t];
-        const ls_real x0 = wi[0], x1 = wi[1], x2 = wi[2];
-        a00 -= p0[t] * x0;
-        a01 -= p0[t] * x1;
-        a02 -= p0[t] * x2;
-        a10 -= p1[t] * x0;
-        a11 -= p1[t] * x1;
-        a12 -= p1[t] * x2;
-        a20 -= p2[t] * x0;
-        a21 -= p2[t] * x1;
-        a22 -= p2[t] * x2;
-        a30 -= p3[t] * x0;
-        a31 -= p3[t] * x1;
-        a32 -= p3[t] * x2;
+        const ls_acc *wi = w + 3u * (size_t)ri[t];
+        const ls_acc x0 = wi[0], x1 = wi[1], x2 = wi[2];
+        a00 -= (ls_acc)p0[t] * x0;
+        a01 -= (ls_acc)p0[t] * x1;
+        a02 -= (ls_acc)p0[t] * x2;
+        a10 -= (ls_acc)p1[t] * x0;
+        a11 -= (ls_acc)p1[t] * x1;
+        a12 -= (ls_acc)p1[t] * x2;
+        a20 -= (ls_acc)p2[t] * x0;
+        a21 -= (ls_acc)p2[t] * x1;
+        a22 -= (ls_acc)p2[t] * x2;
+        a30 -= (ls_acc)p3[t] * x0;
+        a31 -= (ls_acc)p3[t] * x1;
+        a32 -= (ls_acc)p3[t] * x2;
     }
     acc[0] = a00;
     acc[1] = a01;
@@ -190,7 +190,7 @@ static void back_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc,
 }
 
 /* forward (L) and diagonal (1/D), chunked, k = 3 */
-static void forward3(const ls_ldlt *f, ls_real *w)
+static void forward3(const ls_ldlt *f, ls_acc *w)
 {
     uint32_t n = f->n, s = 0, e, c, c2;
     const uint32_t *lp = f->lp, *li = f->li;
@@ -207,7 +207,7 @@ static void forward3(const ls_ldlt *f, ls_real *w)
             const ls_real *lc = lx + lp[c];
             pc[c - s] = lc + (e - 1u - c);
             for (c2 = c + 1u; c2 < e; c2++) {
-                const ls_real l = lc[c2 - c - 1u];
+                const ls_acc l = (ls_acc)lc[c2 - c - 1u];
                 w[3u * (size_t)c2] -= l * w[3u * (size_t)c];
                 w[3u * (size_t)c2 + 1u] -= l * w[3u * (size_t)c + 1u];
                 w[3u * (size_t)c2 + 2u] -= l * w[3u * (size_t)c + 2u];
@@ -219,7 +219,7 @@ static void forward3(const ls_ldlt *f, ls_real *w)
         else if (m == 2) fwd_rows2(r, ri, pc, w + 3u * (size_t)s, w);
         else fwd_rows4(r, ri, pc, w + 3u * (size_t)s, w);
         for (c = s; c < e; c++) {
-            const ls_real di = dinv[c];
+            const ls_acc di = (ls_acc)dinv[c];
             w[3u * (size_t)c] *= di;
             w[3u * (size_t)c + 1u] *= di;
             w[3u * (size_t)c + 2u] *= di;
@@ -229,7 +229,7 @@ static void forward3(const ls_ldlt *f, ls_real *w)
 }
 
 /* backward (L^T), chunked from the last column down, k = 3 */
-static void backward3(const ls_ldlt *f, ls_real *w)
+static void backward3(const ls_ldlt *f, ls_acc *w)
 {
     uint32_t n = f->n, e = n, s, c, c2;
     const uint32_t *lp = f->lp, *li = f->li;
@@ -246,17 +246,17 @@ static void backward3(const ls_ldlt *f, ls_real *w)
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
         {
-            ls_real acc[3u * CHUNK];
-            memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_real));
+            ls_acc acc[3u * CHUNK];
+            memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_acc));
             if (m == 1) back_rows1(r, ri, pc, w, acc);
             else if (m == 2) back_rows2(r, ri, pc, w, acc);
             else back_rows4(r, ri, pc, w, acc);
             for (c = e; c > s; c--) {
                 const uint32_t cc = c - 1u;
                 const ls_real *lc = lx + lp[cc];
-                ls_real *a = acc + 3u * (size_t)(cc - s);
+                ls_acc *a = acc + 3u * (size_t)(cc - s);
                 for (c2 = cc + 1u; c2 < e; c2++) {
-                    const ls_real l = lc[c2 - cc - 1u];
+                    const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
                     a[0] -= l * w[3u * (size_t)c2];
                     a[1] -= l * w[3u * (size_t)c2 + 1u];
                     a[2] -= l * w[3u * (size_t)c2 + 2u];
@@ -271,7 +271,7 @@ static void backward3(const ls_ldlt *f, ls_real *w)
 }
 
 /* The same two passes for any k (the same operations per right-hand side). */
-static void forwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
+static void forwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
 {
     uint32_t n = f->n, s = 0, e, c, c2, t, q;
     const uint32_t *lp = f->lp, *li = f->li;
@@ -286,27 +286,27 @@ static void forwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
         for (c = s; c < e; c++) {
             const ls_real *lc = lx + lp[c];
             for (c2 = c + 1u; c2 < e; c2++) {
-                const ls_real l = lc[c2 - c - 1u];
+                const ls_acc l = (ls_acc)lc[c2 - c - 1u];
                 for (q = 0; q < k; q++) w[(size_t)c2 * k + q] -= l * w[(size_t)c * k + q];
             }
         }
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
         for (t = 0; t < r; t++) {
-            ls_real *wi = w + (size_t)ri[t] * k;
+            ls_acc *wi = w + (size_t)ri[t] * k;
             for (c = 0; c < m; c++) {
-                const ls_real l = lx[lp[s + c] + (e - 1u - (s + c)) + t];
-                const ls_real *wc = w + (size_t)(s + c) * k;
+                const ls_acc l = (ls_acc)lx[lp[s + c] + (e - 1u - (s + c)) + t];
+                const ls_acc *wc = w + (size_t)(s + c) * k;
                 for (q = 0; q < k; q++) wi[q] -= l * wc[q];
             }
         }
         for (c = s; c < e; c++)
-            for (q = 0; q < k; q++) w[(size_t)c * k + q] *= dinv[c];
+            for (q = 0; q < k; q++) w[(size_t)c * k + q] *= (ls_acc)dinv[c];
         s = e;
     }
 }
 
-static void backwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
+static void backwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
 {
     uint32_t n = f->n, e = n, s, c, c2, t, q;
     const uint32_t *lp = f->lp, *li = f->li;
@@ -321,10 +321,10 @@ static void backwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
         for (t = 0; t < r; t++) {
-            const ls_real *wi = w + (size_t)ri[t] * k;
+            const ls_acc *wi = w + (size_t)ri[t] * k;
             for (c = 0; c < m; c++) {
-                const ls_real l = lx[lp[s + c] + (e - 1u - (s + c)) + t];
-                ls_real *wc = w + (size_t)(s + c) * k;
+                const ls_acc l = (ls_acc)lx[lp[s + c] + (e - 1u - (s + c)) + t];
+                ls_acc *wc = w + (size_t)(s + c) * k;
                 for (q = 0; q < k; q++) wc[q] -= l * wi[q];
             }
         }
@@ -332,7 +332,7 @@ static void backwardk(const ls_ldlt *f, uint32_t k, ls_real *w)
             const uint32_t cc = c - 1u;
             const ls_real *lc = lx + lp[cc];
             for (c2 = cc + 1u; c2 < e; c2++) {
-                const ls_real l = lc[c2 - cc - 1u];
+                const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
                 for (q = 0; q < k; q++) w[(size_t)cc * k + q] -= l * w[(size_t)c2 * k + q];
             }
         }
@@ -347,7 +347,7 @@ ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
     *bytes = 0;
     if (f == NULL || k == 0) return LS_ERR_INVALID;
     ls_size_init(&s);
-    ls_size_add(&s, (size_t)f->n * k, sizeof(ls_real));
+    ls_size_add(&s, (size_t)f->n * k, sizeof(ls_acc));
     if ((size_t)f->n * k / k != f->n) return LS_ERR_TOO_LARGE;
     return ls_size_get(&s, bytes);
 }
@@ -355,7 +355,7 @@ ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
 ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena)
 {
     ls_arena_mark mark;
-    ls_real *w;
+    ls_acc *w;
     uint32_t i, c, n;
     size_t bytes;
     if (f == NULL || k == 0 || arena == NULL || (x == NULL && f->n > 0)) return LS_ERR_INVALID;
@@ -363,7 +363,7 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
     if (ls_ldlt_solve_bytes(f, k, &bytes) != LS_OK) return LS_ERR_TOO_LARGE;
     n = f->n;
     mark = ls_arena_save(arena);
-    w = (ls_real *)ls_arena_scratch(arena, (size_t)n * k, sizeof(ls_real));
+    w = (ls_acc *)ls_arena_scratch(arena, (size_t)n * k, sizeof(ls_acc));
     if (w == NULL) return all_finite(x, (size_t)n * k) ? LS_ERR_NOMEM : LS_ERR_NONFINITE;
     /* gather P b; the finiteness checks ride along: x - x is 0 for a finite
      * x and NaN otherwise, and a sum of zeros and NaNs is NaN iff one is */
@@ -371,11 +371,11 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
         ls_real chk0 = 0, chk1 = 0, chk2 = 0;
         for (i = 0; i < n; i++) {
             const ls_real *src = x + 3u * (size_t)f->perm[i];
-            ls_real *dst = w + 3u * (size_t)i;
+            ls_acc *dst = w + 3u * (size_t)i;
             const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
-            dst[0] = v0;
-            dst[1] = v1;
-            dst[2] = v2;
+            dst[0] = (ls_acc)v0;
+            dst[1] = (ls_acc)v1;
+            dst[2] = (ls_acc)v2;
             chk0 += v0 - v0;
             chk1 += v1 - v1;
             chk2 += v2 - v2;
@@ -389,8 +389,8 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
         chk0 = chk1 = chk2 = 0;
         for (i = 0; i < n; i++) {
             ls_real *dst = x + 3u * (size_t)f->perm[i];
-            const ls_real *src = w + 3u * (size_t)i;
-            const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
+            const ls_acc *src = w + 3u * (size_t)i;
+            const ls_real v0 = (ls_real)src[0], v1 = (ls_real)src[1], v2 = (ls_real)src[2];
             dst[0] = v0;
             dst[1] = v1;
             dst[2] = v2;
@@ -407,13 +407,13 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
     }
     for (i = 0; i < n; i++) {
         const ls_real *src = x + (size_t)f->perm[i] * k;
-        for (c = 0; c < k; c++) w[(size_t)i * k + c] = src[c];
+        for (c = 0; c < k; c++) w[(size_t)i * k + c] = (ls_acc)src[c];
     }
     forwardk(f, k, w);
     backwardk(f, k, w);
     for (i = 0; i < n; i++) {
         ls_real *dst = x + (size_t)f->perm[i] * k;
-        for (c = 0; c < k; c++) dst[c] = w[(size_t)i * k + c];
+        for (c = 0; c < k; c++) dst[c] = (ls_real)w[(size_t)i * k + c];
     }
     ls_arena_restore(arena, mark);
     return all_finite(x, (size_t)n * k) ? LS_OK : LS_ERR_NONFINITE;
@@ -421,11 +421,13 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
 
 ls_status ls_ldlt_refine_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
 {
+    ls_size s;
     ls_status st = ls_ldlt_solve_bytes(f, k, bytes);
     if (st != LS_OK) return st;
-    if (*bytes > SIZE_MAX / 2u) return LS_ERR_TOO_LARGE;
-    *bytes *= 2u;
-    return LS_OK;
+    ls_size_init(&s);
+    ls_size_add(&s, (size_t)f->n * k, sizeof(ls_real)); /* the residual */
+    ls_size_add(&s, *bytes, 1u);                        /* the solve's */
+    return ls_size_get(&s, bytes);
 }
 
 ls_status ls_ldlt_refine(const ls_ldlt *f, const ls_csc *a, uint32_t k, const ls_real *b, ls_real *x,

@@ -58,7 +58,7 @@ static ls_status front_bytes(const ls_csc *lap, const ls_param_config *cfg, ls_s
         st = ls_cg_bytes(lap->ncols, cfg->k, &wb);
     } else {
         ls_size_add(s, nk, sizeof(ls_real));
-        st = ls_size_mul(nk, sizeof(ls_real), &wb);
+        st = ls_size_mul(nk, sizeof(ls_acc), &wb); /* ls_ldlt_solve_bytes: n k sums */
         wb = LS_ARENA_ROUND(wb);
     }
     if (st != LS_OK) return st;

@@ -132,7 +132,7 @@ static uint32_t dg_lcg(uint32_t *state)
 }
 
 /* The arena every entry may use (MCU profile: keep it small). */
-#define DG_ARENA_BYTES (48u * 1024u) /* PNG decoding of a small image takes 22 KiB */
+#define DG_ARENA_BYTES (96u * 1024u) /* the ldlt entry takes 80 KiB in double, PNG decoding 22 KiB */
 static LS_ARENA_BUFFER(dg_arena, DG_ARENA_BYTES);
 
 /* ---- core and status ------------------------------------------------- */

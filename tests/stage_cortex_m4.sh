@@ -4,6 +4,9 @@
 #   - float, full-RAM profile: test_mcu, the digest (against fixtures/), hygiene;
 #   - double, full-RAM profile: the same (double arithmetic in soft float);
 #   - float, MCU profile (256 KiB RAM, 8 KiB stack): test_mcu and the digest;
+#   - the float builds sum in float there (SUMS=real: no double FPU), so their
+#     digests are checked against fixtures/digest-float-floatsums.txt, which
+#     the host's SUMS=real float build must reproduce too (checked here);
 #   - the float library contains no double arithmetic (no __aeabi_d* ...),
 #     the check first shown a planted violation (tests/tools/double_probe.c);
 #   - the stack high-water mark of each program, measured by painting, within
@@ -48,6 +51,17 @@ for v in "full float" "full double" "mcu float"; do
         fi
     done
 done
+
+# The host's float build with float sums: the same digest as the M4's.
+log=build/logs/host-float-floatsums.log
+out=""
+if make --no-print-directory -j"$jobs" REAL=float SUMS=real BUILD=build/float-floatsums TARGET= \
+        build/float-floatsums/tests/digest > "$log" 2>&1 &&
+        out=$(sh tests/tools/digest_check.sh build/float-floatsums/tests/digest fixtures/digest-float-floatsums.txt); then
+    ok "host_float_floatsums_digest (the M4's fixture, reproduced on the host)"
+else
+    bad "host_float_floatsums_digest (log: $log)" "$(printf '%s\n' "$out" | grep -v '^ok' | head -n 10)"
+fi
 
 # No double arithmetic in the float library (the double-precision API such as
 # ls_sin aside): the check is first shown a planted violation.

@@ -270,10 +270,11 @@ static void ldlt_backward_error_table(void)
                 e0 = backward_error(&a, 3, x, b);
                 CHECK_STATUS(ls_ldlt_refine(&f, &a, 3, b, x, 2, &arena), LS_OK);
                 e1 = backward_error(&a, 3, x, b);
-                printf("     | %s | %u | %g | %.1e | %.1e |\n", mi == 0 ? "icosphere" : "grid 100x100", m.nv,
+                printf("     | %s | %u | %g | %.3e | %.3e |\n", mi == 0 ? "icosphere" : "grid 100x100", m.nv,
                        lambdas[li], e0, e1);
                 CHECK_MSG(e1 <= limit, "lambda %g: refined backward error %.3g", lambdas[li], e1);
-                if (sizeof(ls_real) == 8) CHECK_MSG(e0 <= limit, "lambda %g: backward error %.3g", lambdas[li], e0);
+                /* float sums (SUMS=real, for FPUs without double): about 2e-6 here */
+                CHECK_MSG(e0 <= (sizeof(ls_acc) == 8 ? limit : 3e-6), "lambda %g: backward error %.3g", lambdas[li], e0);
             } else {
                 printf("     | %s | %u | %g | %s at column %llu (pivot %.3g) | |\n", mi == 0 ? "icosphere" : "grid 100x100",
                        m.nv, lambdas[li], ls_status_name(st), (unsigned long long)dg.index, (double)dg.value);
@@ -358,7 +359,7 @@ static void ldlt_multi_rhs_and_digest(void)
     h = test_hash_reals(x3, 3 * (size_t)n, h);
     printf("     digest (icosphere 642, lambda 19, factor + 3-RHS solve): %016llx\n", (unsigned long long)h);
     /* the same bits on every compiler and architecture (measured: gcc and clang, x86-64) */
-    CHECK(h == (sizeof(ls_real) == 8 ? 0x6640e17f1302a6a3ull : 0x46ec4bba2ee45146ull));
+    CHECK(h == (sizeof(ls_real) == 8 ? 0x6640e17f1302a6a3ull : sizeof(ls_acc) == 8 ? 0x52ecddb881dbff9bull : 0x46ec4bba2ee45146ull));
     free(x3);
     free(x1);
     free(b);

@@ -39,6 +39,7 @@ static int cmd_info(void)
     st = ls_selftest(sizeof(ls_real));
     printf("largesteps %s\n", ls_version_string());
     printf("  ls_real          %s (%u bytes)\n", info.real_name, (unsigned)info.real_bytes);
+    printf("  LDLT sums        %s\n", sizeof(ls_acc) == sizeof(double) ? "double" : "float");
     printf("  arena alignment  %u bytes\n", (unsigned)info.arena_align);
     printf("  pointer, size_t  %u, %u bytes\n", (unsigned)info.pointer_bytes, (unsigned)info.size_bytes);
     printf("  byte order       %s\n", info.big_endian ? "big-endian" : "little-endian");
