@@ -128,7 +128,7 @@ ls_status ls_camera_look_at(const ls_real eye[3], const ls_real target[3], const
 ls_status ls_camera_perspective(ls_real fov, uint32_t fov_axis, ls_real aspect, ls_real near_plane,
                                 ls_real far_plane, ls_real proj[16])
 {
-    ls_real half, t, sx, sy;
+    ls_real half, t, sx, sy, p10, p11;
     int i;
     if (proj == NULL || fov_axis > LS_FOV_Y) return LS_ERR_INVALID;
     if (!finite_r(fov) || !finite_r(aspect) || !finite_r(near_plane) || !finite_r(far_plane))
@@ -146,11 +146,15 @@ ls_status ls_camera_perspective(ls_real fov, uint32_t fov_axis, ls_real aspect, 
         sy = (ls_real)1 / t;
         sx = sy / aspect;
     }
+    p10 = -(far_plane + near_plane) / (far_plane - near_plane);
+    p11 = -((ls_real)2 * far_plane * near_plane) / (far_plane - near_plane);
+    /* huge planes or a tiny fov overflow (proj is then left unchanged) */
+    if (!finite_r(sx) || !finite_r(sy) || !finite_r(p10) || !finite_r(p11)) return LS_ERR_TOO_LARGE;
     for (i = 0; i < 16; i++) proj[i] = (ls_real)0;
     proj[0] = sx;
     proj[5] = sy;
-    proj[10] = -(far_plane + near_plane) / (far_plane - near_plane);
-    proj[11] = -((ls_real)2 * far_plane * near_plane) / (far_plane - near_plane);
+    proj[10] = p10;
+    proj[11] = p11;
     proj[14] = (ls_real)-1;
     return LS_OK;
 }

@@ -147,6 +147,13 @@ ls_status ls_scene_run(ls_scene_pass_fn pass, const ls_scene_input *in, ls_arena
     return LS_OK;
 }
 
+int ls_scene_projection_ok(ls_real fov, uint32_t fov_axis, ls_real near_plane, ls_real far_plane)
+{
+    ls_real proj[16];
+    return ls_camera_perspective(fov, fov_axis, (ls_real)65536, near_plane, far_plane, proj) == LS_OK &&
+           ls_camera_perspective(fov, fov_axis, (ls_real)1 / (ls_real)65536, near_plane, far_plane, proj) == LS_OK;
+}
+
 ls_status ls_scene_projection(const ls_scene *scene, uint32_t index, ls_real proj[16])
 {
     const ls_scene_camera *c;
@@ -247,7 +254,10 @@ static int count_value(const char *text, const token *t, uint32_t max, uint32_t 
 static ls_status set_camera(ls_scene_builder *b, const text_state *ts, const char *at, const ls_real view[16],
                             ls_diag *diag)
 {
-    ls_scene_camera *c = ls_scene_add_camera(b);
+    ls_scene_camera *c;
+    if (!ls_scene_projection_ok(ts->fov, ts->fov_axis, ts->near_plane, ts->far_plane))
+        return ls_scene_error(b, at, "camera: fov and clip planes give a projection that overflows", diag);
+    c = ls_scene_add_camera(b);
     if (c == NULL) return ls_scene_error(b, at, "more cameras than LS_SCENE_MAX_VIEWS", diag);
     memcpy(c->view, view, sizeof c->view);
     c->fov = ts->fov;

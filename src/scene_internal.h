@@ -38,6 +38,11 @@ ls_status ls_scene_error(const ls_scene_builder *b, const char *at, const char *
 /* Compares text[0..len) with the NUL-terminated word. */
 int ls_scene_word_is(const char *text, size_t len, const char *word);
 
+/* 1 when a camera with this fov (radians, on axis fov_axis) and these clip
+ * planes has a finite projection at every aspect a scene can have (1/65536 to
+ * 65536): the check both readers make before accepting a camera. */
+int ls_scene_projection_ok(ls_real fov, uint32_t fov_axis, ls_real near_plane, ls_real far_plane);
+
 /* The input of a reader pass. */
 typedef struct ls_scene_input {
     const char *text;

@@ -429,6 +429,8 @@ static ls_status close_element(ls_scene_builder *b, xml_state *x, unsigned kind,
         ls_real view[16];
         if (!x->has_fov) return ls_scene_error(b, text + at, "sensor without fov", diag);
         if (!(x->far_plane > x->near_plane)) return ls_scene_error(b, text + at, "sensor: far_clip must exceed near_clip", diag);
+        if (!ls_scene_projection_ok(x->fov, x->fov_axis, x->near_plane, x->far_plane))
+            return ls_scene_error(b, text + at, "sensor: fov and clip planes give a projection that overflows", diag);
         if (!sensor_view(x->to_world, view)) return ls_scene_error(b, text + at, "sensor: singular or projective to_world", diag);
         if (x->has_res && (x->film_w != x->res_w || x->film_h != x->res_h))
             return ls_scene_error(b, text + at, "sensors with different film sizes", diag);

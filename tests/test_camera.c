@@ -110,6 +110,14 @@ static void perspective_matches_opengl(void)
     CHECK_STATUS(ls_camera_perspective(1, LS_FOV_X, 1, 2, 1, p), LS_ERR_INVALID);
     CHECK_STATUS(ls_camera_perspective(1, LS_FOV_X, 0, 1, 2, p), LS_ERR_INVALID);
     CHECK_STATUS(ls_camera_perspective(1, LS_FOV_X, (ls_real)INFINITY, 1, 2, p), LS_ERR_NONFINITE);
+    /* overflow: 2 far near beyond the largest ls_real (the fuzzer's find), p unchanged */
+    {
+        ls_real before[16];
+        memcpy(before, p, sizeof before);
+        CHECK_STATUS(ls_camera_perspective(1, LS_FOV_X, 1, 4, LS_REAL_MAX / 2, p), LS_ERR_TOO_LARGE);
+        CHECK_STATUS(ls_camera_perspective(1, LS_FOV_X, LS_REAL_MAX, 1, 2, p), LS_ERR_TOO_LARGE);
+        CHECK(memcmp(before, p, sizeof before) == 0);
+    }
 }
 
 static void orthographic_matches_glortho(void)

@@ -93,6 +93,14 @@ typedef struct bad_case {
 } bad_case;
 
 #define HDR "largesteps-scene 1\n"
+/* clip planes whose projection overflows ls_real (2 far near > the largest) */
+#if LS_REAL_IS_FLOAT
+#define HUGE_FAR "3e38"
+#define HUGE_FAR_LEN 4u
+#else
+#define HUGE_FAR "1e308"
+#define HUGE_FAR_LEN 5u
+#endif
 #define OK_REST "resolution 8 8\ncamera 0 0 3 0 0 0\ntarget mesh a.obj\n"
 
 static const bad_case bad_cases[] = {
@@ -105,6 +113,7 @@ static const bad_case bad_cases[] = {
     {HDR "fov 180\n", 2, 5, "fov"},
     {HDR "fov 40 z\n", 2, 8, "axis"},
     {HDR "clip 2 1\n", 2, 1, "clip"},
+    {HDR "clip 1 " HUGE_FAR "\ncamera 0 0 3 0 0 0\n", 3, 1, "overflows"},
     {HDR "camera 0 0 3 0 0\n", 2, 1, "camera"},
     {HDR "camera 0 0 3 0 0 x3\n", 2, 18, "bad number"},
     {HDR "camera 1 1 1 1 1 1\n", 2, 1, "eye equals target"},
@@ -261,6 +270,8 @@ static const bad_case bad_xml[] = {
      "fov_axis"},
     {"<scene><sensor type=\"perspective\"><transform name=\"to_world\"><rotate angle=\"3\"/></transform></sensor></scene>",
      1, 62, "transform"},
+    {"<scene><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><float name=\"far_clip\" value=\"" HUGE_FAR
+     "\"/></sensor></scene>", 1, 98u + HUGE_FAR_LEN, "overflows"},
     {"<scene><sensor type=\"perspective\"><transform name=\"to_world\"><scale value=\"0\"/></transform>"
      "<float name=\"fov\" value=\"40\"/></sensor></scene>", 1, 122, "singular"},
     {"<scene><sensor type=\"perspective\">", 1, 35, "unclosed"},

@@ -69,7 +69,10 @@ ls_status ls_camera_look_at(const ls_real eye[3], const ls_real target[3], const
  * comment) with full field of view `fov` radians on axis `fov_axis` (LS_FOV_X
  * or LS_FOV_Y), aspect = width / height, and clip planes 0 < near < far.
  * Errors: LS_ERR_INVALID for fov outside (0, pi), a bad axis, aspect <= 0 or
- * planes out of order; LS_ERR_NONFINITE for NaN/inf. O(1), no memory. */
+ * planes out of order; LS_ERR_NONFINITE for NaN/inf; LS_ERR_TOO_LARGE when an
+ * entry would overflow (planes near the largest ls_real, or a fov so small
+ * that 1 / tan(fov / 2) times the aspect does); proj is unchanged on error.
+ * O(1), no memory. */
 ls_status ls_camera_perspective(ls_real fov, uint32_t fov_axis, ls_real aspect, ls_real near_plane,
                                 ls_real far_plane, ls_real proj[16]);
 
