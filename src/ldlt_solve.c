@@ -1,5 +1,7 @@
 /* ldlt_solve.c - solves with an LDL^T factor for k interleaved right-hand
- * sides (n x k row-major), and iterative refinement. */
+ * sides (n x k row-major), and iterative refinement. The permuted right-hand
+ * sides are worked on as ls_acc (double unless SUMS=real, ldlt.h): each
+ * entry of L is widened once per use, every sum rounds once at the end. */
 #include <largesteps/ldlt.h>
 #include <string.h>
 
