@@ -129,15 +129,16 @@ ls_status ls_optim_reset(ls_optim *opt, uint32_t block_count, const uint32_t *bl
     return LS_OK;
 }
 
-/* Both moments of Adam and UniformAdam, element by element. */
-static void update_moments(ls_optim *opt, const ls_real *grad)
+/* Both moments of Adam and UniformAdam, element by element: m1 from g1,
+ * m2 from g2 (the same array for a plain step). */
+static void update_moments(ls_optim *opt, const ls_real *g1, const ls_real *g2)
 {
     const ls_real b1 = opt->config.beta1, b2 = opt->config.beta2;
     const ls_real a1 = (ls_real)1 - b1, a2 = (ls_real)1 - b2;
     uint32_t i;
     for (i = 0; i < opt->count; i++) {
-        const ls_real g = grad[i];
-        opt->m1[i] = b1 * opt->m1[i] + a1 * g;
+        const ls_real g = g2[i];
+        opt->m1[i] = b1 * opt->m1[i] + a1 * g1[i];
         opt->m2[i] = b2 * opt->m2[i] + a2 * (g * g);
     }
 }
@@ -184,25 +185,31 @@ static void sgd(ls_optim *opt, ls_real *params, const ls_real *grad)
     }
 }
 
-ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag)
+/* 1 when every gradient is finite, else the diagnosis of the first that is not. */
+static int grad_finite(const ls_optim *opt, const ls_real *grad, ls_diag *diag)
 {
-    ls_real bc1, bc2, t;
-    uint32_t i, b, first;
-    if (opt == NULL || params == NULL || grad == NULL || opt->m1 == NULL || opt->count == 0 ||
-        !valid_config(&opt->config))
-        return LS_ERR_INVALID;
+    uint32_t i;
     for (i = 0; i < opt->count; i++) {
         if (!is_finite(grad[i])) {
             diag_set(diag, LS_ERR_NONFINITE, "non-finite gradient", i, grad[i]);
-            return LS_ERR_NONFINITE;
+            return 0;
         }
     }
+    return 1;
+}
+
+/* The step with m1 driven by g1 and m2 by g2 (g1 = g2: ls_optim_step). */
+static ls_status step(ls_optim *opt, ls_real *params, const ls_real *g1, const ls_real *g2, ls_diag *diag)
+{
+    ls_real bc1, bc2, t;
+    uint32_t b, first;
+    if (!grad_finite(opt, g1, diag) || (g2 != g1 && !grad_finite(opt, g2, diag))) return LS_ERR_NONFINITE;
     if (opt->step < UINT32_MAX) opt->step++;
     if (opt->config.method == LS_OPTIM_SGD) {
-        sgd(opt, params, grad);
+        sgd(opt, params, g1);
         return LS_OK;
     }
-    update_moments(opt, grad);
+    update_moments(opt, g1, g2);
     t = (ls_real)opt->step;
     bc1 = (ls_real)1 - LS_RPOW(opt->config.beta1, t);
     bc2 = (ls_real)1 - LS_RPOW(opt->config.beta2, t);
@@ -215,4 +222,21 @@ ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_
         first += opt->block_size[b];
     }
     return LS_OK;
+}
+
+ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag)
+{
+    if (opt == NULL || params == NULL || grad == NULL || opt->m1 == NULL || opt->count == 0 ||
+        !valid_config(&opt->config))
+        return LS_ERR_INVALID;
+    return step(opt, params, grad, grad, diag);
+}
+
+ls_status ls_optim_step_mapped(ls_optim *opt, ls_real *params, const ls_real *grad, const ls_real *mapped,
+                               ls_diag *diag)
+{
+    if (opt == NULL || params == NULL || grad == NULL || mapped == NULL || opt->m1 == NULL || opt->count == 0 ||
+        !valid_config(&opt->config) || opt->config.method == LS_OPTIM_ADAM)
+        return LS_ERR_INVALID;
+    return step(opt, params, mapped, grad, diag);
 }

@@ -422,6 +422,18 @@ ls_status ls_param_adjoint(ls_param *p, const ls_real *gx, ls_real *gu)
     return solve(p, gx, gu, p->warm_adj);
 }
 
+ls_status ls_param_adjoint2(ls_param *p, const ls_real *gx, ls_real *gu, ls_real *gu2)
+{
+    ls_status st;
+    if (p == NULL || gx == NULL || gu == NULL || gu2 == NULL || gu2 == gu || gu2 == gx) return LS_ERR_INVALID;
+    if (p->solver == LS_PARAM_GRID && !p->identity) return ls_grid_solver_solve2(&p->gs, gx, gu, gu2);
+    st = solve(p, gx, gu, p->warm_adj);
+    if (st != LS_OK) return st;
+    /* the second solve cold (the adjoint's warm start stays its own): 0 + M^{-1} gu */
+    memset(gu2, 0, (size_t)p->n * p->k * sizeof(ls_real));
+    return ls_param_step(p, gu2, gu, (ls_real)-1, 1u);
+}
+
 ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, uint32_t power)
 {
     size_t nk, i;

@@ -381,6 +381,120 @@ static void sweeps(void)
     }
 }
 
+/* solve2: x1 is the lone solve's bits, x2 two solves to rounding; and the
+ * large-steps iteration moved to x (ls_param_adjoint2 + ls_optim_step_mapped)
+ * follows the u form (adjoint, step on u, x = M^{-1} u) on the transform
+ * solver and on LDL^T, for UniformAdam and SGD with momentum; Adam is refused. */
+static void mapped_steps_follow_u_form(void)
+{
+    const uint32_t W = 24, H = 17, n = W * H, k = 3, steps = 25;
+    const size_t nk = (size_t)n * k;
+    static const uint32_t methods[2] = {LS_OPTIM_UNIFORM_ADAM, LS_OPTIM_SGD};
+    static const uint32_t solvers[2] = {LS_PARAM_GRID, LS_PARAM_LDLT};
+    ls_arena a;
+    unsigned char *buf = new_buf(16u << 20, &a);
+    ls_real *b, *x1, *x2, *y, *wts, *tgt;
+    size_t i;
+    uint32_t mi, si, wrap, t;
+    REQUIRE(buf != NULL);
+    b = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    x1 = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    x2 = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    y = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    wts = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    tgt = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+    REQUIRE(b && x1 && x2 && y && wts && tgt);
+    for (i = 0; i < nk; i++) {
+        b[i] = (ls_real)(urand() - 0.5);
+        wts[i] = (ls_real)(urand() < 0.2 ? urand() * 4.0 : 0.0); /* sparse data, like bilinear taps */
+        tgt[i] = (ls_real)urand();
+    }
+    for (wrap = 0; wrap < 2; wrap++) {
+        ls_arena_mark mk = ls_arena_save(&a);
+        ls_grid_solver g;
+        REQUIRE(ls_grid_solver_init(&g, W, H, wrap, k, &a) == LS_OK);
+        REQUIRE(ls_grid_solver_set_weight(&g, LS_SYSTEM_LAMBDA, (ls_real)30, NULL) == LS_OK);
+        CHECK_STATUS(ls_grid_solver_solve2(&g, b, x1, x2), LS_OK);
+        CHECK_STATUS(ls_grid_solver_solve(&g, b, y), LS_OK);
+        CHECK(memcmp(x1, y, nk * sizeof(ls_real)) == 0);
+        CHECK_STATUS(ls_grid_solver_solve(&g, y, y), LS_OK);
+        printf("     solve2 %s: M^-2 b vs two solves %.3g\n", wrap ? "wrap   " : "neumann", rel_err_r(x2, y, nk));
+        CHECK(rel_err_r(x2, y, nk) <= (LS_REAL_IS_FLOAT ? 1e-5 : 1e-13));
+        CHECK_STATUS(ls_grid_solver_solve2(&g, b, x1, x1), LS_ERR_INVALID);
+        CHECK_STATUS(ls_grid_solver_solve2(&g, b, x1, (ls_real *)b), LS_ERR_INVALID);
+        b[5] = (ls_real)LS_REAL_MAX * (ls_real)4;
+        CHECK_STATUS(ls_grid_solver_solve2(&g, b, x1, x2), LS_ERR_NONFINITE);
+        b[5] = (ls_real)0.25;
+        ls_arena_restore(&a, mk);
+    }
+    for (si = 0; si < 2; si++)
+        for (mi = 0; mi < 2; mi++) {
+            ls_arena_mark mk = ls_arena_save(&a);
+            ls_param par;
+            ls_param_config pc;
+            ls_grid_shape shape;
+            ls_optim_config oc;
+            ls_optim ou, ox;
+            ls_real *u, *xu, *xx, *gx, *gu, *gu2;
+            uint32_t bs[1];
+            double e;
+            memset(&pc, 0, sizeof pc);
+            pc.solver = solvers[si];
+            pc.form = LS_SYSTEM_LAMBDA;
+            pc.weight = (ls_real)30;
+            pc.k = k;
+            pc.order = LS_ORDER_AMD;
+            shape.width = W;
+            shape.height = H;
+            shape.wrap_u = 0;
+            REQUIRE(ls_param_grid_init(&par, &shape, &pc, &a, NULL) == LS_OK);
+            REQUIRE(ls_optim_config_default(methods[mi], &oc) == LS_OK);
+            oc.lr = (ls_real)0.05;
+            bs[0] = (uint32_t)nk;
+            REQUIRE(ls_optim_init(&ou, &oc, (uint32_t)nk, 1, bs, &a) == LS_OK);
+            REQUIRE(ls_optim_init(&ox, &oc, (uint32_t)nk, 1, bs, &a) == LS_OK);
+            u = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            xu = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            xx = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            gx = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            gu = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            gu2 = (ls_real *)ls_arena_alloc(&a, nk, sizeof(ls_real));
+            REQUIRE(u && xu && xx && gx && gu && gu2);
+            for (i = 0; i < nk; i++) xu[i] = xx[i] = (ls_real)0.5;
+            REQUIRE(ls_param_to_differential(&par, xu, u) == LS_OK);
+            for (t = 0; t < steps; t++) {
+                /* loss sum wts (x - tgt)^2 / 2 at each form's own x */
+                for (i = 0; i < nk; i++) gx[i] = wts[i] * (xu[i] - tgt[i]);
+                REQUIRE(ls_param_adjoint(&par, gx, gu) == LS_OK);
+                REQUIRE(ls_optim_step(&ou, u, gu, NULL) == LS_OK);
+                REQUIRE(ls_param_from_differential(&par, u, xu) == LS_OK);
+                for (i = 0; i < nk; i++) gx[i] = wts[i] * (xx[i] - tgt[i]);
+                REQUIRE(ls_param_adjoint2(&par, gx, gu, gu2) == LS_OK);
+                REQUIRE(ls_optim_step_mapped(&ox, xx, gu, gu2, NULL) == LS_OK);
+            }
+            e = rel_err_r(xx, xu, nk);
+            printf("     %s, %s: x after %u mapped steps vs the u form %.3g\n", si == 0 ? "grid  " : "LDL^T ",
+                   mi == 0 ? "UniformAdam" : "SGD        ", (unsigned)steps, e);
+            CHECK(e <= (LS_REAL_IS_FLOAT ? 1e-4 : 1e-11));
+            CHECK(rel_err_r(xx, tgt, nk) > 1e-3); /* it moved, but not onto the data */
+            CHECK_STATUS(ls_param_adjoint2(&par, gx, gu, gu), LS_ERR_INVALID);
+            oc.lr = (ls_real)0.05;
+            {
+                ls_optim oa;
+                ls_optim_config ac;
+                REQUIRE(ls_optim_config_default(LS_OPTIM_ADAM, &ac) == LS_OK);
+                REQUIRE(ls_optim_init(&oa, &ac, (uint32_t)nk, 1, bs, &a) == LS_OK);
+                CHECK_STATUS(ls_optim_step_mapped(&oa, xx, gu, gu2, NULL), LS_ERR_INVALID);
+            }
+            gu[7] = gu[7] / (ls_real)0;
+            memcpy(y, xx, nk * sizeof(ls_real));
+            CHECK_STATUS(ls_optim_step_mapped(&ox, xx, gu, gu2, NULL), LS_ERR_NONFINITE);
+            CHECK(memcmp(y, xx, nk * sizeof(ls_real)) == 0);
+            ls_arena_restore(&a, mk);
+        }
+    free(buf);
+}
+
 int main(void)
 {
     TEST_INIT("test_grid_solve");
@@ -391,5 +505,6 @@ int main(void)
     TEST_RUN(set_weight_and_extremes);
     TEST_RUN(errors);
     TEST_RUN(sweeps);
+    TEST_RUN(mapped_steps_follow_u_form);
     return TEST_END();
 }

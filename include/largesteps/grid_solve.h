@@ -124,6 +124,14 @@ ls_status ls_grid_solver_set_weight(ls_grid_solver *g, uint32_t form, ls_real we
  * n: x is then set to zero). */
 ls_status ls_grid_solver_solve(ls_grid_solver *g, const ls_real *b, ls_real *x);
 
+/* ls_grid_solver_solve2: x1 = M^{-1} b and x2 = M^{-2} b for the price of
+ * one forward and two inverse transforms (two solves take two of each).
+ * x1 may equal b; x2 must overlap neither. x1 is bit for bit what
+ * ls_grid_solver_solve gives; x2 agrees with two solves to rounding.
+ * Errors: as ls_grid_solver_solve (both outputs), LS_ERR_INVALID also for
+ * x2 equal to x1 or b (a partial overlap is not detected). */
+ls_status ls_grid_solver_solve2(ls_grid_solver *g, const ls_real *b, ls_real *x1, ls_real *x2);
+
 /* ls_grid_solver_apply: y = M x by the 5-point stencil (n x k; y must not
  * overlap x), the neighbours summed in the order -y, -x, +x, +y. O(n k); no
  * memory. Errors: LS_ERR_INVALID (NULL). */

@@ -109,6 +109,19 @@ ls_status ls_optim_reset(ls_optim *opt, uint32_t block_count, const uint32_t *bl
  * changed). A parameter that overflows to infinity is not detected here. */
 ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag);
 
+/* ls_optim_step_mapped: the step of ls_optim_step on parameters u, applied
+ * to params = A u for a fixed linear map A (large steps: A = M^{-1}, so the
+ * optimizer moves x without solving for it). grad is the gradient with
+ * respect to u (it drives m2 and so the block maxima) and mapped = A grad
+ * (it drives m1, which then holds A m1). Because UniformAdam's normalization
+ * is one scalar per block and SGD's momentum is linear, params move exactly
+ * as A u would, up to rounding; per-element Adam does not commute with A and
+ * is refused. The state must only ever be stepped one way. Cost as
+ * ls_optim_step. Errors: LS_ERR_INVALID (as ls_optim_step; also Adam, a NULL
+ * mapped), LS_ERR_NONFINITE (in grad or mapped; nothing changed). */
+ls_status ls_optim_step_mapped(ls_optim *opt, ls_real *params, const ls_real *grad, const ls_real *mapped,
+                               ls_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

@@ -159,6 +159,15 @@ ls_status ls_param_from_differential(ls_param *p, const ls_real *u, ls_real *x);
  * start for it. */
 ls_status ls_param_adjoint(ls_param *p, const ls_real *gx, ls_real *gu);
 
+/* ls_param_adjoint2: gu = M^{-1} gx (as ls_param_adjoint) and gu2 = M^{-2} gx
+ * = M^{-1} gu, for ls_optim_step_mapped (a step on u applied to x = M^{-1} u
+ * directly: the large-steps iteration without from_differential). GRID: one
+ * forward and two inverse transforms (ls_grid_solver_solve2) instead of the
+ * two solves, i.e. four transforms, of adjoint + from_differential; LDL^T and
+ * CG: two solves (the second cold). gu2 must be neither gx nor gu. Errors: as
+ * ls_param_adjoint. */
+ls_status ls_param_adjoint2(ls_param *p, const ls_real *gx, ls_real *gu, ls_real *gu2);
+
 /* ls_param_step: x <- x - eta M^{-power} g (power >= 1), by `power`
  * successive solves of g's copy (warm starts are not used or changed: CG
  * starts from zero). Cost power solves. Errors: LS_ERR_INVALID (power = 0,

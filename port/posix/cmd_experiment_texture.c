@@ -20,7 +20,11 @@
  * L = mean over training pixels and RGB of (I - I*)^2:
  *   naive        Adam on x;
  *   regularized  Adam on L + w tr(x^T Lg x), Lg the 4-neighbour grid Laplacian;
- *   large steps  u = (I + lambda Lg) x, UniformAdam on u (ls_param on Lg).
+ *   large steps  u = (I + lambda Lg) x, UniformAdam on u (ls_param on Lg),
+ *                applied to x directly (ls_param_adjoint2 gives M^-1 g and
+ *                M^-2 g, ls_optim_step_mapped steps x = M^-1 u): one forward
+ *                and two inverse grid transforms per iteration instead of
+ *                the four of adjoint + from_differential.
  * Each is tuned on a small grid (learning rate; w or lambda) by the PSNR of
  * the 2 validation views after a short run, then run for the same time
  * (process CPU time of the iterations: the machine may be shared; the
@@ -52,10 +56,23 @@
 #define TX_TEST 4u
 #define TX_MAX_VIEWS 64u
 
+#define TX_GRID_MAX 8u
+#define M_NAIVE 0
+#define M_REG 1
+#define M_LS 2
+
+/* A tuning grid: up to TX_GRID_MAX values (n = 0: the method's default). */
+typedef struct tx_grid {
+    double v[TX_GRID_MAX];
+    uint32_t n;
+} tx_grid;
+
 typedef struct tx_args {
     const char *out, *image, *scene;
-    uint32_t res, views, side, full;
+    uint32_t res, views, side, full, fit_ss, own_targets;
     double tune_s, run_s;
+    uint32_t methods;                   /* bit m: run method m */
+    tx_grid lr[3], weight[3];           /* per method; weight: w (regularized) or lambda (large steps) */
 } tx_args;
 
 /* Geometry, UVs and the views (vis buffers of the fit and the targets). */
@@ -64,7 +81,7 @@ typedef struct tx_problem {
     ls_real *pos, *uv, *nrm;
     uint32_t *idx;
     ls_real mvp[TX_MAX_VIEWS][16];
-    ls_vis vis1[TX_MAX_VIEWS];  /* S = 1, for the fit */
+    ls_vis vis1[TX_MAX_VIEWS];  /* S = fit_ss, for the fit */
     ls_vis vis4;                /* S = 4, re-rasterized per evaluation view */
     ls_real *targets[TX_MAX_VIEWS]; /* RGBA, S = 4 renders of the true texture */
     ls_real *truth;             /* the true texture, 1024^2 */
@@ -91,6 +108,65 @@ static double now_s(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+/* Parses a comma list of positive numbers into g; 0 when malformed. */
+static int parse_grid(const char *v, tx_grid *g)
+{
+    g->n = 0;
+    while (*v != '\0') {
+        char *end;
+        double d = strtod(v, &end);
+        if (end == v || !(d > 0) || !(d < 1e300) || g->n == TX_GRID_MAX || (*end != ',' && *end != '\0')) return 0;
+        g->v[g->n++] = d;
+        v = *end == ',' ? end + 1 : end;
+    }
+    return g->n > 0;
+}
+
+/* Parses --methods: a comma list of naive, reg, ls into a bit set; 0 when malformed. */
+static uint32_t parse_methods(const char *v)
+{
+    static const char *const names[3] = {"naive", "reg", "ls"};
+    uint32_t bits = 0;
+    while (*v != '\0') {
+        size_t len = strcspn(v, ",");
+        int m, found = 0;
+        for (m = 0; m < 3; m++)
+            if (strlen(names[m]) == len && strncmp(v, names[m], len) == 0) {
+                bits |= 1u << m;
+                found = 1;
+            }
+        if (!found) return 0;
+        v += len;
+        if (*v == ',') v++;
+    }
+    return bits;
+}
+
+/* Fills the grids the command line left empty with the defaults. */
+static void default_grids(tx_args *a, uint32_t footprint)
+{
+    static const double lr_adam[3] = {0.03, 0.1, 0.3}, lr_ua[3] = {0.01, 0.03, 0.1};
+    double fp2 = (double)footprint * footprint, w0 = 1e-6 * fp2 / ((double)a->side * a->side / 16384.0);
+    int m, i;
+    for (m = 0; m < 3; m++)
+        if (a->lr[m].n == 0) {
+            a->lr[m].n = 3;
+            for (i = 0; i < 3; i++) a->lr[m].v[i] = m == M_LS ? lr_ua[i] : lr_adam[i];
+        }
+    if (a->weight[M_NAIVE].n == 0) {
+        a->weight[M_NAIVE].n = 1;
+        a->weight[M_NAIVE].v[0] = 0;
+    }
+    if (a->weight[M_REG].n == 0) {
+        a->weight[M_REG].n = 3;
+        for (i = 0; i < 3; i++) a->weight[M_REG].v[i] = w0 * (i == 0 ? 1 : i == 1 ? 10 : 100);
+    }
+    if (a->weight[M_LS].n == 0) {
+        a->weight[M_LS].n = 3;
+        for (i = 0; i < 3; i++) a->weight[M_LS].v[i] = fp2 * (i == 0 ? 1 : i == 1 ? 4 : 16);
+    }
+}
+
 static int usage(FILE *f)
 {
     fprintf(f, "usage: largesteps experiment texture [options] -o DIR\n"
@@ -98,10 +174,18 @@ static int usage(FILE *f)
                "  --scene S     quad (default) or sphere\n"
                "  --res R       render size R x R (default 108)\n"
                "  --views N     training views (default 8)\n"
+               "  --fit-ss S    samples per pixel side of the fit's renders: 1 (default), 2 or 4\n"
+               "  --targets T   training targets: box (default: 4 x 4 samples, box resolve) or fit\n"
+               "                (rendered like the fit's renders, --fit-ss); error renders are always box\n"
                "  --side N      fitted texture side (default 256; --full: 1024)\n"
                "  --tune S      seconds per tuning run (default 2)\n"
                "  --time S      seconds per final run (default 12)\n"
-               "  --full        acceptance run: --side 1024 --tune 20 --time 90\n",
+               "  --full        acceptance run: --side 1024 --tune 20 --time 90\n"
+               "  --methods L   comma list of naive, reg, ls (default all three)\n"
+               "  --lr-naive L, --lr-reg L, --lr-ls L    learning-rate grids (comma lists;\n"
+               "                default 0.03,0.1,0.3 for Adam, 0.01,0.03,0.1 for large steps)\n"
+               "  --w-reg L, --lambda-ls L   weight grids (default: w = 1e-6, 1e-5, 1e-4 x f^2 / (side^2 / 128^2),\n"
+               "                lambda = 1, 4, 16 x f^2; f the footprint below)\n",
             TX_DEFAULT_IMAGE);
     return f == stderr ? 2 : 0;
 }
@@ -295,9 +379,6 @@ static double texture_psnr(const tx_problem *p, const ls_real *texels, uint32_t 
 
 /* ---- the fit ---- */
 
-#define M_NAIVE 0
-#define M_REG 1
-#define M_LS 2
 static const char *const method_names[3] = {"naive (Adam)", "regularized (Adam + w tr(x^T L x))", "large steps (UniformAdam, I + lambda L)"};
 
 typedef struct tx_run {
@@ -318,7 +399,7 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
     size_t np = (size_t)p->res * p->res, i;
     ls_real *g = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
     ls_real *gimg = (ls_real *)ls_arena_alloc(a, 4 * np, sizeof(ls_real));
-    ls_real *u = NULL, *greg = NULL;
+    ls_real *gu2 = NULL, *greg = NULL;
     ls_optim opt;
     ls_optim_config oc;
     ls_texture tex;
@@ -342,9 +423,9 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
         greg = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
         if (greg == NULL) goto done;
     }
-    if (m == M_LS) {
-        u = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
-        if (u == NULL || ls_param_to_differential(par, x, u) != LS_OK) goto done;
+    if (m == M_LS) { /* M^{-2} g: the optimizer moves x = M^{-1} u directly (ls_optim_step_mapped) */
+        gu2 = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
+        if (gu2 == NULL) goto done;
     }
     if (ls_texture_init(&tex, side, side, p->wrap, x) != LS_OK) goto done;
     o.texture = &tex;
@@ -375,8 +456,7 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
             for (i = 0; i < 3u * (size_t)n; i++) g[i] += greg[i];
             if (ls_optim_step(&opt, x, g, NULL) != LS_OK) goto done;
         } else {
-            if (ls_param_adjoint(par, g, greg) != LS_OK || ls_optim_step(&opt, u, greg, NULL) != LS_OK ||
-                ls_param_from_differential(par, u, x) != LS_OK)
+            if (ls_param_adjoint2(par, g, greg, gu2) != LS_OK || ls_optim_step_mapped(&opt, x, greg, gu2, NULL) != LS_OK)
                 goto done;
         }
         r.iters++;
@@ -513,12 +593,22 @@ static int setup(tx_problem *p, const tx_args *a)
         uint32_t cov = 0;
         size_t i;
         view_matrix(p, sphere, k, p->mvp[k]);
-        if (ls_vis_init(&p->vis1[k], p->arena, a->res, a->res, 1, p->nv) != LS_OK ||
+        if (ls_vis_init(&p->vis1[k], p->arena, a->res, a->res, a->fit_ss, p->nv) != LS_OK ||
             ls_raster(&p->vis1[k], p->arena, p->mvp[k], p->pos, p->nv, p->idx, p->nt, NULL) != LS_OK)
             return 0;
         p->targets[k] = (ls_real *)ls_arena_alloc(p->arena, 4 * np, sizeof(ls_real));
-        if (p->targets[k] == NULL || !render4(p, p->truth, p->truth_side, k, p->targets[k])) return 0;
-        for (i = 0; i < np; i++) cov += p->vis1[k].tri[i] != 0;
+        if (p->targets[k] == NULL) return 0;
+        if (k < p->ntrain && a->own_targets) { /* training targets by the fit's own forward model */
+            ls_texture tex;
+            ls_shade_opts o = p->opts;
+            if (ls_texture_init(&tex, p->truth_side, p->truth_side, p->wrap, p->truth) != LS_OK) return 0;
+            o.texture = &tex;
+            if (ls_shade(&p->vis1[k], p->idx, p->nt, p->nrm, p->nv, &o, p->targets[k], NULL) != LS_OK) return 0;
+        } else if (!render4(p, p->truth, p->truth_side, k, p->targets[k])) {
+            return 0;
+        }
+        for (i = 0; i < np * a->fit_ss * a->fit_ss; i++) cov += p->vis1[k].tri[i] != 0;
+        cov /= a->fit_ss * a->fit_ss;
         if (cov > maxcov) maxcov = cov;
     }
     /* footprint: texels per pixel along the quad (sphere: along the equator's visible half) */
@@ -546,10 +636,13 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     a.image = TX_DEFAULT_IMAGE;
     a.scene = "quad";
     a.res = 108;
+    a.fit_ss = 1;
+    a.own_targets = 0;
     a.views = 8;
     a.side = 0;
     a.tune_s = 2;
     a.run_s = 12;
+    a.methods = 7u;
     for (i = 1; i < argc; i++) {
         const char *opt = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(opt, "--full") == 0) {
@@ -562,11 +655,19 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         if (strcmp(opt, "-o") == 0) a.out = v;
         else if (strcmp(opt, "--image") == 0) a.image = v;
         else if (strcmp(opt, "--scene") == 0 && (strcmp(v, "quad") == 0 || strcmp(v, "sphere") == 0)) a.scene = v;
+        else if (strcmp(opt, "--targets") == 0 && (strcmp(v, "box") == 0 || strcmp(v, "fit") == 0)) a.own_targets = strcmp(v, "fit") == 0;
+        else if (strcmp(opt, "--fit-ss") == 0 && (atoi(v) == 1 || atoi(v) == 2 || atoi(v) == 4)) a.fit_ss = (uint32_t)atoi(v);
         else if (strcmp(opt, "--res") == 0 && atoi(v) >= 8 && atoi(v) <= 1024) a.res = (uint32_t)atoi(v);
         else if (strcmp(opt, "--views") == 0 && atoi(v) >= 1 && atoi(v) <= (int)(TX_MAX_VIEWS - TX_VAL - TX_TEST)) a.views = (uint32_t)atoi(v);
         else if (strcmp(opt, "--side") == 0 && atoi(v) >= 4 && atoi(v) <= 1024) a.side = (uint32_t)atoi(v);
         else if (strcmp(opt, "--tune") == 0 && atof(v) > 0) a.tune_s = atof(v);
         else if (strcmp(opt, "--time") == 0 && atof(v) > 0) a.run_s = atof(v);
+        else if (strcmp(opt, "--methods") == 0 && (a.methods = parse_methods(v)) != 0) continue;
+        else if (strcmp(opt, "--lr-naive") == 0 && parse_grid(v, &a.lr[M_NAIVE])) continue;
+        else if (strcmp(opt, "--lr-reg") == 0 && parse_grid(v, &a.lr[M_REG])) continue;
+        else if (strcmp(opt, "--lr-ls") == 0 && parse_grid(v, &a.lr[M_LS])) continue;
+        else if (strcmp(opt, "--w-reg") == 0 && parse_grid(v, &a.weight[M_REG])) continue;
+        else if (strcmp(opt, "--lambda-ls") == 0 && parse_grid(v, &a.weight[M_LS])) continue;
         else return usage(stderr);
     }
     if (a.out == NULL) return usage(stderr);
@@ -585,57 +686,52 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     buf = (ls_real *)ls_arena_alloc(&arena, 16u * a.res * a.res * TX_SS_TARGET * TX_SS_TARGET / 16u, sizeof(ls_real));
     for (m = 0; m < 3; m++) fitted[m] = (ls_real *)ls_arena_alloc(&arena, 3u * a.side * a.side, sizeof(ls_real));
     if (buf == NULL || fitted[0] == NULL || fitted[1] == NULL || fitted[2] == NULL) return fprintf(stderr, "out of memory\n"), 1;
+    for (m = 0; m < 3; m++) { /* grey: what the figure shows for a method not run */
+        size_t q;
+        for (q = 0; q < 3u * (size_t)a.side * a.side; q++) fitted[m][q] = (ls_real)0.5;
+    }
     snprintf(path, sizeof path, "%s/texture.md", a.out);
     snprintf(tmp, sizeof tmp, "%s/.texture.md.tmp", a.out);
     f = fopen(tmp, "w");
     if (f == NULL) return fprintf(stderr, "largesteps experiment texture: cannot write %s\n", path), 1;
     fprintf(f, "# experiment texture: %s, target %s (centre square, 1024^2), fitted texture %u^2\n\n", a.scene, a.image,
             (unsigned)a.side);
-    fprintf(f, "%u training, %u validation (tuning), %u held-out views at %u x %u; fit renders 1 sample/pixel, "
+    fprintf(f, "%u training, %u validation (tuning), %u held-out views at %u x %u; fit renders %u x %u samples/pixel, "
                "targets and error renders 4 x 4 samples/pixel (box); texture error on %u x %u texel blocks; "
                "large-steps solver %s.\n\n",
-            (unsigned)a.views, TX_VAL, TX_TEST, (unsigned)a.res, (unsigned)a.res, (unsigned)p.footprint,
+            (unsigned)a.views, TX_VAL, TX_TEST, (unsigned)a.res, (unsigned)a.res, (unsigned)a.fit_ss, (unsigned)a.fit_ss, (unsigned)p.footprint,
             (unsigned)p.footprint, tx_solver(a.side) == LS_PARAM_LDLT ? "LDL^T (AMD)" : tx_solver(a.side) == LS_PARAM_CG ? "CG" : "the grid's transform solver");
     /* tuning grids: learning rate, and w (regularized) or lambda (large steps), scaled with the footprint */
-    {
-        static const double lrs_adam[3] = {0.03, 0.1, 0.3}, lrs_ua[3] = {0.03, 0.1, 0.3};
-        double fp2 = (double)p.footprint * p.footprint;
-        double ws[3], lambdas[3];
-        int gi, gj;
-        ws[0] = 1e-6 * fp2 / (a.side * a.side / 16384.0);
-        ws[1] = 10 * ws[0];
-        ws[2] = 100 * ws[0];
-        lambdas[0] = 0.25 * fp2;
-        lambdas[1] = fp2;
-        lambdas[2] = 4 * fp2;
-        fprintf(f, "## tuning (%.0f s per run; validation-view PSNR in dB)\n\n| method | lr | w or lambda | iterations | train loss | validation PSNR |\n|---|---|---|---|---|---|\n",
-                a.tune_s);
-        for (m = 0; m < 3; m++) {
-            best[m].val = -1e30;
-            best[m].ok = 0;
-            for (gj = 0; gj < (m == M_NAIVE ? 1 : 3); gj++) {
-                double w = m == M_REG ? ws[gj] : m == M_LS ? lambdas[gj] : 0, setup = 0;
-                ls_arena_mark pm = ls_arena_save(&arena);
-                ls_param par;
-                if (m == M_LS && (setup = make_param(&p, w, &par)) < 0) {
-                    fprintf(stderr, "largesteps experiment texture: the parameterization failed\n");
+    default_grids(&a, p.footprint);
+    fprintf(f, "## tuning (%.0f s per run; validation-view PSNR in dB)\n\n| method | lr | w or lambda | iterations | train loss | validation PSNR |\n|---|---|---|---|---|---|\n",
+            a.tune_s);
+    for (m = 0; m < 3; m++) {
+        uint32_t gi, gj;
+        best[m].val = -1e30;
+        best[m].ok = 0;
+        if ((a.methods & (1u << m)) == 0) continue;
+        for (gj = 0; gj < a.weight[m].n; gj++) {
+            double w = a.weight[m].v[gj], setup = 0;
+            ls_arena_mark pm = ls_arena_save(&arena);
+            ls_param par;
+            if (m == M_LS && (setup = make_param(&p, w, &par)) < 0) {
+                fprintf(stderr, "largesteps experiment texture: the parameterization failed\n");
+                continue;
+            }
+            for (gi = 0; gi < a.lr[m].n; gi++) {
+                double lr = a.lr[m].v[gi];
+                tx_run r = fit(&p, m, lr, w, a.tune_s, fitted[m], buf, m == M_LS ? &par : NULL);
+                if (!r.ok) {
+                    fprintf(stderr, "largesteps experiment texture: %s lr %g failed\n", method_names[m], lr);
                     continue;
                 }
-                for (gi = 0; gi < 3; gi++) {
-                    double lr = m == M_LS ? lrs_ua[gi] : lrs_adam[gi];
-                    tx_run r = fit(&p, m, lr, w, a.tune_s, fitted[m], buf, m == M_LS ? &par : NULL);
-                    if (!r.ok) {
-                        fprintf(stderr, "largesteps experiment texture: %s lr %g failed\n", method_names[m], lr);
-                        continue;
-                    }
-                    r.setup = setup;
-                    evaluate(&p, &r, fitted[m], buf, 0);
-                    fprintf(f, "| %s | %g | %g | %u | %.3g | %.2f |\n", method_names[m], lr, w, (unsigned)r.iters, r.loss, r.val);
-                    fflush(f);
-                    if (r.val > best[m].val) best[m] = r;
-                }
-                ls_arena_restore(&arena, pm);
+                r.setup = setup;
+                evaluate(&p, &r, fitted[m], buf, 0);
+                fprintf(f, "| %s | %g | %g | %u | %.3g | %.2f |\n", method_names[m], lr, w, (unsigned)r.iters, r.loss, r.val);
+                fflush(f);
+                if (r.val > best[m].val) best[m] = r;
             }
+            ls_arena_restore(&arena, pm);
         }
     }
     fprintf(f, "\n## equal time (%.0f s of iterations each), tuned settings\n\n| method | lr | w or lambda | setup (s) | iterations | seconds | train loss | held-out PSNR (dB) | texture PSNR, low-passed (dB) |\n|---|---|---|---|---|---|---|---|---|\n",
