@@ -226,10 +226,9 @@ static ls_status total(const fit_sizes *z, size_t *bytes)
 }
 
 /* Sizes of everything but the solver, for a mesh with `edges` unique edges. */
-static ls_status base_sizes(const ls_fit_config *c, uint32_t views, const ls_mesh *m, uint32_t edges, fit_sizes *z)
+static ls_status base_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, uint32_t edges, fit_sizes *z)
 {
     ls_status st;
-    uint32_t n = m->vertex_count, f = m->face_count;
     memset(z, 0, sizeof *z);
     st = array_sizes(c, views, n, f, &z->arrays);
     if (st == LS_OK) st = ls_laplacian_bytes(n, f, edges, LS_LAP_UPPER, &z->lap);
@@ -239,10 +238,16 @@ static ls_status base_sizes(const ls_fit_config *c, uint32_t views, const ls_mes
     return st;
 }
 
+/* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */
+typedef struct fit_counts {
+    uint32_t vertices, faces, edges, factor_nnz;
+} fit_counts;
+
 /* ls_fit_bytes in the frame of unit `scale`: the ordering of the factor
- * sees the normalized coordinates, as ls_fit_init gives them. */
+ * sees the normalized coordinates, as ls_fit_init gives them. *counts
+ * (optional) receives the mesh's counts and its factor's fill. */
 static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                                 ls_real scale, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+                                 ls_real scale, ls_arena *scratch, size_t *bytes, fit_counts *counts, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_mesh_edges e;
@@ -251,6 +256,7 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     fit_sizes z;
     ls_real *xyz;
     size_t peak, used, block;
+    uint32_t l_nnz = 0;
     ls_status st;
     mark = ls_arena_save(scratch);
     peak = scratch->peak;
@@ -261,12 +267,12 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     if (st == LS_OK && xyz == NULL) st = LS_ERR_NOMEM;
     if (st == LS_OK) st = frame_positions(initial, scale, xyz, diag);
     if (st == LS_OK) st = ls_mesh_edges_build(initial, scratch, &e, diag);
-    if (st == LS_OK) st = base_sizes(config, views->count, initial, e.count, &z);
+    if (st == LS_OK) st = base_sizes(config, views->count, initial->vertex_count, initial->face_count, e.count, &z);
     if (st == LS_OK) st = ls_laplacian_uniform(initial, LS_LAP_UPPER, scratch, &lap, diag);
     if (st == LS_OK) st = iteration_scratch(config, initial->vertex_count, initial->face_count, &lap, &z.iteration);
     if (st == LS_OK && config->method == LS_FIT_LARGE_STEPS) {
         param_config(config, &pc);
-        st = ls_param_bytes(&lap, &pc, xyz, scratch, &z.param);
+        st = ls_param_bytes_fill(&lap, &pc, xyz, scratch, &z.param, &l_nnz);
     }
     /* ls_fit_init runs this same measurement in its arena before taking the
      * block: the answer covers both */
@@ -277,6 +283,12 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     st = total(&z, &block);
     if (st != LS_OK) return st;
     *bytes = block > used ? block : used;
+    if (counts != NULL) {
+        counts->vertices = initial->vertex_count;
+        counts->faces = initial->face_count;
+        counts->edges = e.count;
+        counts->factor_nnz = l_nnz;
+    }
     return LS_OK;
 }
 
@@ -289,7 +301,7 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
     st = check_config(config, views, initial);
     if (st != LS_OK) return st;
     measure_frame(initial, &scale, &radius);
-    return fit_bytes_frame(config, views, initial, scale, scratch, bytes, diag);
+    return fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
 }
 
 /* Allocations from the block, in the layout's order. */
@@ -317,20 +329,26 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
     return fit->mvp != NULL;
 }
 
-/* ls_fit_init in a given frame (ls_fit_remesh keeps the first fit's). */
+static ls_status within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag);
+
+/* ls_fit_init in a given frame (ls_fit_remesh keeps the first fit's); lim
+ * (optional): a job's capacity, checked before anything is taken. */
 static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
-                                const ls_mesh *initial, ls_real scale, ls_real radius, ls_arena *arena, ls_diag *diag)
+                                const ls_mesh *initial, ls_real scale, ls_real radius, const fit_counts *lim,
+                                ls_arena *arena, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_param_config pc;
     ls_optim_config oc;
     size_t bytes, reserve;
+    fit_counts have;
     void *mem;
     uint32_t n, nf;
     ls_status st;
     mark = ls_arena_save(arena);
     /* the block: measured with the arena's free top as scratch */
-    st = fit_bytes_frame(config, views, initial, scale, arena, &bytes, diag);
+    st = fit_bytes_frame(config, views, initial, scale, arena, &bytes, &have, diag);
+    if (st == LS_OK && lim != NULL) st = within(&have, lim, 0, diag);
     if (st != LS_OK) return st;
     mem = ls_arena_alloc(arena, bytes, 1);
     if (mem == NULL) return LS_ERR_NOMEM;
@@ -382,23 +400,32 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
     return LS_OK;
 }
 
-ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                      ls_arena *arena, ls_diag *diag)
+/* The arguments of ls_fit_init and ls_fit_init_job. */
+static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                              ls_diag *diag)
 {
-    ls_real scale, radius;
     uint32_t i;
-    ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
-    memset(fit, 0, sizeof *fit);
-    st = check_config(config, views, initial);
+    ls_status st = check_config(config, views, initial);
     if (st != LS_OK) return st;
     for (i = 0; i < 3u * initial->vertex_count; i++)
         if (!finite_r(initial->positions[i])) {
             diag_set(diag, LS_ERR_NONFINITE, "initial mesh: non-finite coordinate", i / 3u);
             return LS_ERR_NONFINITE;
         }
+    return LS_OK;
+}
+
+ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                      ls_arena *arena, ls_diag *diag)
+{
+    ls_real scale, radius;
+    ls_status st;
+    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    memset(fit, 0, sizeof *fit);
+    st = init_args_ok(config, views, initial, diag);
+    if (st != LS_OK) return st;
     measure_frame(initial, &scale, &radius);
-    return fit_init_frame(fit, config, views, initial, scale, radius, arena, diag);
+    return fit_init_frame(fit, config, views, initial, scale, radius, NULL, arena, diag);
 }
 
 static uint64_t now(const ls_monitor *m)
@@ -677,31 +704,23 @@ ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
     return LS_OK;
 }
 
-ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
-                        ls_diag *diag)
+/* The current mesh remeshed to h_factor x its mean edge (ls_fit_remesh's
+ * first half) into *out at the bottom of `work`, in caller units (the
+ * frame's positions times S: exact), from positions in work's scratch;
+ * vertex_cap as in ls_remesh_params (0: the remesher's estimate). The
+ * caller restores `work`. */
+static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, uint32_t vertex_cap, ls_mesh *out,
+                                ls_remesh_info *info, ls_diag *diag)
 {
-    ls_arena_mark mark, keep;
-    ls_fit_config cfg;
-    ls_fit_views views;
-    ls_fit_timing timing;
     ls_remesh_params params;
-    ls_mesh cur, out, copy;
-    ls_real *pos, mean, scale, radius;
-    size_t start, new_bytes, copy_bytes;
-    uint32_t iteration, remeshes;
+    ls_mesh cur;
+    ls_real mean, *pos;
+    size_t i;
     ls_status st;
-    if (fit == NULL || arena == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)1) ||
-        !(lr_factor > (ls_real)0) || !finite_r(lr_factor))
-        return LS_ERR_INVALID;
-    start = (size_t)(fit->block.base - arena->base);
-    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom) return LS_ERR_INVALID;
-    mark = ls_arena_save(arena);
-    pos = (ls_real *)ls_arena_scratch(arena, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
+    pos = (ls_real *)ls_arena_scratch(work, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     if (pos == NULL) return LS_ERR_NOMEM;
     /* remeshed in the fit's frame, so that the result does not depend on
      * the scene's scale */
-    scale = fit->scale;
-    radius = fit->radius;
     st = frame_mesh(fit, pos);
     cur.positions = pos;
     cur.triangles = fit->triangles;
@@ -710,16 +729,63 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     if (st == LS_OK) st = ls_remesh_mean_edge(&cur, &mean);
     if (st == LS_OK) {
         ls_remesh_params_default(&params, h_factor * mean);
-        st = ls_remesh(&cur, &params, arena, &out, info, diag);
+        params.vertex_cap = vertex_cap;
+        st = ls_remesh(&cur, &params, work, out, info, diag);
     }
+    if (st != LS_OK) return st;
+    /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
+    for (i = 0; i < 3u * (size_t)out->vertex_count; i++) out->positions[i] *= fit->scale;
+    return LS_OK;
+}
+
+/* ls_fit_remesh's second half: *fit replaced by a fit on `mesh` (caller
+ * units) with configuration cfg (not in *fit), built in `arena`, keeping
+ * the frame, the views, the timing, the counts and the job's reservation. */
+static ls_status rebuild(ls_fit *fit, const ls_fit_config *cfg, const ls_mesh *mesh, ls_arena *arena, ls_diag *diag)
+{
+    const ls_fit_views views = fit->views;
+    const ls_fit_timing timing = fit->timing;
+    const ls_fit_capacity capacity = fit->capacity;
+    const ls_arena job = fit->job;
+    const size_t job_fit_bytes = fit->job_fit_bytes;
+    const ls_real scale = fit->scale, radius = fit->radius;
+    const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
+    ls_status st;
+    memset(fit, 0, sizeof *fit);
+    st = fit_init_frame(fit, cfg, &views, mesh, scale, radius, NULL, arena, diag);
+    if (st != LS_OK) return st;
+    fit->timing = timing;
+    fit->iteration = iteration;
+    fit->remeshes = remeshes + 1u;
+    fit->capacity = capacity;
+    fit->max_edges = max_edges;
+    fit->job = job;
+    fit->job_fit_bytes = job_fit_bytes;
+    return LS_OK;
+}
+
+static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag);
+
+ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
+                        ls_diag *diag)
+{
+    ls_arena_mark mark, keep;
+    ls_fit_config cfg;
+    ls_mesh out, copy;
+    size_t start, new_bytes, copy_bytes;
+    ls_status st;
+    if (fit == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)1) ||
+        !(lr_factor > (ls_real)0) || !finite_r(lr_factor))
+        return LS_ERR_INVALID;
+    if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
+    if (arena == NULL) return LS_ERR_INVALID;
+    start = (size_t)(fit->block.base - arena->base);
+    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom) return LS_ERR_INVALID;
+    mark = ls_arena_save(arena);
+    st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
     cfg = fit->config;
     cfg.optim.lr = cfg.optim.lr * lr_factor;
-    /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
-    if (st == LS_OK) {
-        size_t i;
-        for (i = 0; i < 3u * (size_t)out.vertex_count; i++) out.positions[i] *= scale;
-    }
-    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, scale, arena, &new_bytes, diag);
+    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, arena, &new_bytes, NULL, diag);
     if (st == LS_OK) st = ls_mesh_bytes(out.vertex_count, out.face_count, &copy_bytes);
     if (st == LS_OK) {
         /* after the swap: [start, start + new fit) at the bottom, the copy of the
@@ -752,21 +818,258 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
         copy.positions = cp;
         copy.triangles = ct;
     }
-    views = fit->views;
-    timing = fit->timing;
-    iteration = fit->iteration;
-    remeshes = fit->remeshes;
     keep.bottom = start;
     keep.top = arena->top;
     ls_arena_restore(arena, keep);
-    memset(fit, 0, sizeof *fit);
-    st = fit_init_frame(fit, &cfg, &views, &copy, scale, radius, arena, diag);
+    st = rebuild(fit, &cfg, &copy, arena, diag);
     keep.bottom = arena->bottom;
     keep.top = mark.top;
     ls_arena_restore(arena, keep);
-    if (st != LS_OK) return st;
-    fit->timing = timing;
-    fit->iteration = iteration;
-    fit->remeshes = remeshes + 1u;
+    return st;
+}
+
+/* --- a whole job within one reservation (fit.h: ls_fit_job_bytes) ------ */
+
+/* LS_ERR_TOO_LARGE in *diag: `what` exceeded; index = the count, value =
+ * the capacity. */
+static ls_status over(ls_diag *diag, const char *what, uint64_t count, uint32_t cap)
+{
+    (void)ls_diag_set(diag, LS_ERR_TOO_LARGE, what, count);
+    if (diag != NULL) {
+        diag->has_value = 1;
+        diag->value = (ls_real)cap;
+    }
+    return LS_ERR_TOO_LARGE;
+}
+
+/* LS_ERR_TOO_LARGE naming the first count of `have` above its limit. */
+static ls_status within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag)
+{
+    static const char *const what[2][4] = {
+        {"initial mesh: more vertices than capacity.max_vertices", "initial mesh: more faces than capacity.max_faces",
+         "initial mesh: more edges than the capacity allows (max_vertices + max_faces - Euler characteristic)",
+         "initial mesh: more LDL^T factor entries than capacity.max_factor_nnz"},
+        {"remesh: more vertices than capacity.max_vertices", "remesh: more faces than capacity.max_faces",
+         "remesh: more edges than the capacity allows (max_vertices + max_faces - Euler characteristic)",
+         "remesh: more LDL^T factor entries than capacity.max_factor_nnz"}};
+    uint32_t h[4], l[4], k;
+    h[0] = have->vertices, h[1] = have->faces, h[2] = have->edges, h[3] = have->factor_nnz;
+    l[0] = lim->vertices, l[1] = lim->faces, l[2] = lim->edges, l[3] = lim->factor_nnz;
+    for (k = 0; k < 4; k++)
+        if (h[k] > l[k]) return over(diag, what[remesh != 0][k], h[k], l[k]);
     return LS_OK;
+}
+
+/* The large-steps LDL^T: the fill has a capacity of its own. */
+static int uses_factor(const ls_fit_config *c)
+{
+    return c->method == LS_FIT_LARGE_STEPS && (c->solver == LS_PARAM_LDLT || c->solver == LS_PARAM_AUTO);
+}
+
+/* The reservation for counts within lim and a mesh of Euler characteristic
+ * euler: the fit's region (the largest block ls_fit_bytes can answer, and
+ * the measurement that precedes it: positions, edges, Laplacian, the
+ * factor's analysis) and above it the remesh work (the current positions,
+ * then the larger of the remesher's bound at max_vertices and its output
+ * with the new fit's measurement). Every term grows with every count. */
+static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_counts *lim, int64_t euler,
+                           size_t *region, size_t *bytes)
+{
+    const uint32_t n = lim->vertices, f = lim->faces;
+    ls_param_config pc;
+    ls_remesh_params rp;
+    ls_mesh_report rep;
+    ls_mesh shape;
+    ls_csc lap;
+    ls_size measure, fit, work, after, rm;
+    fit_sizes z;
+    size_t block = 0, eb = 0, rb = 0, ob = 0;
+    ls_status st;
+    if ((uint64_t)n + lim->edges > UINT32_MAX) return LS_ERR_TOO_LARGE;
+    st = base_sizes(c, views, n, f, lim->edges, &z);
+    /* the regularizer's scratch depends on the Laplacian's size only */
+    memset(&lap, 0, sizeof lap);
+    lap.nrows = lap.ncols = n;
+    if (st == LS_OK) st = iteration_scratch(c, n, f, &lap, &z.iteration);
+    if (st == LS_OK && c->method == LS_FIT_LARGE_STEPS) {
+        param_config(c, &pc);
+        st = ls_param_bytes_bound(n, n + lim->edges, lim->factor_nnz, &pc, 1, &z.param);
+    }
+    if (st == LS_OK) st = total(&z, &block);
+    if (st == LS_OK) st = ls_mesh_edges_bytes(f, lim->edges, &eb);
+    if (st != LS_OK) return st;
+    ls_size_init(&measure);
+    ls_size_add(&measure, 3u * (size_t)n, sizeof(ls_real));
+    ls_size_add(&measure, eb, 1);
+    ls_size_add(&measure, z.lap, 1);
+    ls_size_add(&measure, z.param, 1);
+    ls_size_init(&fit);
+    ls_size_add(&fit, block, 1);
+    ls_size_max(&fit, &measure);
+    /* the remesher's bound reads the counts and the Euler characteristic only */
+    memset(&shape, 0, sizeof shape);
+    shape.vertex_count = n;
+    shape.face_count = f;
+    memset(&rep, 0, sizeof rep);
+    rep.euler = euler;
+    ls_remesh_params_default(&rp, (ls_real)1);
+    rp.vertex_cap = n;
+    st = ls_remesh_bytes_bound(&shape, &rep, &rp, &rb);
+    if (st == LS_OK) st = ls_mesh_bytes(n, f, &ob);
+    if (st == LS_OK) st = ls_size_get(&fit, region);
+    if (st != LS_OK) return st;
+    ls_size_init(&rm);
+    ls_size_add(&rm, rb, 1);
+    ls_size_init(&after);
+    ls_size_add(&after, ob, 1);
+    ls_size_add_size(&after, &measure);
+    ls_size_max(&rm, &after);
+    ls_size_init(&work);
+    ls_size_add(&work, 3u * (size_t)n, sizeof(ls_real));
+    ls_size_add_size(&work, &rm);
+    ls_size_add_size(&fit, &work);
+    return ls_size_get(&fit, bytes);
+}
+
+/* A job's limits and sizes: the capacity checked, the initial mesh's
+ * counts against it, its edges and Euler characteristic from a validation
+ * in scratch (released). */
+static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, const ls_mesh *initial,
+                          const ls_fit_capacity *cap, ls_arena *scratch, fit_counts *lim, size_t *region,
+                          size_t *bytes, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_mesh_report rep;
+    fit_counts have;
+    int64_t e;
+    ls_status st;
+    if (cap == NULL || cap->max_vertices == 0 || cap->max_faces == 0 || (uses_factor(c) && cap->max_factor_nnz == 0))
+        return ls_diag_set(diag, LS_ERR_INVALID,
+                           "capacity: max_vertices and max_faces must be > 0, and max_factor_nnz with the LDL^T",
+                           LS_DIAG_NO_INDEX);
+    lim->vertices = cap->max_vertices;
+    lim->faces = cap->max_faces;
+    lim->edges = lim->factor_nnz = UINT32_MAX;
+    have.vertices = initial->vertex_count;
+    have.faces = initial->face_count;
+    have.edges = have.factor_nnz = 0;
+    st = within(&have, lim, 0, diag);
+    if (st != LS_OK) return st;
+    mark = ls_arena_save(scratch);
+    st = ls_mesh_validate(initial, scratch, &rep);
+    ls_arena_restore(scratch, mark);
+    if (st != LS_OK)
+        return ls_diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small to validate the initial mesh"
+                                                        : "initial mesh: cannot be validated", LS_DIAG_NO_INDEX);
+    /* every mesh of the job has the initial one's Euler characteristic
+     * (the remesher keeps genus, components and boundary loops), so E =
+     * V + F - chi */
+    e = (int64_t)cap->max_vertices + (int64_t)cap->max_faces - rep.euler;
+    lim->edges = e < 0 ? 0u : e > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)e;
+    lim->factor_nnz = cap->max_factor_nnz;
+    have.edges = rep.edge_count;
+    st = within(&have, lim, 0, diag);
+    if (st == LS_OK) st = job_sizes(c, views->count, lim, rep.euler, region, bytes);
+    return st;
+}
+
+ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    fit_counts lim, have;
+    ls_real scale, radius;
+    size_t region = 0, job = 0, fit_bytes = 0;
+    ls_status st;
+    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    st = init_args_ok(config, views, initial, diag);
+    if (st == LS_OK) st = job_plan(config, views, initial, capacity, scratch, &lim, &region, &job, diag);
+    if (st != LS_OK) return st;
+    /* the initial mesh's fill, from the analysis that init will run */
+    measure_frame(initial, &scale, &radius);
+    st = fit_bytes_frame(config, views, initial, scale, scratch, &fit_bytes, &have, diag);
+    if (st == LS_OK) st = within(&have, &lim, 0, diag);
+    if (st == LS_OK) *bytes = job;
+    return st;
+}
+
+ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_arena region;
+    fit_counts lim;
+    ls_real scale, radius;
+    size_t region_bytes = 0, bytes = 0;
+    void *mem;
+    ls_status st;
+    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    memset(fit, 0, sizeof *fit);
+    st = init_args_ok(config, views, initial, diag);
+    if (st == LS_OK) st = job_plan(config, views, initial, capacity, arena, &lim, &region_bytes, &bytes, diag);
+    if (st != LS_OK) return st;
+    mark = ls_arena_save(arena);
+    mem = ls_arena_alloc(arena, bytes, 1);
+    if (mem == NULL)
+        return ls_diag_set(diag, LS_ERR_NOMEM, "arena too small for the job (ls_fit_job_bytes; arena->need)",
+                           LS_DIAG_NO_INDEX);
+    /* the fit at the start of the reservation, the remesh work above it */
+    measure_frame(initial, &scale, &radius);
+    st = ls_arena_init(&region, mem, region_bytes);
+    if (st == LS_OK) st = fit_init_frame(fit, config, views, initial, scale, radius, &lim, &region, diag);
+    if (st == LS_OK) st = ls_arena_init(&fit->job, mem, bytes);
+    if (st == LS_OK && ls_arena_alloc(&fit->job, region_bytes, 1) == NULL) st = LS_ERR_NOMEM; /* not reached */
+    if (st != LS_OK) {
+        memset(fit, 0, sizeof *fit);
+        ls_arena_restore(arena, mark);
+        return st;
+    }
+    fit->capacity = *capacity;
+    fit->max_edges = lim.edges;
+    fit->job_fit_bytes = region_bytes;
+    return LS_OK;
+}
+
+/* ls_fit_remesh inside the job's reservation: the remesher and the new
+ * fit's measurement in the work part, every count checked against the
+ * capacity before the old fit is touched, then the new fit built in the
+ * fit's part from the output still in the work part (no copy needed). */
+static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
+{
+    ls_arena_mark mark = ls_arena_save(&fit->job);
+    ls_arena region;
+    ls_fit_config cfg;
+    fit_counts lim, have;
+    ls_mesh out;
+    size_t new_bytes = 0;
+    ls_status st;
+    lim.vertices = fit->capacity.max_vertices;
+    lim.faces = fit->capacity.max_faces;
+    lim.edges = fit->max_edges;
+    lim.factor_nnz = fit->capacity.max_factor_nnz;
+    st = remesh_current(fit, &fit->job, h_factor, lim.vertices, &out, info, diag);
+    /* the work part holds the remesher's bound at max_vertices: running
+     * out of it is running out of vertex capacity */
+    if (st == LS_ERR_NOMEM) st = over(diag, "remesh: more vertices than capacity.max_vertices", (uint64_t)lim.vertices + 1u, lim.vertices);
+    if (st == LS_OK) {
+        have.vertices = out.vertex_count;
+        have.faces = out.face_count;
+        have.edges = have.factor_nnz = 0;
+        st = within(&have, &lim, 1, diag);
+    }
+    cfg = fit->config;
+    cfg.optim.lr = cfg.optim.lr * lr_factor;
+    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, &fit->job, &new_bytes, &have, diag);
+    if (st == LS_OK) st = within(&have, &lim, 1, diag);
+    if (st == LS_OK && new_bytes > fit->job_fit_bytes) /* not reached: the bound covers the counts */
+        st = over(diag, "remesh: the new fit exceeds the job's reservation", new_bytes, (uint32_t)0);
+    if (st != LS_OK) {
+        ls_arena_restore(&fit->job, mark);
+        return st;
+    }
+    /* the point of no return */
+    st = ls_arena_init(&region, fit->job.base, fit->job_fit_bytes);
+    if (st == LS_OK) st = rebuild(fit, &cfg, &out, &region, diag);
+    ls_arena_restore(&fit->job, mark);
+    return st;
 }

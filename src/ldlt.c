@@ -75,12 +75,11 @@ static int sym_alloc(ls_arena *arena, uint32_t n, uint32_t c_nnz, sym_ws *ws)
     return 1;
 }
 
-/* The bytes of an analysis of a (validated: square, rows in range) whose
- * upper triangle with the diagonal holds c_nnz entries. */
-static ls_status analyze_bytes_c(const ls_csc *a, uint32_t method, uint32_t c_nnz, size_t *bytes)
+/* The bytes of an analysis of an n x n matrix with nnz stored entries,
+ * c_nnz of them in the upper triangle with the diagonal. */
+static ls_status analyze_bytes_n(uint32_t n, uint32_t nnz, uint32_t c_nnz, uint32_t method, size_t *bytes)
 {
     ls_size s, scratch, ord;
-    uint32_t n = a->ncols, nnz = a->colptr[a->ncols];
     ls_status st;
     size_t ob = 0;
     ls_size_init(&s);
@@ -115,7 +114,7 @@ static ls_status analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
     if (!square_ok(a) || method > LS_ORDER_AUTO) return LS_ERR_INVALID;
     c_nnz = upper_count(a, &bad);
     if (bad) return LS_ERR_INVALID;
-    return analyze_bytes_c(a, method, c_nnz, bytes);
+    return analyze_bytes_n(a->ncols, a->colptr[a->ncols], c_nnz, method, bytes);
 }
 
 ls_status ls_ldlt_analyze_bytes(const ls_csc *a, uint32_t method, size_t *bytes)
@@ -316,7 +315,7 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
     n = a->ncols;
     memset(&g, 0, sizeof g);
     g.c_nnz = upper_count(a, &bad);
-    st = bad ? LS_ERR_INVALID : analyze_bytes_c(a, method, g.c_nnz, &bytes);
+    st = bad ? LS_ERR_INVALID : analyze_bytes_n(n, a->colptr[n], g.c_nnz, method, &bytes);
     if (st != LS_OK) {
         diag_fill(diag, st, st == LS_ERR_INVALID ? "row index out of range" : "matrix too large");
         return st;
@@ -476,21 +475,44 @@ ls_status ls_ldlt_analyze_mesh(const ls_csc *a, uint32_t method, const ls_real *
     return analyze_impl(a, method, &in, arena, f, diag);
 }
 
-ls_status ls_ldlt_bytes(const ls_ldlt *f, size_t *bytes)
+/* The numeric factor of n rows with l_nnz entries below the diagonal. */
+static ls_status factor_bytes_n(uint32_t n, uint32_t l_nnz, size_t *bytes)
 {
     ls_size s;
+    ls_size_init(&s);
+    ls_size_add(&s, l_nnz, sizeof(uint32_t)); /* li */
+    ls_size_add(&s, l_nnz, sizeof(ls_real));  /* lx */
+    ls_size_add(&s, n, sizeof(ls_real));      /* dinv */
+    ls_size_add(&s, n, sizeof(ls_acc));       /* y */
+    ls_size_add(&s, n, sizeof(uint32_t));     /* flag */
+    ls_size_add(&s, n, sizeof(uint32_t));     /* stack */
+    ls_size_add(&s, n, sizeof(uint32_t));     /* lnz */
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_ldlt_bytes(const ls_ldlt *f, size_t *bytes)
+{
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
     if (f == NULL || f->state == 0 || f->lp == NULL) return LS_ERR_INVALID;
+    return factor_bytes_n(f->n, f->l_nnz, bytes);
+}
+
+ls_status ls_ldlt_bytes_bound(uint32_t n, uint32_t nnz, uint32_t c_nnz, uint32_t l_nnz, uint32_t method,
+                              size_t *analyze, size_t *object, size_t *factor)
+{
+    ls_size s;
+    ls_status st;
+    if (analyze == NULL || object == NULL || factor == NULL) return LS_ERR_INVALID;
+    *analyze = *object = *factor = 0;
+    if (method > LS_ORDER_AUTO || c_nnz > nnz) return LS_ERR_INVALID;
     ls_size_init(&s);
-    ls_size_add(&s, f->l_nnz, sizeof(uint32_t)); /* li */
-    ls_size_add(&s, f->l_nnz, sizeof(ls_real));  /* lx */
-    ls_size_add(&s, f->n, sizeof(ls_real));      /* dinv */
-    ls_size_add(&s, f->n, sizeof(ls_acc));       /* y */
-    ls_size_add(&s, f->n, sizeof(uint32_t));     /* flag */
-    ls_size_add(&s, f->n, sizeof(uint32_t));     /* stack */
-    ls_size_add(&s, f->n, sizeof(uint32_t));     /* lnz */
-    return ls_size_get(&s, bytes);
+    symbolic_size(&s, n, c_nnz);
+    st = ls_size_get(&s, object);
+    if (st == LS_OK) st = analyze_bytes_n(n, nnz, c_nnz, method, analyze);
+    if (st == LS_OK) st = factor_bytes_n(n, l_nnz, factor);
+    if (st != LS_OK) *analyze = *object = *factor = 0;
+    return st;
 }
 
 static ls_real real_abs(ls_real v)

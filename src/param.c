@@ -46,16 +46,16 @@ static uint32_t order_method(const ls_param_config *cfg, const ls_real *xyz)
 
 /* The allocations made before the analysis: M's values, the step's
  * buffers, the CG warm starts and the solver scratch block (added to *s). */
-static ls_status front_bytes(const ls_csc *lap, const ls_param_config *cfg, ls_size *s, size_t *work)
+static ls_status front_bytes(uint32_t n, size_t nnz, const ls_param_config *cfg, ls_size *s, size_t *work)
 {
-    size_t nk = (size_t)lap->ncols * cfg->k, wb = 0;
+    size_t nk = (size_t)n * cfg->k, wb = 0;
     ls_status st;
-    ls_size_add(s, ls_csc_nnz(lap), sizeof(ls_real));
+    ls_size_add(s, nnz, sizeof(ls_real));
     if (solver_of(cfg, 0) == LS_PARAM_CG) {
         ls_size_add(s, 2u * nk, sizeof(ls_real)); /* tmp: two buffers */
         ls_size_add(s, nk, sizeof(ls_real));      /* warm_fwd */
         ls_size_add(s, nk, sizeof(ls_real));      /* warm_adj */
-        st = ls_cg_bytes(lap->ncols, cfg->k, &wb);
+        st = ls_cg_bytes(n, cfg->k, &wb);
     } else {
         ls_size_add(s, nk, sizeof(ls_real));
         st = ls_size_mul(nk, sizeof(ls_acc), &wb); /* ls_ldlt_solve_bytes: n k sums */
@@ -132,7 +132,7 @@ static ls_status analyze_from(ls_ldlt *f, const ls_csc *a, const ls_param_config
 /* The LDL^T's part of the bytes: max(coordinates + the analysis' peak, its
  * object + the numeric factor), measured by an analysis in scratch. */
 static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const coord_src *c, ls_arena *scratch,
-                           ls_size *tail)
+                           ls_size *tail, uint32_t *l_nnz)
 {
     ls_arena_mark mark;
     ls_ldlt f;
@@ -150,6 +150,7 @@ static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const 
     st = analyze_from(&f, lap, cfg, c, scratch, NULL);
     if (st != LS_OK) return st;
     obj = scratch->bottom - mark.bottom;
+    *l_nnz = f.l_nnz;
     st = ls_ldlt_bytes(&f, &fb);
     ls_arena_restore(scratch, mark);
     if (st != LS_OK) return st;
@@ -162,25 +163,26 @@ static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const 
 
 /* Adds the bytes of build() for the sparse solvers to *s. */
 static ls_status sparse_bytes(const ls_csc *lap, const ls_param_config *cfg, const coord_src *c, ls_arena *scratch,
-                              ls_size *s)
+                              ls_size *s, uint32_t *l_nnz)
 {
     size_t work = 0;
-    ls_status st = front_bytes(lap, cfg, s, &work);
+    ls_status st = front_bytes(lap->ncols, ls_csc_nnz(lap), cfg, s, &work);
     if (st != LS_OK) return st;
     if (solver_of(cfg, 0) == LS_PARAM_LDLT) {
         ls_size tail;
-        st = ldlt_tail(lap, cfg, c, scratch, &tail);
+        st = ldlt_tail(lap, cfg, c, scratch, &tail, l_nnz);
         if (st != LS_OK) return st;
         ls_size_add_size(s, &tail);
     }
     return LS_OK;
 }
 
-ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
-                         size_t *bytes)
+ls_status ls_param_bytes_fill(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
+                              size_t *bytes, uint32_t *factor_nnz)
 {
     coord_src c;
     ls_size s;
+    uint32_t l_nnz = 0;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -188,7 +190,43 @@ ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls
     c.xyz = xyz;
     c.width = c.height = 0;
     ls_size_init(&s);
-    st = sparse_bytes(lap, cfg, &c, scratch, &s);
+    st = sparse_bytes(lap, cfg, &c, scratch, &s, &l_nnz);
+    if (st != LS_OK) return st;
+    if (factor_nnz != NULL) *factor_nnz = l_nnz;
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
+                         size_t *bytes)
+{
+    return ls_param_bytes_fill(lap, cfg, xyz, scratch, bytes, NULL);
+}
+
+ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, const ls_param_config *cfg,
+                               int with_coords, size_t *bytes)
+{
+    ls_size s;
+    size_t work = 0, analyze = 0, object = 0, factor = 0;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (cfg == NULL || !config_valid(cfg, 0)) return LS_ERR_INVALID;
+    ls_size_init(&s);
+    st = front_bytes(n, nnz, cfg, &s, &work);
+    if (st == LS_OK && solver_of(cfg, 0) == LS_PARAM_LDLT) {
+        /* as ldlt_tail: max(the analysis' peak, its object + the factor); the
+         * upper triangle has at most every stored entry */
+        ls_size tail, peak;
+        uint32_t method = with_coords ? cfg->order : order_method(cfg, NULL);
+        st = ls_ldlt_bytes_bound(n, nnz, nnz, factor_nnz, method, &analyze, &object, &factor);
+        ls_size_init(&tail);
+        ls_size_add(&tail, object, 1);
+        ls_size_add(&tail, factor, 1);
+        ls_size_init(&peak);
+        ls_size_add(&peak, analyze, 1);
+        ls_size_max(&tail, &peak);
+        ls_size_add_size(&s, &tail);
+    }
     if (st != LS_OK) return st;
     return ls_size_get(&s, bytes);
 }
@@ -204,7 +242,7 @@ static ls_status build(ls_param *q, const ls_csc *lap, const ls_param_config *cf
     unsigned char *block;
     ls_status st;
     ls_size_init(&s);
-    st = front_bytes(lap, cfg, &s, &work);
+    st = front_bytes(lap->ncols, ls_csc_nnz(lap), cfg, &s, &work);
     if (st != LS_OK) return st;
     q->lap = *lap;
     q->n = lap->ncols;
@@ -277,6 +315,7 @@ static ls_status grid_sparse_bytes(const ls_grid_shape *shape, const ls_param_co
     ls_csc lap;
     coord_src c;
     size_t b = 0;
+    uint32_t l_nnz = 0;
     ls_status st = ls_laplacian_grid_wrap_bytes(shape->width, shape->height, shape->wrap_u, LS_LAP_UPPER, &b);
     if (st != LS_OK) return st;
     if (scratch == NULL) return LS_ERR_INVALID;
@@ -286,7 +325,7 @@ static ls_status grid_sparse_bytes(const ls_grid_shape *shape, const ls_param_co
     c.xyz = NULL;
     c.width = shape->width;
     c.height = shape->height;
-    if (st == LS_OK) st = sparse_bytes(&lap, cfg, &c, scratch, s);
+    if (st == LS_OK) st = sparse_bytes(&lap, cfg, &c, scratch, s, &l_nnz);
     ls_arena_restore(scratch, mark);
     return st;
 }

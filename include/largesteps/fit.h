@@ -25,6 +25,9 @@
  * ls_fit_bytes gives exactly for an initial mesh (the factor of M depends on
  * the connectivity, so the query runs the symbolic analysis in scratch). The
  * iteration allocates nothing: everything it needs is in the block.
+ * For a whole job with remeshes, ls_fit_job_bytes and ls_fit_init_job
+ * reserve once, from a capacity, everything the fit and its remeshes will
+ * ever take (below); nothing is allocated from the caller's arena after.
  *
  * Errors during an iteration name what failed: a NaN or infinity in a
  * target, a rendered image, the loss, a gradient or an updated parameter
@@ -134,6 +137,24 @@ typedef struct ls_fit_timing {
     uint64_t optimizer_ns;      /* the optimizer step */
 } ls_fit_timing;
 
+/* The most a job's meshes may hold (ls_fit_job_bytes). Every mesh the fit
+ * holds (the initial one and each remesh result) must stay within it, and
+ * the remesher works with max_vertices as its vertex capacity (it splits
+ * before it collapses, so its live vertex count can briefly exceed its
+ * result's). The factor's fill is a capacity of its own: nnz(L) depends on
+ * the connectivity and the ordering, and no vertex count bounds it below
+ * O(n^2). Measure it on a representative mesh (fit->param.f.l_nnz after
+ * init or a remesh) and leave a margin: for the isotropic meshes of the
+ * method it grows about as n log n (AMD: 16 per vertex on the 1.8k-vertex
+ * bunny, 46 on a 10k icosphere, 72 on 164k). */
+typedef struct ls_fit_capacity {
+    uint32_t max_vertices;   /* > 0 */
+    uint32_t max_faces;      /* > 0; the remesher's results have at most 2 max_vertices - 2 chi faces
+                                (chi = the initial mesh's Euler characteristic; 2 for a sphere) */
+    uint32_t max_factor_nnz; /* > 0 for large steps with the LDL^T: entries of L below its diagonal;
+                                ignored (may be 0) otherwise */
+} ls_fit_capacity;
+
 typedef struct ls_fit {
     ls_fit_config config;
     ls_fit_views views;
@@ -167,6 +188,11 @@ typedef struct ls_fit {
     ls_real reg_loss;         /* regularizer value of the last iteration (baselines) */
     ls_fit_timing timing;
     uint32_t remeshes;        /* remeshes done */
+    ls_fit_capacity capacity; /* ls_fit_init_job: the job's capacity (zeros after ls_fit_init) */
+    uint32_t max_edges;       /* ls_fit_init_job: the edges the capacity allows (max_vertices + max_faces - chi) */
+    ls_arena job;             /* ls_fit_init_job: the reservation; its first job_fit_bytes hold the fit's
+                                 block, the rest is the remesher's work (job.peak: its high-water mark) */
+    size_t job_fit_bytes;
 } ls_fit;
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
@@ -199,6 +225,38 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
 ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                       ls_arena *arena, ls_diag *diag);
 
+/* ls_fit_job_bytes: the exact arena bytes of ls_fit_init_job with these
+ * arguments: one reservation that holds the fit for any mesh within the
+ * capacity (the largest block ls_fit_bytes can answer for such a mesh:
+ * every array at max_vertices / max_faces / max_edges, the factor at
+ * max_factor_nnz) and, above it, the work of ls_fit_remesh (the current
+ * positions, the remesher at max_vertices with its BVH and output, and the
+ * new fit's sizing). A bound for the fit, exact for the job: an arena of
+ * this many free bytes runs ls_fit_init_job, every ls_fit_step and every
+ * ls_fit_remesh whose result is within the capacity; one byte less fails at
+ * init. Checks the initial mesh against the capacity: its counts, its edges
+ * and its factor's fill (the symbolic analysis, in `scratch`, which needs
+ * about ls_fit_bytes of free space; released). Cost O(F log F) plus one
+ * analysis. Errors: those of ls_fit_bytes, LS_ERR_INVALID (NULL, a zero
+ * capacity field; max_factor_nnz = 0 with the LDL^T), LS_ERR_MESH (the
+ * initial mesh is not an oriented 2-manifold: the remesher's invariants
+ * need one), LS_ERR_TOO_LARGE (the initial mesh exceeds the capacity:
+ * diag->what names the field, diag->index = the mesh's count, diag->value =
+ * the capacity; or the bytes overflow size_t). */
+ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag);
+
+/* ls_fit_init_job: ls_fit_init for a whole job: reserves ls_fit_job_bytes
+ * at the bottom of `arena` in one allocation and builds the fit at its
+ * start; ls_fit_remesh then works inside the reservation and never touches
+ * `arena` again (the fit need not be the arena's last allocation, and the
+ * arena may be NULL there). The validation of the initial mesh runs first
+ * in the arena's free top (released). Errors: as ls_fit_job_bytes and
+ * ls_fit_init (LS_ERR_NOMEM: less free space than the reservation,
+ * arena->need set); on failure the arena is unchanged and *fit zeroed. */
+ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag);
+
 /* ls_fit_step: one iteration (above). monitor (optional) gives the stage
  * timing clock and may cancel (checked once per view). Memory: the block's
  * reserved scratch (the solved positions and, for the optimizer's undo, a
@@ -223,7 +281,17 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
  * the remesher's counts. Errors: LS_ERR_INVALID (NULL, factors not in
  * (0, 1] / (0, inf), the fit not last in the arena), the remesher's, and
  * those of ls_fit_init; only an error of the final rebuild (not expected once
- * the checks passed) leaves the fit zeroed. */
+ * the checks passed) leaves the fit zeroed.
+ * A fit from ls_fit_init_job remeshes inside its reservation (`arena` is
+ * not used and may be NULL), with the capacity's max_vertices as the
+ * remesher's vertex capacity. A result beyond the capacity is refused, not
+ * coarsened (h is the method's; a larger h_factor is the caller's choice):
+ * LS_ERR_TOO_LARGE, diag->what naming the capacity field ("remesh: more
+ * vertices than capacity.max_vertices", "... faces ...", "... edges ...",
+ * "... factor entries than capacity.max_factor_nnz"), diag->index = the
+ * count the result needed (for vertices: max_vertices + 1, the remesher
+ * stops there), diag->value = the capacity; the fit and its reservation's
+ * fit part are then byte for byte as before and the run can go on. */
 ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
                         ls_diag *diag);
 

@@ -145,6 +145,20 @@ ls_status ls_ldlt_analyze_mesh(const ls_csc *a, uint32_t method, const ls_real *
  * O(1). Errors: LS_ERR_INVALID (NULL or not analyzed), LS_ERR_TOO_LARGE. */
 ls_status ls_ldlt_bytes(const ls_ldlt *f, size_t *bytes);
 
+/* ls_ldlt_bytes_bound: the three sizes above for a matrix that does not
+ * exist yet (a job sized up front): an n x n matrix with nnz stored entries,
+ * c_nnz (<= nnz) of them in its upper triangle with the diagonal, analyzed
+ * with `method`, whose L has l_nnz entries below the diagonal. *analyze =
+ * ls_ldlt_analyze(_mesh)_bytes, *object = the symbolic object that
+ * ls_ldlt_analyze keeps (its part of *analyze), *factor = ls_ldlt_bytes;
+ * exact at those counts and never smaller for any larger count, so a
+ * matrix within the counts fits. nnz(L) is not a function of n and nnz
+ * (it depends on the pattern and the ordering): the caller bounds it. O(1).
+ * Errors: LS_ERR_INVALID (NULL, unknown method, c_nnz > nnz),
+ * LS_ERR_TOO_LARGE (all three then 0). */
+ls_status ls_ldlt_bytes_bound(uint32_t n, uint32_t nnz, uint32_t c_nnz, uint32_t l_nnz, uint32_t method,
+                              size_t *analyze, size_t *object, size_t *factor);
+
 /* ls_ldlt_factor: numeric factorization of a (same pattern as analyzed: the
  * entry count is checked, the pattern itself is trusted). The first call takes
  * ls_ldlt_bytes(f) from the arena's bottom; later calls reuse that memory

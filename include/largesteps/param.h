@@ -105,6 +105,23 @@ typedef struct ls_param {
 ls_status ls_param_bytes(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
                          size_t *bytes);
 
+/* ls_param_bytes_fill: ls_param_bytes, and *factor_nnz (optional) = the
+ * entries below the diagonal of the LDL^T factor that ls_param_init would
+ * build (0 for CG), from the same analysis. Same cost, memory and errors. */
+ls_status ls_param_bytes_fill(const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz, ls_arena *scratch,
+                              size_t *bytes, uint32_t *factor_nnz);
+
+/* ls_param_bytes_bound: the bytes of ls_param_init (mesh) for any Laplacian
+ * of n columns with at most nnz stored entries whose LDL^T factor has at
+ * most factor_nnz entries below the diagonal (ignored for CG);
+ * with_coords: 1 when init will get vertex coordinates (the ordering
+ * cfg->order then; else as ls_param_init without them). Exact for upper
+ * storage at those counts, never smaller for smaller counts; for sizing a
+ * job before its meshes exist (fit.h). O(1); no memory. Errors:
+ * LS_ERR_INVALID (NULL, a bad config), LS_ERR_TOO_LARGE. */
+ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, const ls_param_config *cfg,
+                               int with_coords, size_t *bytes);
+
 /* ls_param_init: builds *p for the Laplacian lap (square, every diagonal
  * entry stored; upper or full storage) and cfg; xyz (n x 3, optional) are
  * the vertex coordinates for the ordering. Builds M, analyzes and factors it

@@ -114,8 +114,11 @@ ls_status ls_remesh_capacity(const ls_mesh *mesh, const ls_mesh_report *report, 
  * parameters (capacity as params->vertex_cap or ls_remesh_capacity): the
  * half-edge mesh at capacity, the BVH of the input (if projecting), per-vertex
  * work arrays, and the output mesh at capacity. `report` is
- * ls_mesh_validate's report of `mesh`. O(F). Errors: LS_ERR_INVALID,
- * LS_ERR_TOO_LARGE. */
+ * ls_mesh_validate's report of `mesh`. With params->vertex_cap set, only
+ * the mesh's counts and report->euler are read, and the bound grows with
+ * both counts: it holds for every mesh with at most those counts and that
+ * Euler characteristic (a job sized before its meshes exist, fit.h). O(F).
+ * Errors: LS_ERR_INVALID, LS_ERR_TOO_LARGE. */
 ls_status ls_remesh_bytes_bound(const ls_mesh *mesh, const ls_mesh_report *report, const ls_remesh_params *params,
                                 size_t *bytes);
 
