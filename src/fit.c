@@ -883,7 +883,7 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     ls_csc lap;
     ls_size measure, fit, work, after, rm;
     fit_sizes z;
-    size_t block = 0, eb = 0, rb = 0, ob = 0;
+    size_t block = 0, eb = 0, rb = 0, ob = 0, analyze = 0, object = 0, factor = 0;
     ls_status st;
     if ((uint64_t)n + lim->edges > UINT32_MAX) return LS_ERR_TOO_LARGE;
     st = base_sizes(c, views, n, f, lim->edges, &z);
@@ -894,6 +894,9 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     if (st == LS_OK && c->method == LS_FIT_LARGE_STEPS) {
         param_config(c, &pc);
         st = ls_param_bytes_bound(n, n + lim->edges, lim->factor_nnz, &pc, 1, &z.param);
+        /* the measurement runs the analysis only: no factor */
+        if (st == LS_OK && uses_factor(c))
+            st = ls_ldlt_bytes_bound(n, n + lim->edges, n + lim->edges, 0, pc.order, &analyze, &object, &factor);
     }
     if (st == LS_OK) st = total(&z, &block);
     if (st == LS_OK) st = ls_mesh_edges_bytes(f, lim->edges, &eb);
@@ -902,7 +905,7 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     ls_size_add(&measure, 3u * (size_t)n, sizeof(ls_real));
     ls_size_add(&measure, eb, 1);
     ls_size_add(&measure, z.lap, 1);
-    ls_size_add(&measure, z.param, 1);
+    ls_size_add(&measure, analyze, 1);
     ls_size_init(&fit);
     ls_size_add(&fit, block, 1);
     ls_size_max(&fit, &measure);
