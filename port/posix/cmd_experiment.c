@@ -69,7 +69,7 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     memset(&e, 0, sizeof e);
     /* learning rates are in units of the initial mesh's radius (fit.h): the
      * icosphere on the target's bounding sphere, as largesteps fit */
-    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, 0, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
+    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, 0, NULL, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
         e.ok = 1;
         e.h = (double)d.vertex_hausdorff;
         e.h_rel = (double)d.vertex_hausdorff_rel;

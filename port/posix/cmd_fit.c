@@ -35,6 +35,7 @@ typedef struct fit_args {
     const char *target, *out;
     uint32_t views, res, iters, level, target_ss, quiet, track;
     uint32_t remesh_count, remesh_at[32];
+    ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
     ls_fit_config cfg;
 } fit_args;
 
@@ -63,6 +64,11 @@ static int usage(FILE *f)
             "  --shading S        sh (default) | mask\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
             "                     default 100,250; 'none' for no remeshing)\n"
+            "  --max-vertices N   the job's capacity (memory is reserved once for it, ls_fit_job_bytes):\n"
+            "                     vertices of any mesh and of the remesher (default (V0 + 64) 4^remeshes x 2)\n"
+            "  --max-faces N      faces of any mesh (default: the most N vertices allow)\n"
+            "  --max-factor-nnz N entries of the LDL^T factor (default 6 log2(N) per vertex); a remesh\n"
+            "                     beyond the capacity stops the run with the field to raise\n"
             "  --level K          subdivision level of the initial icosphere (default 3)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
@@ -138,6 +144,9 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && a->cfg.ss != 3;
         else if (strcmp(o, "--track") == 0) ok = parse_u32(v, 0, 1000000, &a->track);
+        else if (strcmp(o, "--max-vertices") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_vertices);
+        else if (strcmp(o, "--max-faces") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_faces);
+        else if (strcmp(o, "--max-factor-nnz") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_factor_nnz);
         else if (strcmp(o, "--power") == 0) ok = parse_u32(v, 1, 2, &a->cfg.power);
         else if (strcmp(o, "--cg-tol") == 0) ok = parse_real(v, &a->cfg.cg_tol) && a->cfg.cg_tol > 0;
         else if (strcmp(o, "--silhouette") == 0) {
@@ -332,7 +341,8 @@ static int write_json(FILE *f, void *ctx)
         ls_report_json_distance(f, j->d);
         ls_report_json_tangle(f, "tangle", j->t, 1);
     }
-    fprintf(f, "  \"fit_bytes\": %llu\n}\n", (unsigned long long)j->r->fit_bytes);
+    fprintf(f, "  \"fit_bytes\": %llu, \"job_bytes\": %llu, \"peak_bytes\": %llu\n}\n",
+            (unsigned long long)j->r->fit_bytes, (unsigned long long)j->r->job_bytes, (unsigned long long)j->r->peak_used);
     return !ferror(f);
 }
 
@@ -378,15 +388,22 @@ int ls_cmd_fit(int argc, char **argv)
     if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     tty = isatty(1);
     if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1,
-                    a.track > 0 ? a.track : a.iters + 1u, &arena, &run))
+                    a.track > 0 ? a.track : a.iters + 1u, &a.cap, &arena, &run))
         return 1;
     {
         const ls_fit_timing *t = &run.timing;
         double n = run.iterations > 0 ? run.iterations : 1;
-        printf("fit memory %.2f MiB at start; set-up %.1f ms; %u remeshes; %u vertices at the end; distances measured "
-               "%u times in %.0f ms (not counted below)\n",
-               (double)run.fit_bytes / 1048576.0, run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count,
-               (unsigned)run.tracked, run.track_total_ms);
+        printf("fit memory %.2f MiB reserved for the job (ls_fit_job_bytes: %lu bytes for %u vertices, %u faces, "
+               "%u factor entries), %.2f MiB at start, %.2f at the end, %.2f at most in use; the remesher's most live "
+               "vertices %u, factor entries at the end %u\n",
+               (double)run.job_bytes / 1048576.0, (unsigned long)run.job_bytes, (unsigned)run.capacity.max_vertices,
+               (unsigned)run.capacity.max_faces, (unsigned)run.capacity.max_factor_nnz,
+               (double)run.fit_bytes / 1048576.0, (double)run.fit_bytes_end / 1048576.0,
+               (double)run.peak_used / 1048576.0, (unsigned)run.remesh_live_max, (unsigned)run.factor_nnz);
+        printf("set-up %.1f ms; %u remeshes; %u vertices at the end; distances measured %u times in %.0f ms (not "
+               "counted below)\n",
+               run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count, (unsigned)run.tracked,
+               run.track_total_ms);
         printf("time per iteration %.2f ms: render %.2f, shading backward %.2f, silhouettes %.2f, solves %.2f, "
                "optimizer %.2f\n",
                run.total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,

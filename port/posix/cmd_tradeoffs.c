@@ -156,7 +156,7 @@ static void run_setting(const tr_setting *s, const ls_job_options *base, const c
     }
     used = ls_arena_used(arena);
     ls_arena_reset_peak(arena);
-    if (ls_job_fit(&p, &c, s->iters, 0, s->remesh_at, s->remesh_count, 0, 0, arena, &r)) {
+    if (ls_job_fit(&p, &c, s->iters, 0, s->remesh_at, s->remesh_count, 0, 0, NULL, arena, &r)) {
         double it = r.iterations > 0 ? (double)r.iterations : 1.0;
         row->peak_mib = (double)(arena->peak - used) / 1048576.0;
         row->iterations = r.iterations;

@@ -257,14 +257,49 @@ static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elaps
     return 1;
 }
 
+int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_capacity *given, ls_arena *arena,
+                    ls_fit_capacity *cap)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_mesh_report rep;
+    uint64_t n = (uint64_t)p->initial.vertex_count + 64u, f, z;
+    uint32_t r, bits;
+    ls_status st = ls_mesh_validate(&p->initial, arena, &rep);
+    ls_arena_restore(arena, mark);
+    if (st != LS_OK) return ls_job_fail("validating the initial mesh", st, NULL);
+    for (r = 0; r < remeshes && n < ((uint64_t)1 << 31); r++) n *= 4u;
+    n *= 2u;
+    if (n > ((uint64_t)1 << 31)) n = (uint64_t)1 << 31;
+    f = (int64_t)(2u * n) > 2 * rep.euler ? (uint64_t)((int64_t)(2u * n) - 2 * rep.euler) : 0u; /* F = 2 V - 2 chi - B */
+    if (f < p->initial.face_count) f = p->initial.face_count;
+    for (bits = 0; (n >> bits) != 0; bits++) {}
+    z = n * 6u * bits;
+    cap->max_vertices = given != NULL && given->max_vertices != 0 ? given->max_vertices : (uint32_t)n;
+    cap->max_faces = given != NULL && given->max_faces != 0 ? given->max_faces : f > UINT32_MAX ? UINT32_MAX : (uint32_t)f;
+    cap->max_factor_nnz = given != NULL && given->max_factor_nnz != 0 ? given->max_factor_nnz
+                          : z > UINT32_MAX ? UINT32_MAX : (uint32_t)z;
+    return 1;
+}
+
+/* ls_job_fail, and for a capacity error which option raises it. */
+static int capacity_fail(const char *what, ls_status st, const ls_diag *d)
+{
+    (void)ls_job_fail(what, st, d);
+    if (st == LS_ERR_TOO_LARGE && d->has_value)
+        fprintf(stderr, "largesteps: needed %llu, capacity %.0f: raise it with --max-vertices, --max-faces or "
+                        "--max-factor-nnz (largesteps fit --help)\n", (unsigned long long)d->index, (double)d->value);
+    return 0;
+}
+
 int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every, ls_arena *arena,
-               ls_job_run *r)
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every,
+               const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r)
 {
     uint32_t track_cap = track_every > 0 && p->have_mesh ? iterations / track_every + 2u : 0u;
     ls_fit_config c = *cfg;
     ls_fit_views fv;
     ls_fit fit;
+    ls_arena fit_arena;
     ls_monitor mon;
     ls_diag d;
     ls_real *pos;
@@ -289,11 +324,22 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
     fv.count = p->views;
     fv.mvp = p->mvps;
     fv.targets = (const ls_real *const *)p->targets;
+    if (capacity != NULL) {
+        /* the whole job in one block of exactly the query's bytes */
+        void *mem;
+        if (!ls_job_capacity(p, remesh_count, capacity, arena, &r->capacity)) return 0;
+        st = ls_fit_job_bytes(&c, &fv, &p->initial, &r->capacity, arena, &r->job_bytes, &d);
+        if (st != LS_OK) return capacity_fail("sizing the fit", st, &d);
+        mem = ls_arena_alloc(arena, r->job_bytes, 1);
+        if (mem == NULL || ls_arena_init(&fit_arena, mem, r->job_bytes) != LS_OK) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    }
     t0 = ls_job_now_ms();
-    st = ls_fit_init(&fit, &c, &fv, &p->initial, arena, &d);
-    if (st != LS_OK) return ls_job_fail("setting up the fit", st, &d);
+    st = capacity != NULL ? ls_fit_init_job(&fit, &c, &fv, &p->initial, &r->capacity, &fit_arena, &d)
+                          : ls_fit_init(&fit, &c, &fv, &p->initial, arena, &d);
+    if (st != LS_OK) return capacity_fail("setting up the fit", st, &d);
     r->setup_ms = ls_job_now_ms() - t0;
     r->fit_bytes = fit.block.capacity;
+    r->peak_used = fit.block.capacity;
     memset(&mon, 0, sizeof mon);
     mon.clock = ls_posix_clock_ns;
     t0 = ls_job_now_ms();
@@ -302,9 +348,16 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
             ls_remesh_info ri;
             double tr = ls_job_now_ms();
             uint32_t before = fit.vertex_count;
-            st = ls_fit_remesh(&fit, arena, (ls_real)0.5, (ls_real)0.8, &ri, &d);
-            if (st != LS_OK) return ls_job_fail("remeshing", st, &d);
+            size_t held = fit.block.capacity;
+            if (capacity != NULL) ls_arena_reset_peak(&fit.job);
+            st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, (ls_real)0.5, (ls_real)0.8, &ri, &d);
+            if (st != LS_OK) return capacity_fail("remeshing", st, &d);
             next++;
+            if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
+            /* the old fit and the remesher's work at once */
+            held += capacity != NULL ? fit.job.peak - fit.job_fit_bytes : 0u;
+            if (held > r->peak_used) r->peak_used = held;
+            if (fit.block.capacity > r->peak_used) r->peak_used = fit.block.capacity;
             if (progress)
                 printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
                        (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
@@ -337,6 +390,8 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
     r->total_ms = r->iterations > 0 ? r->ms[r->iterations - 1] : 0.0;
     r->timing = fit.timing;
     r->remeshes = fit.remeshes;
+    r->fit_bytes_end = fit.block.capacity;
+    r->factor_nnz = fit.param.f.lp != NULL ? fit.param.f.l_nnz : 0u;
     /* the result outlives the fit: copied above it */
     pos = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)fit.vertex_count, sizeof(ls_real));
     r->result.triangles = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)fit.face_count, sizeof(uint32_t));

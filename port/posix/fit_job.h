@@ -42,6 +42,13 @@ typedef struct ls_job_run {
     uint32_t remeshes;
     double setup_ms, total_ms;
     size_t fit_bytes;        /* the fit's block at the start */
+    size_t fit_bytes_end;    /* the fit's block at the end */
+    size_t job_bytes;        /* with a capacity: ls_fit_job_bytes, the fit's whole arena (else 0) */
+    size_t peak_used;        /* with a capacity: the most the fit held at once (its block, plus the
+                                remesher's work during a remesh) */
+    ls_fit_capacity capacity;/* with a capacity: the one used */
+    uint32_t remesh_live_max;/* the most live vertices of the remesher, over the remeshes */
+    uint32_t factor_nnz;     /* nnz(L) of the final fit's LDL^T factor (0 without) */
     uint32_t tracked;        /* distance samples taken (track_every > 0) */
     uint32_t *track_it;      /* iteration of each sample (the mesh before it) */
     double *track_ms;        /* elapsed fit time at that point */
@@ -57,16 +64,29 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena);
 ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, ls_real **rgba, ls_arena *arena,
                         ls_diag *d);
 
+/* The capacity of a job of `remeshes` remeshes from p->initial (fit.h),
+ * each field of `given` that is not 0 kept: vertices (V + 64) 4^remeshes x 2
+ * (each remesh halves the mean edge: about 4x the vertices, 3.5x measured
+ * on the bunny; the remesher splits before it collapses), faces the most a
+ * mesh of that many vertices with the initial mesh's Euler characteristic
+ * has, and 6 log2(N) factor entries per vertex (AMD's fill per vertex: 16
+ * on the 1.8k-vertex bunny, 46 on a 10k icosphere, 93 at 655k). Validates
+ * the initial mesh in arena's scratch. */
+int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_capacity *given, ls_arena *arena,
+                    ls_fit_capacity *cap);
+
 /* Runs the fit from p->initial: `iterations` iterations (stopping early when
  * time_budget_ms > 0 is exceeded), remeshing before the listed iterations;
  * progress: 0 none, 1 lines, 2 a line updated in place. With track_every > 0
  * and a target mesh, the dense distances to the target are measured every
  * track_every iterations and at the end (their time is not counted in the
- * run's times). The run's arrays and result are left in the arena (roll back
- * with a mark to reuse it). */
+ * run's times). capacity NULL: the fit in `arena` as ls_fit_init sizes it;
+ * else (fields 0: ls_job_capacity's) the whole job in one block of
+ * ls_fit_job_bytes from `arena` (ls_fit_init_job). The run's arrays and
+ * result are left in the arena (roll back with a mark to reuse it). */
 int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every, ls_arena *arena,
-               ls_job_run *r);
+               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every,
+               const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r);
 
 /* Distances (both ways, vertex and dense samples) and tangling of a result
  * against the problem's target mesh. */
