@@ -237,12 +237,14 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
  * init. Checks the initial mesh against the capacity: its counts, its edges
  * and its factor's fill (the symbolic analysis, in `scratch`, which needs
  * about ls_fit_bytes of free space; released). Cost O(F log F) plus one
- * analysis. Errors: those of ls_fit_bytes, LS_ERR_INVALID (NULL, a zero
- * capacity field; max_factor_nnz = 0 with the LDL^T), LS_ERR_MESH (the
- * initial mesh is not an oriented 2-manifold: the remesher's invariants
- * need one), LS_ERR_TOO_LARGE (the initial mesh exceeds the capacity:
- * diag->what names the field, diag->index = the mesh's count, diag->value =
- * the capacity; or the bytes overflow size_t). */
+ * analysis. The bound rests on two facts: every size in the fit grows with
+ * the counts, and the remesher keeps the Euler characteristic chi of the
+ * initial mesh (genus, components, boundary loops), so a mesh's edges are
+ * V + F - chi <= max_edges. Errors: those of ls_fit_bytes, LS_ERR_INVALID
+ * (NULL, a zero capacity field; max_factor_nnz = 0 with the LDL^T),
+ * LS_ERR_TOO_LARGE (the initial mesh exceeds the capacity: diag->what names
+ * the field, diag->index = the mesh's count, diag->value = the capacity; or
+ * the bytes overflow size_t), LS_ERR_NOMEM (scratch too small). */
 ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                            const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag);
 
@@ -290,8 +292,10 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
  * vertices than capacity.max_vertices", "... faces ...", "... edges ...",
  * "... factor entries than capacity.max_factor_nnz"), diag->index = the
  * count the result needed (for vertices: max_vertices + 1, the remesher
- * stops there), diag->value = the capacity; the fit and its reservation's
- * fit part are then byte for byte as before and the run can go on. */
+ * stops there), diag->value = the capacity. The fit is then as before,
+ * byte for byte (its struct and its part of the reservation; only the
+ * solver's workspace holds the sums of the remesh's x = M^-1 u, as after
+ * ls_fit_mesh), and the run can go on. */
 ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
                         ls_diag *diag);
 
