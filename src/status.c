@@ -18,7 +18,7 @@ static const status_text status_texts[LS_STATUS_COUNT] = {
     {"LS_OK", LS_MSG_("success")},
     {"LS_ERR_INVALID", LS_MSG_("invalid argument: a pointer is NULL or a value is outside its documented range")},
     {"LS_ERR_NOMEM", LS_MSG_("arena too small: give the call an arena of at least the bytes its sizing query returns")},
-    {"LS_ERR_TOO_LARGE", LS_MSG_("too large: the sizes involved overflow size_t or exceed a format limit; use smaller inputs")},
+    {"LS_ERR_TOO_LARGE", LS_MSG_("too large: the sizes involved overflow size_t or exceed a format limit or a capacity; use smaller inputs or raise the capacity")},
     {"LS_ERR_ALIGN", LS_MSG_("misaligned buffer: the arena buffer must be aligned to LS_ARENA_ALIGN (declare it with LS_ARENA_BUFFER)")},
     {"LS_ERR_PARSE", LS_MSG_("malformed input: the diagnostic gives the line, column or byte offset")},
     {"LS_ERR_NONFINITE", LS_MSG_("non-finite number: a NaN or infinity where a finite value is required")},

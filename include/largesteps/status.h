@@ -18,7 +18,7 @@ extern "C" {
 #define LS_OK              0  /* success */
 #define LS_ERR_INVALID     1  /* an argument is out of its documented range (NULL, negative, ...) */
 #define LS_ERR_NOMEM       2  /* the arena is too small: ask the sizing query for the bytes */
-#define LS_ERR_TOO_LARGE   3  /* a size computation overflows size_t, or a format's limit */
+#define LS_ERR_TOO_LARGE   3  /* a size computation overflows size_t, a format's limit or a caller's capacity (ls_fit_capacity) */
 #define LS_ERR_ALIGN       4  /* a buffer is not aligned to LS_ARENA_ALIGN */
 #define LS_ERR_PARSE       5  /* malformed input text or bytes; ls_diag says where */
 #define LS_ERR_NONFINITE   6  /* a NaN or infinity where a finite number is required */
