@@ -946,10 +946,13 @@ static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, con
     fit_counts have;
     int64_t e;
     ls_status st;
-    if (cap == NULL || cap->max_vertices == 0 || cap->max_faces == 0 || (uses_factor(c) && cap->max_factor_nnz == 0))
-        return ls_diag_set(diag, LS_ERR_INVALID,
-                           "capacity: max_vertices and max_faces must be > 0, and max_factor_nnz with the LDL^T",
-                           LS_DIAG_NO_INDEX);
+    memset(lim, 0, sizeof *lim);
+    if (cap == NULL || cap->max_vertices == 0 || cap->max_faces == 0 || (uses_factor(c) && cap->max_factor_nnz == 0)) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID,
+                          "capacity: max_vertices and max_faces must be > 0, and max_factor_nnz with the LDL^T",
+                          LS_DIAG_NO_INDEX);
+        return LS_ERR_INVALID;
+    }
     lim->vertices = cap->max_vertices;
     lim->faces = cap->max_faces;
     lim->edges = lim->factor_nnz = UINT32_MAX;
@@ -961,9 +964,11 @@ static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, con
     mark = ls_arena_save(scratch);
     st = ls_mesh_validate(initial, scratch, &rep);
     ls_arena_restore(scratch, mark);
-    if (st != LS_OK)
-        return ls_diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small to validate the initial mesh"
-                                                        : "initial mesh: cannot be validated", LS_DIAG_NO_INDEX);
+    if (st != LS_OK) {
+        (void)ls_diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small to validate the initial mesh"
+                                                       : "initial mesh: cannot be validated", LS_DIAG_NO_INDEX);
+        return st;
+    }
     /* every mesh of the job has the initial one's Euler characteristic
      * (the remesher keeps genus, components and boundary loops), so E =
      * V + F - chi */
@@ -1013,9 +1018,11 @@ ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);
     mem = ls_arena_alloc(arena, bytes, 1);
-    if (mem == NULL)
-        return ls_diag_set(diag, LS_ERR_NOMEM, "arena too small for the job (ls_fit_job_bytes; arena->need)",
-                           LS_DIAG_NO_INDEX);
+    if (mem == NULL) {
+        (void)ls_diag_set(diag, LS_ERR_NOMEM, "arena too small for the job (ls_fit_job_bytes; arena->need)",
+                          LS_DIAG_NO_INDEX);
+        return LS_ERR_NOMEM;
+    }
     /* the fit at the start of the reservation, the remesh work above it */
     measure_frame(initial, &scale, &radius);
     st = ls_arena_init(&region, mem, region_bytes);

@@ -206,7 +206,7 @@ ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, co
                                int with_coords, size_t *bytes)
 {
     ls_size s;
-    size_t work = 0, analyze = 0, object = 0, factor = 0;
+    size_t work = 0, ab = 0, object = 0, factor = 0;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -218,12 +218,12 @@ ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, co
          * upper triangle has at most every stored entry */
         ls_size tail, peak;
         uint32_t method = with_coords ? cfg->order : order_method(cfg, NULL);
-        st = ls_ldlt_bytes_bound(n, nnz, nnz, factor_nnz, method, &analyze, &object, &factor);
+        st = ls_ldlt_bytes_bound(n, nnz, nnz, factor_nnz, method, &ab, &object, &factor);
         ls_size_init(&tail);
         ls_size_add(&tail, object, 1);
         ls_size_add(&tail, factor, 1);
         ls_size_init(&peak);
-        ls_size_add(&peak, analyze, 1);
+        ls_size_add(&peak, ab, 1);
         ls_size_max(&tail, &peak);
         ls_size_add_size(&s, &tail);
     }
