@@ -8,7 +8,8 @@
  * (port/cortex-m4/ls_m4.h). `make m4` runs it in the MCU profile (mcu.ld);
  * every other target runs it as an ordinary test program, where the stack is
  * not measured. Later issues add jobs: an LDL^T solve on a small icosphere,
- * then a tiny fit. A job gets the arena initialised and empty; it reports
+ * then a tiny fit, then a tiny fit with a remesh inside its job's
+ * reservation (ls_fit_job_bytes). A job gets the arena initialised and empty; it reports
  * failures with CHECK/REQUIRE like any test.
  */
 #include "test.h"
@@ -151,10 +152,13 @@ static void job_ldlt(ls_arena *arena)
  * level 1 (level 0 in double), 10 iterations of large steps. The memory is
  * sized by ls_fit_bytes on the target itself, and the fit runs in what the
  * query said. */
-static void job_fit(ls_arena *arena)
+/* A tiny fit from a static buffer sized on the target: by ls_fit_bytes,
+ * or (whole_job) by ls_fit_job_bytes for a capacity that holds one remesh,
+ * which then runs inside the reservation. */
+static void fit_on_target(ls_arena *arena, int whole_job)
 {
 #if LS_REAL_IS_FLOAT
-    const uint32_t res = 32, level = 1;
+    const uint32_t res = whole_job ? 16 : 32, level = whole_job ? 0 : 1;
 #else
     const uint32_t res = 16, level = 0;
 #endif
@@ -171,8 +175,12 @@ static void job_fit(ls_arena *arena)
     ls_real mvp[16], *img, *normals, first = 0;
     const ls_real *targets[1];
     ls_arena_mark mark;
+    ls_fit_capacity cap;
     size_t bytes = 0, before;
     uint32_t i;
+    cap.max_vertices = 96; /* a remesh to half the mean edge: about 4x the vertices */
+    cap.max_faces = 2u * 96u - 4u;
+    cap.max_factor_nnz = 96u * 16u;
     REQUIRE(ls_icosphere(2, arena, &target) == LS_OK);
     for (i = 0; i < target.vertex_count; i++) target.positions[3 * i] *= (ls_real)1.4;
     ls_fit_config_default(&c);
@@ -201,18 +209,30 @@ static void job_fit(ls_arena *arena)
     views.mvp = mvp;
     views.targets = targets;
     before = ls_arena_used(arena);
-    REQUIRE(ls_fit_bytes(&c, &views, &init, arena, &bytes, NULL) == LS_OK);
-    CHECK(bytes <= ls_arena_available(arena));
-    REQUIRE(ls_fit_init(&fit, &c, &views, &init, arena, NULL) == LS_OK);
+    if (whole_job) {
+        REQUIRE(ls_fit_job_bytes(&c, &views, &init, &cap, arena, &bytes, NULL) == LS_OK);
+        CHECK(bytes <= ls_arena_available(arena));
+        REQUIRE(ls_fit_init_job(&fit, &c, &views, &init, &cap, arena, NULL) == LS_OK);
+    } else {
+        REQUIRE(ls_fit_bytes(&c, &views, &init, arena, &bytes, NULL) == LS_OK);
+        CHECK(bytes <= ls_arena_available(arena));
+        REQUIRE(ls_fit_init(&fit, &c, &views, &init, arena, NULL) == LS_OK);
+    }
     CHECK_EQ(ls_arena_used(arena) - before, LS_ARENA_ROUND(bytes));
     for (i = 0; i < 10; i++) {
+        if (whole_job && i == 5) REQUIRE(ls_fit_remesh(&fit, NULL, (ls_real)0.5, (ls_real)0.8, NULL, NULL) == LS_OK);
         REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
         if (i == 0) first = fit.loss;
         CHECK(fit.loss - fit.loss == 0);
     }
-    printf("     fit: %ux%u, %u vertices, ls_fit_bytes %lu, loss %.5g -> %.5g\n", (unsigned)res, (unsigned)res,
-           (unsigned)init.vertex_count, (unsigned long)bytes, (double)first, (double)fit.loss);
+    CHECK_EQ(ls_arena_used(arena) - before, LS_ARENA_ROUND(bytes)); /* nothing more after init */
+    printf("     fit%s: %ux%u, %u -> %u vertices, %s %lu, loss %.5g -> %.5g\n", whole_job ? " with a remesh" : "",
+           (unsigned)res, (unsigned)res, (unsigned)init.vertex_count, (unsigned)fit.vertex_count,
+           whole_job ? "ls_fit_job_bytes" : "ls_fit_bytes", (unsigned long)bytes, (double)first, (double)fit.loss);
 }
+
+static void job_fit(ls_arena *arena) { fit_on_target(arena, 0); }
+static void job_fit_whole(ls_arena *arena) { fit_on_target(arena, 1); }
 
 typedef struct mcu_job {
     const char *name;
@@ -227,6 +247,7 @@ static const mcu_job jobs[] = {
 #endif
     {"mcu_ldlt", job_ldlt},
     {"mcu_fit", job_fit},
+    {"mcu_fit_job", job_fit_whole},
 };
 
 static void run_job(const mcu_job *job)
