@@ -342,16 +342,23 @@ static void backwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
     }
 }
 
-ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
+ls_status ls_ldlt_solve_bytes_n(uint32_t n, uint32_t k, size_t *bytes)
 {
     ls_size s;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
-    if (f == NULL || k == 0) return LS_ERR_INVALID;
+    if (k == 0) return LS_ERR_INVALID;
     ls_size_init(&s);
-    ls_size_add(&s, (size_t)f->n * k, sizeof(ls_acc));
-    if ((size_t)f->n * k / k != f->n) return LS_ERR_TOO_LARGE;
+    ls_size_add(&s, (size_t)n * k, sizeof(ls_acc));
+    if ((size_t)n * k / k != n) return LS_ERR_TOO_LARGE;
     return ls_size_get(&s, bytes);
+}
+
+ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
+{
+    if (bytes != NULL) *bytes = 0;
+    if (f == NULL) return LS_ERR_INVALID;
+    return ls_ldlt_solve_bytes_n(f->n, k, bytes);
 }
 
 ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena)

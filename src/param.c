@@ -58,7 +58,7 @@ static ls_status front_bytes(uint32_t n, size_t nnz, const ls_param_config *cfg,
         st = ls_cg_bytes(n, cfg->k, &wb);
     } else {
         ls_size_add(s, nk, sizeof(ls_real));
-        st = ls_size_mul(nk, sizeof(ls_acc), &wb); /* ls_ldlt_solve_bytes: n k sums */
+        st = ls_ldlt_solve_bytes_n(n, cfg->k, &wb);
         wb = LS_ARENA_ROUND(wb);
     }
     if (st != LS_OK) return st;

@@ -178,6 +178,10 @@ ls_status ls_ldlt_refactor(ls_ldlt *f, const ls_csc *a, ls_diag *diag);
  * right-hand sides (n * k reals). O(1). */
 ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes);
 
+/* ls_ldlt_solve_bytes_n: the same for an n x n factor not built yet (a
+ * caller sizing a job before the analysis). O(1). */
+ls_status ls_ldlt_solve_bytes_n(uint32_t n, uint32_t k, size_t *bytes);
+
 /* ls_ldlt_solve: x (n x k, row-major) holds B on entry and A^{-1} B on
  * return: permute, forward with L, scale by 1/D, backward with L^T,
  * permute back. Time 4 nnz(L) k + O(n k); scratch n k reals, released.

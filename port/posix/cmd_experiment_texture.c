@@ -11,10 +11,15 @@
  * from --views training views plus 2 validation views (for tuning) and 4
  * held-out test views, --res x --res pixels (default 108), unlit.
  *
- * Renders. The fit renders with one sample per pixel (bilinear lookup at the
- * pixel centre). Target renders, and every render used for an error figure,
- * use 4 x 4 samples per pixel with a box resolve (the full-resolution
- * texture supersampled: the target is filtered to the pixel footprint).
+ * Renders. Target renders, and every render used for an error figure, use
+ * 4 x 4 samples per pixel with a box resolve (the full-resolution texture
+ * supersampled: the target is filtered to the pixel footprint). The fit
+ * renders the same way by default (--fit-ss 4): a pixel of a 108^2 view
+ * covers about 8 x 8 texels of the 1024^2 texture, and one bilinear lookup
+ * per pixel (--fit-ss 1) would see 4 of them and could not reproduce a
+ * box-filtered target (the data then conflict between views, and the
+ * comparison measures how each method regularizes aliasing).
+ * --targets fit renders the training targets with the fit's own sampling.
  *
  * Methods, each on the texels x (n x 3, n = side^2), starting from grey 0.5,
  * L = mean over training pixels and RGB of (I - I*)^2:
@@ -145,7 +150,7 @@ static uint32_t parse_methods(const char *v)
 /* Fills the grids the command line left empty with the defaults. */
 static void default_grids(tx_args *a, uint32_t footprint)
 {
-    static const double lr_adam[3] = {0.03, 0.1, 0.3}, lr_ua[3] = {0.01, 0.03, 0.1};
+    static const double lr_adam[3] = {0.1, 0.3, 1}, lr_ua[3] = {0.1, 0.3, 1};
     double fp2 = (double)footprint * footprint, w0 = 1e-6 * fp2 / ((double)a->side * a->side / 16384.0);
     int m, i;
     for (m = 0; m < 3; m++)
@@ -159,7 +164,7 @@ static void default_grids(tx_args *a, uint32_t footprint)
     }
     if (a->weight[M_REG].n == 0) {
         a->weight[M_REG].n = 3;
-        for (i = 0; i < 3; i++) a->weight[M_REG].v[i] = w0 * (i == 0 ? 1 : i == 1 ? 10 : 100);
+        for (i = 0; i < 3; i++) a->weight[M_REG].v[i] = w0 * (i == 0 ? 0.1 : i == 1 ? 1 : 10);
     }
     if (a->weight[M_LS].n == 0) {
         a->weight[M_LS].n = 3;
@@ -174,7 +179,7 @@ static int usage(FILE *f)
                "  --scene S     quad (default) or sphere\n"
                "  --res R       render size R x R (default 108)\n"
                "  --views N     training views (default 8)\n"
-               "  --fit-ss S    samples per pixel side of the fit's renders: 1 (default), 2 or 4\n"
+               "  --fit-ss S    samples per pixel side of the fit's renders: 4 (default, as the targets), 2 or 1\n"
                "  --targets T   training targets: box (default: 4 x 4 samples, box resolve) or fit\n"
                "                (rendered like the fit's renders, --fit-ss); error renders are always box\n"
                "  --side N      fitted texture side (default 256; --full: 1024)\n"
@@ -183,8 +188,8 @@ static int usage(FILE *f)
                "  --full        acceptance run: --side 1024 --tune 20 --time 90\n"
                "  --methods L   comma list of naive, reg, ls (default all three)\n"
                "  --lr-naive L, --lr-reg L, --lr-ls L    learning-rate grids (comma lists;\n"
-               "                default 0.03,0.1,0.3 for Adam, 0.01,0.03,0.1 for large steps)\n"
-               "  --w-reg L, --lambda-ls L   weight grids (default: w = 1e-6, 1e-5, 1e-4 x f^2 / (side^2 / 128^2),\n"
+               "                default 0.1,0.3,1 for all three)\n"
+               "  --w-reg L, --lambda-ls L   weight grids (default: w = 1e-7, 1e-6, 1e-5 x f^2 / (side^2 / 128^2),\n"
                "                lambda = 1, 4, 16 x f^2; f the footprint below)\n",
             TX_DEFAULT_IMAGE);
     return f == stderr ? 2 : 0;
@@ -636,7 +641,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     a.image = TX_DEFAULT_IMAGE;
     a.scene = "quad";
     a.res = 108;
-    a.fit_ss = 1;
+    a.fit_ss = 4;
     a.own_targets = 0;
     a.views = 8;
     a.side = 0;
