@@ -116,6 +116,13 @@ if [ "$(grep -c '^| bunny | ' "$out/trade/tradeoffs.md" 2>/dev/null)" = 7 ] && g
 check experiment_texture "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 -o "$out/tex"
 if grep -q '^| large steps' "$out/tex/texture.md" 2>/dev/null && [ -s "$out/tex/texture.png" ]; then
     ok "experiment_texture_table_and_figure"; else bad "experiment_texture_table_and_figure"; fi
+# the tuning grid from the command line: large steps only, 2 lambdas x 1 rate = 2 tuning rows and 1 final row
+check experiment_texture_grid "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
+    --methods ls --lambda-ls 4,16 --lr-ls 0.3 -o "$out/texgrid"
+if [ "$(grep -c '^| large steps' "$out/texgrid/texture.md" 2>/dev/null)" = 3 ] && ! grep -q '^| naive' "$out/texgrid/texture.md"; then
+    ok "experiment_texture_grid_rows"; else bad "experiment_texture_grid_rows"; fi
+expect experiment_texture_bad_method 2 "usage" "$ls" experiment texture --methods ls,foo -o "$out/x"
+expect experiment_texture_bad_grid 2 "usage" "$ls" experiment texture --lr-ls 0.1,0 -o "$out/x"
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]
