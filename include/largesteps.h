@@ -29,6 +29,7 @@
 #include <largesteps/loss.h>
 #include <largesteps/render_backward.h>
 #include <largesteps/silhouette.h>
+#include <largesteps/raster_refine.h>
 #include <largesteps/number.h>
 #include <largesteps/sort.h>
 #include <largesteps/mesh.h>

@@ -11,15 +11,8 @@
 
 #define R_INV_PI ((ls_real)0.31830988618379067154)
 
-/* Everything one sample's backward needs. */
-typedef struct bctx {
-    const ls_vis *vis;
-    const uint32_t *indices;
-    const ls_real *normals;
-    const ls_shade_opts *o;
-    const ls_real *m; /* mvp */
-    ls_real *gp, *gn, *gc, *gt, *guv;
-} bctx;
+/* Everything one sample's backward needs (render_internal.h). */
+typedef ls_shade_bctx bctx;
 
 /* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi. */
 static void sh_grad(const ls_real *sh, const ls_real n[3], const ls_real g[3], ls_real dn[3])
@@ -174,14 +167,11 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
                                    diag);
 }
 
-ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
-                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
-                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
-                                  ls_diag *diag)
+ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const uint32_t *indices,
+                                  uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                  const ls_shade_opts *opts, const ls_real mvp[16], const ls_real *grad_image,
+                                  const ls_shade_grads *grads, ls_diag *diag)
 {
-    bctx bc;
-    uint32_t x, y, ss;
-    ls_real inv_n;
     uint32_t counts[2];
     ls_status st;
     if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL || grads == NULL) return LS_ERR_INVALID;
@@ -190,24 +180,36 @@ ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, ui
     counts[1] = vertex_count;
     st = ls_shade_check_args(vis, counts, indices, normals, opts, diag);
     if (st != LS_OK) return st;
-    if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
-    bc.vis = vis;
-    bc.indices = indices;
-    bc.normals = normals;
-    bc.o = opts;
-    bc.m = mvp;
-    bc.gp = grads->positions;
-    bc.gn = opts->mode == LS_SHADE_COLOR ? NULL : grads->normals;
-    bc.gc = grads->colors;
-    bc.gt = opts->texture != NULL ? grads->texels : NULL;
-    bc.guv = opts->texture != NULL ? grads->uvs : NULL;
-    ss = vis->ss;
-    inv_n = (ls_real)1 / (ls_real)(ss * ss);
+    bc->vis = vis;
+    bc->indices = indices;
+    bc->normals = normals;
+    bc->o = opts;
+    bc->m = mvp;
+    bc->gp = grads->positions;
+    bc->gn = opts->mode == LS_SHADE_COLOR ? NULL : grads->normals;
+    bc->gc = grads->colors;
+    bc->gt = opts->texture != NULL ? grads->texels : NULL;
+    bc->guv = opts->texture != NULL ? grads->uvs : NULL;
+    return LS_OK;
+}
+
+void ls_shade_backward_sample(const ls_shade_bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
+{
+    sample_backward(bc, f, px, py, g);
+}
+
+void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, const ls_real *grad_image,
+                              const uint8_t *skip)
+{
+    const ls_vis *vis = bc->vis;
+    uint32_t x, y, ss = vis->ss;
+    ls_real inv_n = (ls_real)1 / (ls_real)(ss * ss);
     for (y = 0; y < vis->height; y++) {
         for (x = 0; x < vis->width; x++) {
             size_t p = (size_t)y * vis->width + x;
             ls_real g[3];
             uint32_t i, j;
+            if (skip != NULL && skip[p]) continue;
             g[0] = grad_image[4 * p] * inv_n;
             g[1] = grad_image[4 * p + 1] * inv_n;
             g[2] = grad_image[4 * p + 2] * inv_n;
@@ -222,11 +224,24 @@ ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, ui
                     ls_real px;
                     if (id == 0 || id > triangle_count) continue;
                     px = (ls_real)(2u * sx + 1u) / (ls_real)vis->sw - (ls_real)1;
-                    sample_backward(&bc, indices + 3 * (size_t)(id - 1u), px, py, g);
+                    sample_backward(bc, bc->indices + 3 * (size_t)(id - 1u), px, py, g);
                 }
             }
         }
     }
+}
+
+ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
+                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
+                                  ls_diag *diag)
+{
+    bctx bc;
+    ls_status st = ls_shade_backward_begin(&bc, vis, indices, triangle_count, normals, vertex_count, opts, mvp,
+                                           grad_image, grads, diag);
+    if (st != LS_OK) return st;
+    if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
+    ls_shade_backward_pixels(&bc, triangle_count, grad_image, NULL);
     return LS_OK;
 }
 

@@ -5,6 +5,7 @@
 
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
+#include <largesteps/render_backward.h>
 
 /* ls_check_triangle_indices: LS_OK when every index of the triangle_count
  * triangles is below vertex_count, else LS_ERR_MESH with diag naming the
@@ -41,5 +42,37 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
  * values (an image or a texture): LS_ERR_INVALID for a zero side or NULL,
  * LS_ERR_TOO_LARGE on overflow. O(1). (texture.c) */
 ls_status ls_grid_values_bytes(uint32_t width, uint32_t height, uint32_t channels, size_t *bytes);
+
+/* The shading backward's per-call state (render_backward.c), shared with the
+ * adaptive refinement (raster_refine.c), which runs the same per-sample
+ * backward over its own sub-samples. */
+typedef struct ls_shade_bctx {
+    const ls_vis *vis;
+    const uint32_t *indices;
+    const ls_real *normals;
+    const ls_shade_opts *o;
+    const ls_real *m; /* mvp */
+    ls_real *gp, *gn, *gc, *gt, *guv;
+} ls_shade_bctx;
+
+/* ls_shade_backward_begin: the argument checks of ls_shade_backward_grads
+ * and the state *bc of the call (nothing written elsewhere). O(T).
+ * (render_backward.c) */
+ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const uint32_t *indices,
+                                  uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                  const ls_shade_opts *opts, const ls_real mvp[16], const ls_real *grad_image,
+                                  const ls_shade_grads *grads, ls_diag *diag);
+
+/* ls_shade_backward_pixels: the interior backward of every pixel over its
+ * S x S samples, in image order, except the pixels p with skip[p] != 0
+ * (skip may be NULL). Not for LS_SHADE_MASK. O(samples). (render_backward.c) */
+void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, const ls_real *grad_image,
+                              const uint8_t *skip);
+
+/* ls_shade_backward_sample: the backward of one covered sample of triangle
+ * f at NDC (px, py), g = dL/d(sample rgb): barycentrics from
+ * ls_clip_barycentric on vis->clip (nothing when edge-on). O(lights).
+ * (render_backward.c) */
+void ls_shade_backward_sample(const ls_shade_bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3]);
 
 #endif /* LS_RENDER_INTERNAL_H */
