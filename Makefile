@@ -367,6 +367,12 @@ $(BUILD)/bench/bench_silhouette: tests/bench/bench_silhouette.c $(PORT_LINK) $(L
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
+# Adaptive supersampling of silhouette pixels (tests/bench/bench_refine.c):
+# $(BUILD)/bench/bench_refine MESH [RES [VIEWS [REPS]]].
+$(BUILD)/bench/bench_refine: tests/bench/bench_refine.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
 # Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
 $(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)
 	@mkdir -p $(@D)

@@ -110,6 +110,7 @@ static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, con
     if (c->shading.vertex_colors != NULL || c->shading.mode > LS_SHADE_LAMBERT) return LS_ERR_INVALID;
     if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;
     if (c->power > 2u || !finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return LS_ERR_INVALID;
+    if (c->aa > LS_REFINE_MAX || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)) return LS_ERR_INVALID;
     if (m->vertex_count == 0 || m->face_count == 0 || m->vertex_count > (UINT32_MAX - 3u) / 3u) return LS_ERR_INVALID;
     return LS_OK;
 }
@@ -188,6 +189,8 @@ static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t 
     ls_status st = ls_raster_scratch_bytes_bound(c->width, c->height, c->ss, n, f, &a);
     if (st == LS_OK)
         st = ls_silhouette_scratch_bytes_bins(c->width, c->height, n, f, LS_FIT_BIN_PER_TRIANGLE, LS_FIT_BIN_PER_TILE, &sil);
+    if (st == LS_OK && sil > a) a = sil;
+    if (st == LS_OK) st = ls_refine_scratch_bytes_bound(c->width, c->height, c->ss, f, c->aa, &sil); /* 0 when off */
     if (st == LS_OK && sil > a) a = sil;
     if (st == LS_OK) st = ls_vertex_normals_backward_bytes(n, &b);
     if (st == LS_OK && c->method == LS_FIT_LAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 0, 1, &e);
@@ -468,6 +471,9 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
         if (st == LS_OK) st = ls_raster(&fit->vis, &fit->block, mvp, fit->xr, n, fit->triangles, nf, diag);
         if (st == LS_OK) st = ls_shade(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, fit->image, diag);
+        if (st == LS_OK && c->aa > c->ss)
+            st = ls_refine_shade(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading, c->aa,
+                                 fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
             /* the loss sees the blended image; its gradient goes back through
              * the blending to the positions and to the shaded image */
@@ -485,9 +491,17 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         }
         t2 = now(monitor);
         fit->timing.silhouette_ns += t2 - t1;
-        if (st == LS_OK)
+        if (st == LS_OK && c->aa > c->ss) {
+            ls_shade_grads sg;
+            memset(&sg, 0, sizeof sg);
+            sg.positions = fit->gx;
+            sg.normals = shaded ? fit->gnormals : NULL;
+            st = ls_refine_shade_backward(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading,
+                                          c->aa, mvp, fit->gimage, &sg, &fit->block, diag);
+        } else if (st == LS_OK) {
             st = ls_shade_backward(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, mvp, fit->gimage,
                                    fit->gx, shaded ? fit->gnormals : NULL, NULL, diag);
+        }
         t1 = now(monitor);
         fit->timing.shade_backward_ns += t1 - t2;
         if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)

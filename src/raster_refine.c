@@ -18,6 +18,8 @@ typedef struct rf {
     uint32_t *list;     /* [entries] */
     uint32_t *sid;      /* [A^2] visible triangle + 1 per sub-sample */
     ls_real *sdepth;    /* [A^2] */
+    ls_real sx[LS_REFINE_MAX], sy[LS_REFINE_MAX]; /* NDC of the current pixel's sub-sample columns, rows */
+    int cull;           /* 1 or -1: leave out triangles of that homogeneous orientation (closed mesh) */
     uint32_t pixels, segments;
 } rf;
 
@@ -97,8 +99,49 @@ static void box_pixels(const ls_vis *vis, const float b[4], int32_t r[4])
     if (r[3] > (int32_t)vis->height - 1) r[3] = (int32_t)vis->height - 1;
 }
 
+/* The sign of the homogeneous determinant det((X, Y, W) of a, b, c). */
+static int hsign(const ls_real *a, const ls_real *b, const ls_real *c)
+{
+    ls_real d = a[0] * (b[1] * c[3] - b[3] * c[1]);
+    d -= a[1] * (b[0] * c[3] - b[3] * c[0]);
+    d += a[3] * (b[0] * c[1] - b[1] * c[0]);
+    return d > (ls_real)0 ? 1 : (d < (ls_real)0 ? -1 : 0);
+}
+
+/* A closed mesh seen from outside never shows its back faces: with no
+ * boundary edge, no clipped triangle and fewer than 1/64 of the covered
+ * samples of vis showing the minority homogeneous orientation (the test of
+ * ls_silhouette_backward), the orientation to leave out (1 or -1), else 0. */
+static int cull_orientation(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                            uint32_t triangle_count)
+{
+    size_t n = (size_t)vis->sw * vis->sh, s, pos = 0, neg = 0;
+    if (table->boundary_edges != 0 || vis->clipped_triangles != 0) return 0;
+    for (s = 0; s < n; s++) {
+        uint32_t id = vis->tri[s];
+        const uint32_t *f;
+        int o;
+        if (id == 0 || id > triangle_count) continue;
+        f = indices + 3 * (size_t)(id - 1u);
+        o = hsign(vis->clip + 4 * (size_t)f[0], vis->clip + 4 * (size_t)f[1], vis->clip + 4 * (size_t)f[2]);
+        if (o > 0) pos++;
+        else if (o < 0) neg++;
+    }
+    if (neg * 64u < pos + neg && pos > 0) return -1;
+    if (pos * 64u < pos + neg && neg > 0) return 1;
+    return 0;
+}
+
+/* 1 when triangle f is left out (culled orientation). */
+static int culled(const ls_vis *vis, const uint32_t *f, int cull)
+{
+    return cull != 0 &&
+           hsign(vis->clip + 4 * (size_t)f[0], vis->clip + 4 * (size_t)f[1], vis->clip + 4 * (size_t)f[2]) == cull;
+}
+
 /* The bin entries of every triangle (count pass, no memory). */
-static ls_status count_entries(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, size_t *entries)
+static ls_status count_entries(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, int cull,
+                                size_t *entries)
 {
     size_t total = 0;
     uint32_t t;
@@ -106,7 +149,7 @@ static ls_status count_entries(const ls_vis *vis, const uint32_t *indices, uint3
         float b[4];
         int32_t r[4];
         size_t n;
-        if (!tri_box(vis, indices + 3 * (size_t)t, b)) continue;
+        if (culled(vis, indices + 3 * (size_t)t, cull) || !tri_box(vis, indices + 3 * (size_t)t, b)) continue;
         box_pixels(vis, b, r);
         if (r[0] > r[2] || r[1] > r[3]) continue;
         n = (size_t)((r[2] >> LS_REFINE_TILE_LOG2) - (r[0] >> LS_REFINE_TILE_LOG2) + 1) *
@@ -162,8 +205,16 @@ static ls_status check_vis(const ls_vis *vis, const uint32_t *indices, uint32_t 
     return LS_OK;
 }
 
-ls_status ls_refine_scratch_bytes(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, uint32_t aa,
-                                  size_t *bytes)
+static ls_status check_table(const ls_edge_table *table, uint32_t triangle_count)
+{
+    if (table == NULL) return LS_ERR_INVALID;
+    if (table->twin == NULL && triangle_count > 0) return LS_ERR_STATE;
+    if (table->triangle_count != triangle_count) return LS_ERR_INVALID;
+    return LS_OK;
+}
+
+ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                  uint32_t triangle_count, uint32_t aa, size_t *bytes)
 {
     ls_size s;
     size_t entries = 0;
@@ -173,8 +224,10 @@ ls_status ls_refine_scratch_bytes(const ls_vis *vis, const uint32_t *indices, ui
     st = check_vis(vis, indices, triangle_count, aa);
     if (st != LS_OK) return st;
     if (off_mode(aa, vis->ss)) return LS_OK;
-    st = ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL);
-    if (st == LS_OK) st = count_entries(vis, indices, triangle_count, &entries);
+    st = check_table(table, triangle_count);
+    if (st == LS_OK) st = ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL);
+    if (st == LS_OK)
+        st = count_entries(vis, indices, triangle_count, cull_orientation(vis, table, indices, triangle_count), &entries);
     if (st != LS_OK) return st;
     scratch_layout(&s, vis->width, vis->height, triangle_count, aa, tile_count(vis->width, vis->height), entries);
     return ls_size_get(&s, bytes);
@@ -190,7 +243,7 @@ static void build_bins(rf *c)
     for (t = 0; t < c->triangle_count; t++) {
         float *b = c->box + 4 * (size_t)t;
         int32_t r[4], tx, ty;
-        if (!tri_box(vis, c->indices + 3 * (size_t)t, b)) {
+        if (culled(vis, c->indices + 3 * (size_t)t, c->cull) || !tri_box(vis, c->indices + 3 * (size_t)t, b)) {
             b[0] = b[1] = 1.0f;
             b[2] = b[3] = 0.0f;
             continue;
@@ -305,15 +358,6 @@ static void mark_segment(rf *c, const ls_real *p0, const ls_real *q0)
     walk(c, ax + t0 * d[0], ay + t0 * d[1], ax + t1 * d[0], ay + t1 * d[1]);
 }
 
-/* The sign of the homogeneous determinant det((X, Y, W) of a, b, c). */
-static int hsign(const ls_real *a, const ls_real *b, const ls_real *c)
-{
-    ls_real d = a[0] * (b[1] * c[3] - b[3] * c[1]);
-    d -= a[1] * (b[0] * c[3] - b[3] * c[0]);
-    d += a[3] * (b[0] * c[1] - b[1] * c[0]);
-    return d > (ls_real)0 ? 1 : (d < (ls_real)0 ? -1 : 0);
-}
-
 /* Marks every pixel crossed by a silhouette segment (header). */
 static void mark_edges(rf *c, const ls_edge_table *table)
 {
@@ -371,6 +415,19 @@ static void sub_range(ls_real b0, ls_real b1, uint32_t x0, uint32_t aa, int32_t 
     *i1 = hi;
 }
 
+/* The NDC coordinates of pixel (x, y)'s sub-sample columns and rows (the
+ * header's formula; the shading and the backward use these values). */
+static void sub_coords(rf *c, uint32_t x, uint32_t y)
+{
+    const uint32_t aa = c->aa;
+    const ls_real sw = (ls_real)(c->vis->width * aa), sh = (ls_real)(c->vis->height * aa);
+    uint32_t i;
+    for (i = 0; i < aa; i++) {
+        c->sx[i] = (ls_real)(2u * (x * aa + i) + 1u) / sw - (ls_real)1;
+        c->sy[i] = (ls_real)1 - (ls_real)(2u * (y * aa + i) + 1u) / sh;
+    }
+}
+
 /* The visible triangle (id + 1, 0 = none) and depth of every sub-sample of
  * pixel (x, y), into c->sid / c->sdepth. */
 static void pixel_visibility(rf *c, uint32_t x, uint32_t y)
@@ -378,13 +435,13 @@ static void pixel_visibility(rf *c, uint32_t x, uint32_t y)
     const ls_vis *vis = c->vis;
     const uint32_t aa = c->aa, n = aa * aa;
     const size_t tile = (size_t)(y >> LS_REFINE_TILE_LOG2) * c->tiles_x + (x >> LS_REFINE_TILE_LOG2);
-    const ls_real sw = (ls_real)(vis->width * aa), sh = (ls_real)(vis->height * aa);
     size_t e;
     uint32_t s;
     for (s = 0; s < n; s++) {
         c->sid[s] = 0;
         c->sdepth[s] = (ls_real)1;
     }
+    sub_coords(c, x, y);
     for (e = c->offs[tile]; e < c->offs[tile + 1]; e++) {
         uint32_t t = c->list[e];
         const float *b = c->box + 4 * (size_t)t;
@@ -398,10 +455,10 @@ static void pixel_visibility(rf *c, uint32_t x, uint32_t y)
         sub_range((ls_real)b[0], (ls_real)b[2], x, aa, &i0, &i1);
         sub_range((ls_real)b[1], (ls_real)b[3], y, aa, &j0, &j1);
         for (j = j0; j <= j1; j++) {
-            ls_real py = (ls_real)1 - (ls_real)(2u * (y * aa + (uint32_t)j) + 1u) / sh;
+            ls_real py = c->sy[j];
             ls_real v0 = c0[1] - py * c0[3], v1 = c1[1] - py * c1[3], v2 = c2[1] - py * c2[3];
             for (i = i0; i <= i1; i++) {
-                ls_real px = (ls_real)(2u * (x * aa + (uint32_t)i) + 1u) / sw - (ls_real)1;
+                ls_real px = c->sx[i];
                 /* ls_clip_barycentric's arithmetic */
                 ls_real u0 = c0[0] - px * c0[3], u1 = c1[0] - px * c1[3], u2 = c2[0] - px * c2[3];
                 ls_real a0 = u1 * v2 - u2 * v1, a1 = u2 * v0 - u0 * v2, a2 = u0 * v1 - u1 * v0;
@@ -436,9 +493,11 @@ static ls_status refine_begin(rf *c, const ls_vis *vis, const ls_edge_table *tab
                               uint32_t triangle_count, uint32_t aa, ls_arena *arena)
 {
     size_t entries = 0, tiles, p, np;
-    ls_status st = count_entries(vis, indices, triangle_count, &entries);
+    int cull = cull_orientation(vis, table, indices, triangle_count);
+    ls_status st = count_entries(vis, indices, triangle_count, cull, &entries);
     if (st != LS_OK) return st;
     memset(c, 0, sizeof *c);
+    c->cull = cull;
     c->vis = vis;
     c->indices = indices;
     c->triangle_count = triangle_count;
@@ -459,14 +518,6 @@ static ls_status refine_begin(rf *c, const ls_vis *vis, const ls_edge_table *tab
     memset(c->mark, 0, np);
     mark_edges(c, table);
     for (p = 0; p < np; p++) c->pixels += c->mark[p];
-    return LS_OK;
-}
-
-static ls_status check_table(const ls_edge_table *table, uint32_t triangle_count)
-{
-    if (table == NULL) return LS_ERR_INVALID;
-    if (table->twin == NULL && triangle_count > 0) return LS_ERR_STATE;
-    if (table->triangle_count != triangle_count) return LS_ERR_INVALID;
     return LS_OK;
 }
 
@@ -511,7 +562,7 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
             if (!c.mark[p]) continue;
             pixel_visibility(&c, x, y);
             for (j = 0; j < aa; j++) {
-                ls_real py = (ls_real)1 - (ls_real)(2u * (y * aa + j) + 1u) / (ls_real)(vis->height * aa);
+                ls_real py = c.sy[j];
                 for (i = 0; i < aa; i++) {
                     uint32_t id = c.sid[(size_t)j * aa + i];
                     ls_real rgb[3];
@@ -521,7 +572,7 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
                         rgb[2] = bg[2];
                     } else {
                         const uint32_t *f = indices + 3 * (size_t)(id - 1u);
-                        ls_real px = (ls_real)(2u * (x * aa + i) + 1u) / (ls_real)(vis->width * aa) - (ls_real)1;
+                        ls_real px = c.sx[i];
                         ls_real u[3], v[3], b[3];
                         (void)ls_clip_barycentric(vis->clip, f, px, py, u, v, b); /* sum != 0: tested above */
                         ls_shade_point(opts, f, normals, b, rgb);
@@ -593,13 +644,11 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
             if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
             pixel_visibility(&c, x, y);
             for (j = 0; j < aa; j++) {
-                ls_real py = (ls_real)1 - (ls_real)(2u * (y * aa + j) + 1u) / (ls_real)(vis->height * aa);
+                ls_real py = c.sy[j];
                 for (i = 0; i < aa; i++) {
                     uint32_t id = c.sid[(size_t)j * aa + i];
-                    ls_real px;
                     if (id == 0) continue;
-                    px = (ls_real)(2u * (x * aa + i) + 1u) / (ls_real)(vis->width * aa) - (ls_real)1;
-                    ls_shade_backward_sample(&bc, indices + 3 * (size_t)(id - 1u), px, py, g);
+                    ls_shade_backward_sample(&bc, indices + 3 * (size_t)(id - 1u), c.sx[i], py, g);
                 }
             }
         }

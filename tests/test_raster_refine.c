@@ -755,7 +755,7 @@ static void refine_scratch_sweep(void)
     REQUIRE(ls_vis_init(&c.vis, &arena, IMG, IMG, 1, MAXV) == LS_OK);
     REQUIRE(ls_raster(&c.vis, &arena, c.mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
     REQUIRE(ls_edge_table_build(&c.et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, sc.f, sc.nt, 8, &bytes), LS_OK);
+    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, 8, &bytes), LS_OK);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(IMG, IMG, 1, sc.nt, 8, &bound), LS_OK);
     CHECK(bytes > 0 && bound >= bytes);
     printf("     scratch at A = 8, 16^2, %u triangles: exact %lu bytes, bound %lu\n", (unsigned)sc.nt,
@@ -772,13 +772,13 @@ static void refine_scratch_sweep(void)
         CHECK_EQ(sweep_arena(&job), 0);
     }
     /* off: no memory */
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, sc.f, sc.nt, 1, &zero), LS_OK);
+    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, 1, &zero), LS_OK);
     CHECK_EQ(zero, 0);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(IMG, IMG, 2, sc.nt, 2, &zero), LS_OK);
     CHECK_EQ(zero, 0);
     /* errors */
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, sc.f, sc.nt, LS_REFINE_MAX + 1, &bytes), LS_ERR_INVALID);
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, sc.f, sc.nt + 1, 8, &bytes), LS_ERR_INVALID);
+    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, LS_REFINE_MAX + 1, &bytes), LS_ERR_INVALID);
+    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt + 1, 8, &bytes), LS_ERR_INVALID);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(0, IMG, 1, sc.nt, 8, &bytes), LS_ERR_INVALID);
     REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
     CHECK_STATUS(ls_refine_shade(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv, &c.o, 8, NULL, &arena, NULL, NULL),

@@ -79,6 +79,7 @@
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
 #include <largesteps/silhouette.h>
+#include <largesteps/raster_refine.h>
 #include <largesteps/optim.h>
 #include <largesteps/param.h>
 #include <largesteps/remesh.h>
@@ -116,6 +117,9 @@ typedef struct ls_fit_config {
                                * method, the optimizer on u = M x (a step in u is one M^-1 in x, its
                                * gradient another); 1: the optimizer on x with gradient M^-1 dL/dx */
     ls_real cg_tol;           /* LS_PARAM_CG: relative residual tolerance (0 means 1e-6) */
+    uint32_t aa;              /* adaptive supersampling of silhouette pixels (raster_refine.h): A x A
+                               * sub-samples there, forward and interior gradient; A <= ss (0 default)
+                               * is off; at most LS_REFINE_MAX; not with the pair mode */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -215,7 +219,7 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
  * buffer, all in the normalized frame (above). Errors: LS_ERR_INVALID (NULL,
  * a bad configuration: zero views or resolution, negative lambda, alpha
  * outside [0, 1), an unknown method, solver, loss, optimizer or silhouette
- * mode, the pair mode with S > 1, p outside {0, 1, 2}, a negative or
+ * mode, the pair mode with S > 1 or with aa > S, aa above LS_REFINE_MAX, p outside {0, 1, 2}, a negative or
  * non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
  * (the initial mesh; also a coordinate or a view transform that overflows in
  * the frame: a mesh tiny against its distance from the origin),

@@ -116,12 +116,13 @@ ls_status ls_refine_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_
 
 /* ls_refine_scratch_bytes: the exact scratch of ls_refine_shade /
  * ls_refine_shade_backward for the view in vis (rasterized with these
- * triangles); 0 when off. Errors: LS_ERR_INVALID (NULL, counts differing
- * from the rasterized ones, aa above LS_REFINE_MAX), LS_ERR_STATE (vis not
- * rasterized), LS_ERR_MESH (an index out of range), LS_ERR_TOO_LARGE.
- * O(triangles); no memory. */
-ls_status ls_refine_scratch_bytes(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, uint32_t aa,
-                                  size_t *bytes);
+ * triangles, table of the same mesh); 0 when off. Errors: LS_ERR_INVALID
+ * (NULL, counts differing from the rasterized ones, a table of another mesh,
+ * aa above LS_REFINE_MAX), LS_ERR_STATE (vis not rasterized, table not
+ * built), LS_ERR_MESH (an index out of range), LS_ERR_TOO_LARGE.
+ * O(samples + triangles); no memory. */
+ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                  uint32_t triangle_count, uint32_t aa, size_t *bytes);
 
 /* ls_refine_shade: overwrites the edge pixels of image [4 width height]
  * (ls_shade's output for the same arguments) with their A x A value (file

@@ -59,6 +59,8 @@ static int usage(FILE *f)
             "  --power P          2 (default: the optimizer on u = M x) | 1 (the optimizer on x, gradient M^-1 g)\n"
             "  --silhouette S     exact (default) | pair (nvdiffrast-style, S = 1) | none\n"
             "  --ss S             supersampling of the fit's renders: 1 (default), 2 or 4\n"
+            "  --aa-adaptive A    A x A sub-samples in silhouette pixels (forward and shading gradient;\n"
+            "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (default 3)\n"
             "  --shading S        sh (default) | mask\n"
@@ -143,6 +145,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && a->cfg.ss != 3;
+        else if (strcmp(o, "--aa-adaptive") == 0) ok = parse_u32(v, 0, LS_REFINE_MAX, &a->cfg.aa);
         else if (strcmp(o, "--track") == 0) ok = parse_u32(v, 0, 1000000, &a->track);
         else if (strcmp(o, "--max-vertices") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_vertices);
         else if (strcmp(o, "--max-faces") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_faces);
