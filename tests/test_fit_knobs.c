@@ -315,6 +315,89 @@ static void fit_knob_errors_and_memory(void)
     CHECK(pair_bytes >= exact_bytes + 2u * 4u * RES * RES * sizeof(ls_real) - 64u);
 }
 
+/* The adaptive supersampling knob (raster_refine.h): A <= S is off, bit for
+ * bit (same loss, gradient, memory); A = 8 changes the loss and the gradient
+ * (it sees the silhouette pixels' box values, closer to the S = 4 targets),
+ * and the loss is that of the refined images composed here; A above the
+ * maximum or with the pair mode is an error. */
+static void fit_adaptive_supersampling(void)
+{
+    ls_fit_config c;
+    ls_real g_off[3 * 42], g_one[3 * 42], g_aa[3 * 42], l_off, l_one, l_aa;
+    size_t b_off = 0, b_aa = 0, b_one = 0;
+    double diff = 0;
+    uint32_t i;
+    config(&c);
+    first_gradient(&c, g_off, &l_off);
+    c.aa = 1;
+    first_gradient(&c, g_one, &l_one);
+    c.aa = 8;
+    first_gradient(&c, g_aa, &l_aa);
+    CHECK(memcmp(g_off, g_one, sizeof g_off) == 0);
+    CHECK(l_off == l_one);
+    for (i = 0; i < 3 * 42; i++) diff += fabs((double)g_aa[i] - (double)g_off[i]);
+    printf("     loss S = 1 %.6f, A = 8 %.6f; |g_A8 - g_off|_1 = %.4g\n", (double)l_off, (double)l_aa, diff);
+    CHECK(l_aa < l_off);
+    CHECK(diff > 1e-4);
+    {
+        /* the refined loss composed independently */
+        ls_arena arena;
+        ls_mesh init;
+        ls_vis vis;
+        ls_edge_table tab;
+        ls_shade_opts o;
+        ls_real *normals, *img;
+        double sum = 0;
+        uint32_t v, p;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        sphere(&arena, &init);
+        normals = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
+        img = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
+        REQUIRE(img != NULL);
+        REQUIRE(ls_shade_vertex_normals(init.positions, init.vertex_count, init.triangles, init.face_count, normals,
+                                        NULL) == LS_OK);
+        REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 1, init.vertex_count) == LS_OK);
+        REQUIRE(ls_edge_table_build(&tab, init.triangles, init.face_count, init.vertex_count, &arena, NULL) == LS_OK);
+        ls_shade_opts_init(&o);
+        o.mode = LS_SHADE_SH;
+        o.sh = sh;
+        for (v = 0; v < NV; v++) {
+            REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles,
+                              init.face_count, NULL) == LS_OK);
+            REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
+            REQUIRE(ls_refine_shade(&vis, &tab, init.triangles, init.face_count, normals, init.vertex_count, &o, 8, img,
+                                    &arena, NULL, NULL) == LS_OK);
+            for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)img[p] - (double)targets[v][p]);
+        }
+        sum /= (double)(4u * RES * RES * NV);
+        printf("     refined loss composed here %.9f, by the fit %.9f\n", sum, (double)l_aa);
+        CHECK_NEAR((double)l_aa, sum, 1e-12 + TEST_EPS(16) * sum);
+    }
+    {
+        ls_arena arena;
+        ls_fit_views v;
+        ls_fit fit;
+        ls_mesh init;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        sphere(&arena, &init);
+        views_of(&v);
+        config(&c);
+        REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &b_off, NULL) == LS_OK);
+        c.aa = 1;
+        REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &b_one, NULL) == LS_OK);
+        c.aa = 8;
+        REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &b_aa, NULL) == LS_OK);
+        printf("     fit bytes: off %lu, A = 8 %lu\n", (unsigned long)b_off, (unsigned long)b_aa);
+        CHECK_EQ(b_one, b_off);
+        CHECK(b_aa >= b_off);
+        c.aa = LS_REFINE_MAX + 1;
+        CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+        c.aa = 4;
+        c.silhouette = LS_FIT_SILHOUETTE_PAIR;
+        CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    }
+}
+
 int main(void)
 {
     uint32_t v;
@@ -326,6 +409,7 @@ int main(void)
     TEST_RUN(fit_silhouette_modes);
     TEST_RUN(fit_cg_tolerance);
     TEST_RUN(fit_knob_errors_and_memory);
+    TEST_RUN(fit_adaptive_supersampling);
     for (v = 0; v < NV; v++) free(targets[v]);
     free(buf);
     return TEST_END();
