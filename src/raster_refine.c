@@ -226,8 +226,10 @@ ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table,
     if (off_mode(aa, vis->ss)) return LS_OK;
     st = check_table(table, triangle_count);
     if (st == LS_OK) st = ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL);
-    if (st == LS_OK)
-        st = count_entries(vis, indices, triangle_count, cull_orientation(vis, table, indices, triangle_count), &entries);
+    if (st == LS_OK) {
+        int cull = cull_orientation(vis, table, indices, triangle_count);
+        st = count_entries(vis, indices, triangle_count, cull, &entries);
+    }
     if (st != LS_OK) return st;
     scratch_layout(&s, vis->width, vis->height, triangle_count, aa, tile_count(vis->width, vis->height), entries);
     return ls_size_get(&s, bytes);

@@ -51,6 +51,10 @@
  * its NDC depth sum(a Z) / sum(a W) is in [-1, 1]; smaller depth wins, on
  * equal depth the smaller index (the rasterizer's rule). No clipping is
  * needed: the homogeneous test handles triangles across the near plane.
+ * For a closed mesh seen from outside (no boundary edge, no clipped
+ * triangle, fewer than 1/64 of the covered samples of vis showing the
+ * minority orientation: ls_silhouette_backward's test) the back faces are
+ * left out of the bins: they are never the nearest surface.
  * The sub-sample is shaded with ls_shade's per-sample model at the
  * barycentrics ls_clip_barycentric gives there - the same function the
  * shading backward differentiates - or takes the background; the pixel is
@@ -68,11 +72,15 @@
  * (triangle, tile) pair of the bins (count pass, prefix sum, fill; each
  * tile's list in triangle order), and A^2 (uint32 + ls_real) of sub-sample
  * buffers. ls_refine_scratch_bytes gives the exact figure for a rasterized
- * view (O(triangles), no memory), ls_refine_scratch_bytes_bound a worst case.
+ * view (O(samples + triangles), no memory), ls_refine_scratch_bytes_bound a
+ * worst case. With S = 1 the bins' tiles are the rasterizer's (16 x 16), so
+ * the bound is the rasterizer's bound plus W H bytes, 16 bytes per triangle
+ * and the sub-sample buffers.
  *
- * Cost: O(triangles) (boxes, bins, edge classification) + O(silhouette
- * length in pixels) (the walks) + per edge pixel, for each candidate of its
- * tile whose box meets the pixel, the sub-samples inside that box.
+ * Cost: O(samples) (the orientation count) + O(triangles) (boxes, bins,
+ * edge classification) + O(silhouette length in pixels) (the walks) + per
+ * edge pixel, for each candidate of its tile whose box meets the pixel, the
+ * sub-samples inside that box, and one shading per sub-sample.
  *
  * Order: pixels in image order, candidates in triangle order, sub-samples
  * row-major; the backward adds the unrefined pixels first (image order),

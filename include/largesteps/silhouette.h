@@ -86,11 +86,14 @@
  * 0.87) on single triangles at 12 x 12, and zero for triangles that hit no
  * pixel centre.
  *
+ * Forward consistency: ls_shade is point sampled, so in pixels crossed by a
+ * silhouette its image is not the box-filtered one this module
+ * differentiates; largesteps/raster_refine.h re-evaluates exactly those
+ * pixels with A x A sub-samples (forward and interior gradient), which
+ * brings the two together as A grows (the fit's knob `aa`, off by default).
+ *
  * Left to do (issue 9):
- *  - forward consistency in pixels crossed by a silhouette (the forward of
- *    ls_shade is point sampled; the interior gradient of
- *    largesteps/render_backward.h is over those samples) and a one-call
- *    view forward + backward (render.h) for the fit;
+ *  - a one-call view forward + backward (render.h) for the fit;
  *  - speed: the armadillo (52k faces) at 512^2 costs ~1.5-2 x the forward
  *    (target 0.5 x); half of it is the quadrature's shading and the
  *    per-view binning and edge scan, O(triangles);
