@@ -16,9 +16,10 @@ typedef struct rf {
     float *box;         /* [4 T] window box x0, y0, x1, y1 (x0 > x1: empty) */
     size_t *offs;       /* [tiles + 1] */
     uint32_t *list;     /* [entries] */
-    uint32_t *sid;      /* [A^2] visible triangle + 1 per sub-sample */
-    ls_real *sdepth;    /* [A^2] */
-    ls_real sx[LS_REFINE_MAX], sy[LS_REFINE_MAX]; /* NDC of the current pixel's sub-sample columns, rows */
+    uint32_t *sid;      /* [TILE^2 A^2] visible triangle + 1 per sub-sample of the current tile's pixels */
+    ls_real *sdepth;    /* [TILE^2 A^2] */
+    ls_real *scol, *srow; /* [TILE A] NDC of the current tile's sub-sample columns, rows */
+    uint32_t x0, y0, x1, y1; /* the current tile's pixels (inclusive) */
     int cull;           /* 1 or -1: leave out triangles of that homogeneous orientation (closed mesh) */
     uint32_t pixels, segments;
 } rf;
@@ -169,8 +170,10 @@ static void scratch_layout(ls_size *s, uint32_t width, uint32_t height, uint32_t
     ls_size_add(s, triangle_count, 4 * sizeof(float));
     ls_size_add(s, tiles + 1, sizeof(size_t));
     ls_size_add(s, entries, sizeof(uint32_t));
-    ls_size_add(s, (size_t)aa * aa, sizeof(uint32_t));
-    ls_size_add(s, (size_t)aa * aa, sizeof(ls_real));
+    ls_size_add(s, (size_t)aa * aa * LS_REFINE_TILE * LS_REFINE_TILE, sizeof(uint32_t));
+    ls_size_add(s, (size_t)aa * aa * LS_REFINE_TILE * LS_REFINE_TILE, sizeof(ls_real));
+    ls_size_add(s, (size_t)aa * LS_REFINE_TILE, sizeof(ls_real));
+    ls_size_add(s, (size_t)aa * LS_REFINE_TILE, sizeof(ls_real));
 }
 
 static size_t tile_count(uint32_t width, uint32_t height)
@@ -417,75 +420,169 @@ static void sub_range(ls_real b0, ls_real b1, uint32_t x0, uint32_t aa, int32_t 
     *i1 = hi;
 }
 
-/* The NDC coordinates of pixel (x, y)'s sub-sample columns and rows (the
- * header's formula; the shading and the backward use these values). */
-static void sub_coords(rf *c, uint32_t x, uint32_t y)
+/* Sets up tile (tx, ty): its pixel range, the NDC coordinates of its
+ * sub-sample columns and rows (the header's formula: the shading and the
+ * backward use these values), and clears the sub-samples of its edge
+ * pixels. Returns 0 when the tile holds no edge pixel. */
+static int tile_begin(rf *c, uint32_t tx, uint32_t ty)
+{
+    const ls_vis *vis = c->vis;
+    const uint32_t aa = c->aa, n = aa * aa;
+    const ls_real sw = (ls_real)(vis->width * aa), sh = (ls_real)(vis->height * aa);
+    uint32_t x, y, k, any = 0;
+    c->x0 = tx << LS_REFINE_TILE_LOG2;
+    c->y0 = ty << LS_REFINE_TILE_LOG2;
+    c->x1 = c->x0 + LS_REFINE_TILE - 1u < vis->width - 1u ? c->x0 + LS_REFINE_TILE - 1u : vis->width - 1u;
+    c->y1 = c->y0 + LS_REFINE_TILE - 1u < vis->height - 1u ? c->y0 + LS_REFINE_TILE - 1u : vis->height - 1u;
+    for (y = c->y0; y <= c->y1; y++)
+        for (x = c->x0; x <= c->x1; x++) {
+            size_t q0 = ((size_t)(y - c->y0) * LS_REFINE_TILE + (x - c->x0)) * n;
+            if (!c->mark[(size_t)y * vis->width + x]) continue;
+            any = 1;
+            for (k = 0; k < n; k++) {
+                c->sid[q0 + k] = 0;
+                c->sdepth[q0 + k] = (ls_real)1;
+            }
+        }
+    if (!any) return 0;
+    for (k = 0; k < LS_REFINE_TILE * aa; k++) {
+        c->scol[k] = (ls_real)(2u * (c->x0 * aa + k) + 1u) / sw - (ls_real)1;
+        c->srow[k] = (ls_real)1 - (ls_real)(2u * (c->y0 * aa + k) + 1u) / sh;
+    }
+    return 1;
+}
+
+/* Candidate t (clip corners c0, c1, c2, box b) against the sub-samples of
+ * edge pixel (x, y) of the current tile inside its box. */
+static void pixel_candidate(rf *c, uint32_t t, const float *b, const ls_real *const cc[3], uint32_t x, uint32_t y)
 {
     const uint32_t aa = c->aa;
-    const ls_real sw = (ls_real)(c->vis->width * aa), sh = (ls_real)(c->vis->height * aa);
-    uint32_t i;
-    for (i = 0; i < aa; i++) {
-        c->sx[i] = (ls_real)(2u * (x * aa + i) + 1u) / sw - (ls_real)1;
-        c->sy[i] = (ls_real)1 - (ls_real)(2u * (y * aa + i) + 1u) / sh;
+    const ls_real *c0 = cc[0], *c1 = cc[1], *c2 = cc[2];
+    const size_t q0 = ((size_t)(y - c->y0) * LS_REFINE_TILE + (x - c->x0)) * aa * aa;
+    const ls_real *scol = c->scol + (size_t)(x - c->x0) * aa, *srow = c->srow + (size_t)(y - c->y0) * aa;
+    int32_t i0, i1, j0, j1, i, j;
+    sub_range((ls_real)b[0], (ls_real)b[2], x, aa, &i0, &i1);
+    sub_range((ls_real)b[1], (ls_real)b[3], y, aa, &j0, &j1);
+    for (j = j0; j <= j1; j++) {
+        ls_real py = srow[j];
+        ls_real v0 = c0[1] - py * c0[3], v1 = c1[1] - py * c1[3], v2 = c2[1] - py * c2[3];
+        for (i = i0; i <= i1; i++) {
+            ls_real px = scol[i];
+            /* ls_clip_barycentric's arithmetic */
+            ls_real u0 = c0[0] - px * c0[3], u1 = c1[0] - px * c1[3], u2 = c2[0] - px * c2[3];
+            ls_real a0 = u1 * v2 - u2 * v1, a1 = u2 * v0 - u0 * v2, a2 = u0 * v1 - u1 * v0;
+            ls_real sum = (a0 + a1) + a2, zs, ws, d;
+            size_t q = q0 + (size_t)j * aa + (size_t)i;
+            if (sum > (ls_real)0) {
+                if (a0 < (ls_real)0 || a1 < (ls_real)0 || a2 < (ls_real)0) continue;
+            } else if (sum < (ls_real)0) {
+                if (a0 > (ls_real)0 || a1 > (ls_real)0 || a2 > (ls_real)0) continue;
+            } else {
+                continue; /* edge-on, or NaN */
+            }
+            ws = (a0 * c0[3] + a1 * c1[3]) + a2 * c2[3];
+            if (!(sum > (ls_real)0 ? ws > (ls_real)0 : ws < (ls_real)0)) continue; /* behind the eye */
+            zs = (a0 * c0[2] + a1 * c1[2]) + a2 * c2[2];
+            d = zs / ws;
+            if (!(d >= (ls_real)-1 && d <= (ls_real)1)) continue;
+            /* triangles come in increasing order: on equal depth the first stays */
+            if (c->sid[q] == 0 || d < c->sdepth[q]) {
+                c->sid[q] = t + 1u;
+                c->sdepth[q] = d;
+            }
+        }
     }
 }
 
 /* The visible triangle (id + 1, 0 = none) and depth of every sub-sample of
- * pixel (x, y), into c->sid / c->sdepth. */
-static void pixel_visibility(rf *c, uint32_t x, uint32_t y)
+ * the edge pixels of the current tile (tile_begin), into c->sid / c->sdepth:
+ * the tile's candidates in triangle order, each against the edge pixels its
+ * box meets. */
+static void tile_visibility(rf *c, uint32_t tx, uint32_t ty)
 {
     const ls_vis *vis = c->vis;
-    const uint32_t aa = c->aa, n = aa * aa;
-    const size_t tile = (size_t)(y >> LS_REFINE_TILE_LOG2) * c->tiles_x + (x >> LS_REFINE_TILE_LOG2);
+    const size_t tile = (size_t)ty * c->tiles_x + tx;
     size_t e;
-    uint32_t s;
-    for (s = 0; s < n; s++) {
-        c->sid[s] = 0;
-        c->sdepth[s] = (ls_real)1;
-    }
-    sub_coords(c, x, y);
     for (e = c->offs[tile]; e < c->offs[tile + 1]; e++) {
-        uint32_t t = c->list[e];
+        uint32_t t = c->list[e], x, y;
         const float *b = c->box + 4 * (size_t)t;
         const uint32_t *f = c->indices + 3 * (size_t)t;
-        const ls_real *c0 = vis->clip + 4 * (size_t)f[0], *c1 = vis->clip + 4 * (size_t)f[1];
-        const ls_real *c2 = vis->clip + 4 * (size_t)f[2];
-        int32_t i0, i1, j0, j1, i, j;
-        if ((ls_real)b[2] < (ls_real)x || (ls_real)b[0] > (ls_real)(x + 1u) || (ls_real)b[3] < (ls_real)y ||
-            (ls_real)b[1] > (ls_real)(y + 1u))
-            continue;
-        sub_range((ls_real)b[0], (ls_real)b[2], x, aa, &i0, &i1);
-        sub_range((ls_real)b[1], (ls_real)b[3], y, aa, &j0, &j1);
-        for (j = j0; j <= j1; j++) {
-            ls_real py = c->sy[j];
-            ls_real v0 = c0[1] - py * c0[3], v1 = c1[1] - py * c1[3], v2 = c2[1] - py * c2[3];
-            for (i = i0; i <= i1; i++) {
-                ls_real px = c->sx[i];
-                /* ls_clip_barycentric's arithmetic */
-                ls_real u0 = c0[0] - px * c0[3], u1 = c1[0] - px * c1[3], u2 = c2[0] - px * c2[3];
-                ls_real a0 = u1 * v2 - u2 * v1, a1 = u2 * v0 - u0 * v2, a2 = u0 * v1 - u1 * v0;
-                ls_real sum = (a0 + a1) + a2, zs, ws, d;
-                size_t q = (size_t)j * aa + (size_t)i;
-                if (sum > (ls_real)0) {
-                    if (a0 < (ls_real)0 || a1 < (ls_real)0 || a2 < (ls_real)0) continue;
-                } else if (sum < (ls_real)0) {
-                    if (a0 > (ls_real)0 || a1 > (ls_real)0 || a2 > (ls_real)0) continue;
-                } else {
-                    continue; /* edge-on, or NaN */
-                }
-                ws = (a0 * c0[3] + a1 * c1[3]) + a2 * c2[3];
-                if (!(sum > (ls_real)0 ? ws > (ls_real)0 : ws < (ls_real)0)) continue; /* behind the eye */
-                zs = (a0 * c0[2] + a1 * c1[2]) + a2 * c2[2];
-                d = zs / ws;
-                if (!(d >= (ls_real)-1 && d <= (ls_real)1)) continue;
-                /* triangles come in increasing order: on equal depth the first stays */
-                if (c->sid[q] == 0 || d < c->sdepth[q]) {
-                    c->sid[q] = t + 1u;
-                    c->sdepth[q] = d;
-                }
-            }
-        }
+        const ls_real *cc[3];
+        int32_t r[4];
+        box_pixels(vis, b, r);
+        if (r[0] < (int32_t)c->x0) r[0] = (int32_t)c->x0;
+        if (r[1] < (int32_t)c->y0) r[1] = (int32_t)c->y0;
+        if (r[2] > (int32_t)c->x1) r[2] = (int32_t)c->x1;
+        if (r[3] > (int32_t)c->y1) r[3] = (int32_t)c->y1;
+        cc[0] = vis->clip + 4 * (size_t)f[0];
+        cc[1] = vis->clip + 4 * (size_t)f[1];
+        cc[2] = vis->clip + 4 * (size_t)f[2];
+        for (y = (uint32_t)r[1]; (int32_t)y <= r[3]; y++)
+            for (x = (uint32_t)r[0]; (int32_t)x <= r[2]; x++)
+                if (c->mark[(size_t)y * vis->width + x]) pixel_candidate(c, t, b, cc, x, y);
     }
+}
+
+/* The refined value of edge pixel (x, y) of the current tile into image:
+ * the mean of its sub-samples' colours (row-major sums), alpha the covered
+ * fraction. */
+static void shade_pixel(const rf *c, const ls_shade_opts *opts, const ls_real *normals, uint32_t x, uint32_t y,
+                        ls_real *image)
+{
+    const ls_vis *vis = c->vis;
+    const uint32_t aa = c->aa;
+    const size_t p = (size_t)y * vis->width + x;
+    const size_t q0 = ((size_t)(y - c->y0) * LS_REFINE_TILE + (x - c->x0)) * aa * aa;
+    const ls_real *scol = c->scol + (size_t)(x - c->x0) * aa, *srow = c->srow + (size_t)(y - c->y0) * aa;
+    const ls_real *bg = opts->background_image != NULL ? opts->background_image + 3 * p : opts->background;
+    const ls_real inv_n = (ls_real)1 / (ls_real)(aa * aa);
+    ls_real acc[3] = {(ls_real)0, (ls_real)0, (ls_real)0};
+    uint32_t covered = 0, i, j;
+    for (j = 0; j < aa; j++)
+        for (i = 0; i < aa; i++) {
+            uint32_t id = c->sid[q0 + (size_t)j * aa + i];
+            ls_real rgb[3];
+            if (id == 0) {
+                rgb[0] = bg[0];
+                rgb[1] = bg[1];
+                rgb[2] = bg[2];
+            } else {
+                const uint32_t *f = c->indices + 3 * (size_t)(id - 1u);
+                ls_real u[3], v[3], b[3];
+                (void)ls_clip_barycentric(vis->clip, f, scol[i], srow[j], u, v, b); /* sum != 0: tested */
+                ls_shade_point(opts, f, normals, b, rgb);
+                covered++;
+            }
+            acc[0] += rgb[0];
+            acc[1] += rgb[1];
+            acc[2] += rgb[2];
+        }
+    image[4 * p] = acc[0] * inv_n;
+    image[4 * p + 1] = acc[1] * inv_n;
+    image[4 * p + 2] = acc[2] * inv_n;
+    image[4 * p + 3] = (ls_real)covered * inv_n;
+}
+
+/* The interior backward of edge pixel (x, y) of the current tile over its
+ * covered sub-samples (row-major), each with weight 1/A^2. */
+static void backward_pixel(const rf *c, const ls_shade_bctx *bc, const ls_real *grad_image, uint32_t x, uint32_t y)
+{
+    const uint32_t aa = c->aa;
+    const size_t p = (size_t)y * c->vis->width + x;
+    const size_t q0 = ((size_t)(y - c->y0) * LS_REFINE_TILE + (x - c->x0)) * aa * aa;
+    const ls_real *scol = c->scol + (size_t)(x - c->x0) * aa, *srow = c->srow + (size_t)(y - c->y0) * aa;
+    const ls_real inv_n = (ls_real)1 / (ls_real)(aa * aa);
+    ls_real g[3];
+    uint32_t i, j;
+    g[0] = grad_image[4 * p] * inv_n;
+    g[1] = grad_image[4 * p + 1] * inv_n;
+    g[2] = grad_image[4 * p + 2] * inv_n;
+    if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) return;
+    for (j = 0; j < aa; j++)
+        for (i = 0; i < aa; i++) {
+            uint32_t id = c->sid[q0 + (size_t)j * aa + i];
+            if (id != 0) ls_shade_backward_sample(bc, c->indices + 3 * (size_t)(id - 1u), scol[i], srow[j], g);
+        }
 }
 
 /* ---- the calls ---- */
@@ -512,9 +609,13 @@ static ls_status refine_begin(rf *c, const ls_vis *vis, const ls_edge_table *tab
     c->box = c->mark ? (float *)ls_arena_scratch(arena, triangle_count, 4 * sizeof(float)) : NULL;
     c->offs = c->box ? (size_t *)ls_arena_scratch(arena, tiles + 1, sizeof(size_t)) : NULL;
     c->list = c->offs ? (uint32_t *)ls_arena_scratch(arena, entries, sizeof(uint32_t)) : NULL;
-    c->sid = c->list ? (uint32_t *)ls_arena_scratch(arena, (size_t)aa * aa, sizeof(uint32_t)) : NULL;
-    c->sdepth = c->sid ? (ls_real *)ls_arena_scratch(arena, (size_t)aa * aa, sizeof(ls_real)) : NULL;
-    if (c->sdepth == NULL) return LS_ERR_NOMEM;
+    c->sid = c->list ? (uint32_t *)ls_arena_scratch(arena, (size_t)aa * aa * LS_REFINE_TILE * LS_REFINE_TILE,
+                                                    sizeof(uint32_t)) : NULL;
+    c->sdepth = c->sid ? (ls_real *)ls_arena_scratch(arena, (size_t)aa * aa * LS_REFINE_TILE * LS_REFINE_TILE,
+                                                     sizeof(ls_real)) : NULL;
+    c->scol = c->sdepth ? (ls_real *)ls_arena_scratch(arena, (size_t)aa * LS_REFINE_TILE, sizeof(ls_real)) : NULL;
+    c->srow = c->scol ? (ls_real *)ls_arena_scratch(arena, (size_t)aa * LS_REFINE_TILE, sizeof(ls_real)) : NULL;
+    if (c->srow == NULL) return LS_ERR_NOMEM;
     build_bins(c);
     c->offs[tiles] = entries;
     memset(c->mark, 0, np);
@@ -531,8 +632,7 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
     rf c;
     ls_arena_mark mark;
     size_t before;
-    uint32_t counts[2], x, y;
-    ls_real inv_n;
+    uint32_t counts[2], tx, ty;
     ls_status st;
     if (image == NULL || arena == NULL) return LS_ERR_INVALID;
     st = check_vis(vis, indices, triangle_count, aa);
@@ -554,41 +654,14 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
         ls_arena_restore(arena, mark);
         return st;
     }
-    inv_n = (ls_real)1 / (ls_real)(aa * aa);
-    for (y = 0; y < vis->height; y++)
-        for (x = 0; x < vis->width; x++) {
-            size_t p = (size_t)y * vis->width + x;
-            const ls_real *bg = opts->background_image != NULL ? opts->background_image + 3 * p : opts->background;
-            ls_real acc[3] = {(ls_real)0, (ls_real)0, (ls_real)0};
-            uint32_t covered = 0, i, j;
-            if (!c.mark[p]) continue;
-            pixel_visibility(&c, x, y);
-            for (j = 0; j < aa; j++) {
-                ls_real py = c.sy[j];
-                for (i = 0; i < aa; i++) {
-                    uint32_t id = c.sid[(size_t)j * aa + i];
-                    ls_real rgb[3];
-                    if (id == 0) {
-                        rgb[0] = bg[0];
-                        rgb[1] = bg[1];
-                        rgb[2] = bg[2];
-                    } else {
-                        const uint32_t *f = indices + 3 * (size_t)(id - 1u);
-                        ls_real px = c.sx[i];
-                        ls_real u[3], v[3], b[3];
-                        (void)ls_clip_barycentric(vis->clip, f, px, py, u, v, b); /* sum != 0: tested above */
-                        ls_shade_point(opts, f, normals, b, rgb);
-                        covered++;
-                    }
-                    acc[0] += rgb[0];
-                    acc[1] += rgb[1];
-                    acc[2] += rgb[2];
-                }
-            }
-            image[4 * p] = acc[0] * inv_n;
-            image[4 * p + 1] = acc[1] * inv_n;
-            image[4 * p + 2] = acc[2] * inv_n;
-            image[4 * p + 3] = (ls_real)covered * inv_n;
+    for (ty = 0; ty < c.tiles_y; ty++)
+        for (tx = 0; tx < c.tiles_x; tx++) {
+            uint32_t x, y;
+            if (!tile_begin(&c, tx, ty)) continue;
+            tile_visibility(&c, tx, ty);
+            for (y = c.y0; y <= c.y1; y++)
+                for (x = c.x0; x <= c.x1; x++)
+                    if (c.mark[(size_t)y * vis->width + x]) shade_pixel(&c, opts, normals, x, y, image);
         }
     if (info != NULL) {
         info->pixels = c.pixels;
@@ -609,8 +682,7 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
     ls_shade_bctx bc;
     rf c;
     ls_arena_mark mark;
-    uint32_t x, y;
-    ls_real inv_n;
+    uint32_t tx, ty;
     ls_status st;
     if (arena == NULL) return LS_ERR_INVALID;
     st = check_vis(vis, indices, triangle_count, aa);
@@ -633,26 +705,14 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
         return st;
     }
     ls_shade_backward_pixels(&bc, triangle_count, grad_image, c.mark);
-    inv_n = (ls_real)1 / (ls_real)(aa * aa);
-    for (y = 0; y < vis->height; y++)
-        for (x = 0; x < vis->width; x++) {
-            size_t p = (size_t)y * vis->width + x;
-            ls_real g[3];
-            uint32_t i, j;
-            if (!c.mark[p]) continue;
-            g[0] = grad_image[4 * p] * inv_n;
-            g[1] = grad_image[4 * p + 1] * inv_n;
-            g[2] = grad_image[4 * p + 2] * inv_n;
-            if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
-            pixel_visibility(&c, x, y);
-            for (j = 0; j < aa; j++) {
-                ls_real py = c.sy[j];
-                for (i = 0; i < aa; i++) {
-                    uint32_t id = c.sid[(size_t)j * aa + i];
-                    if (id == 0) continue;
-                    ls_shade_backward_sample(&bc, indices + 3 * (size_t)(id - 1u), c.sx[i], py, g);
-                }
-            }
+    for (ty = 0; ty < c.tiles_y; ty++)
+        for (tx = 0; tx < c.tiles_x; tx++) {
+            uint32_t x, y;
+            if (!tile_begin(&c, tx, ty)) continue;
+            tile_visibility(&c, tx, ty);
+            for (y = c.y0; y <= c.y1; y++)
+                for (x = c.x0; x <= c.x1; x++)
+                    if (c.mark[(size_t)y * vis->width + x]) backward_pixel(&c, &bc, grad_image, x, y);
         }
     ls_arena_restore(arena, mark);
     return LS_OK;

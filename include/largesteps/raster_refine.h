@@ -70,8 +70,9 @@
  * per pixel (the edge-pixel map), 4 floats per triangle (its window box),
  * one size_t per LS_REFINE_TILE^2-pixel tile plus one and a uint32 per
  * (triangle, tile) pair of the bins (count pass, prefix sum, fill; each
- * tile's list in triangle order), and A^2 (uint32 + ls_real) of sub-sample
- * buffers. ls_refine_scratch_bytes gives the exact figure for a rasterized
+ * tile's list in triangle order), and LS_REFINE_TILE^2 A^2 (uint32 +
+ * ls_real) of sub-sample buffers (one tile's edge pixels) plus 2
+ * LS_REFINE_TILE A ls_real (their NDC columns and rows). ls_refine_scratch_bytes gives the exact figure for a rasterized
  * view (O(samples + triangles), no memory), ls_refine_scratch_bytes_bound a
  * worst case. With S = 1 the bins' tiles are the rasterizer's (16 x 16), so
  * the bound is the rasterizer's bound plus W H bytes, 16 bytes per triangle
@@ -79,13 +80,15 @@
  *
  * Cost: O(samples) (the orientation count) + O(triangles) (boxes, bins,
  * edge classification) + O(silhouette length in pixels) (the walks) + per
- * edge pixel, for each candidate of its tile whose box meets the pixel, the
- * sub-samples inside that box, and one shading per sub-sample.
+ * tile holding edge pixels, its bin once, and for each candidate the
+ * sub-samples inside its box of the edge pixels it meets; one shading per
+ * sub-sample.
  *
- * Order: pixels in image order, candidates in triangle order, sub-samples
- * row-major; the backward adds the unrefined pixels first (image order),
- * then the edge pixels (image order, sub-samples row-major): the same bits
- * on every run and platform.
+ * Order: tiles in image order; in a tile, candidates in triangle order,
+ * each against the edge pixels its box meets, then the edge pixels in image
+ * order, sub-samples row-major; the backward adds the unrefined pixels first
+ * (image order), then the edge pixels tile by tile: the same bits on every
+ * run and platform.
  */
 #ifndef LARGESTEPS_RASTER_REFINE_H
 #define LARGESTEPS_RASTER_REFINE_H
