@@ -311,14 +311,16 @@ static void walk(rf *c, ls_real ax, ls_real ay, ls_real bx, ls_real by)
     }
 }
 
-/* Marks the pixels of the clip-space segment p -> q: near-plane clip,
+/* Marks the pixels of the clip-space segment p -> q: near-plane clip
+ * (unless near is 0: a cut, whose ends lie on the plane up to rounding),
  * window coordinates, clip to the image grown by one pixel, walk. */
-static void mark_segment(rf *c, const ls_real *p0, const ls_real *q0)
+static void mark_segment(rf *c, const ls_real *p0, const ls_real *q0, int near)
 {
     const ls_real W = (ls_real)c->vis->width, H = (ls_real)c->vis->height;
     ls_real p[4], q[4], dp = p0[2] + p0[3], dq = q0[2] + q0[3], ax, ay, bx, by, t0 = 0, t1 = 1, d[2];
     ls_real lo[2], hi[2];
     int r;
+    if (!near) dp = dq = (ls_real)0;
     if (dp < (ls_real)0 && dq < (ls_real)0) return;
     for (r = 0; r < 4; r++) {
         p[r] = p0[r];
@@ -381,7 +383,7 @@ static void mark_edges(rf *c, const ls_edge_table *table)
                 s2 = hsign(a, b, clip + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
                 if (s1 * s2 < 0) continue; /* opposite sides: not a silhouette */
             }
-            mark_segment(c, a, b);
+            mark_segment(c, a, b, 1);
         }
     }
     /* near-plane cuts */
@@ -398,7 +400,7 @@ static void mark_edges(rf *c, const ls_edge_table *table)
                 n++;
             }
         }
-        if (n == 2) mark_segment(c, pt[0], pt[1]);
+        if (n == 2) mark_segment(c, pt[0], pt[1], 0);
     }
 }
 
