@@ -190,9 +190,9 @@ ls_status ls_refine_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
+    if (off_mode(aa, ss)) return LS_OK; /* nothing to check: off costs nothing */
     if (width == 0 || height == 0 || width > LS_RASTER_MAX_DIM || height > LS_RASTER_MAX_DIM || aa > LS_REFINE_MAX)
         return LS_ERR_INVALID;
-    if (off_mode(aa, ss)) return LS_OK;
     tiles = tile_count(width, height);
     st = ls_size_mul(tiles, triangle_count, &entries);
     if (st != LS_OK) return st;

@@ -119,7 +119,8 @@ typedef struct ls_refine_info {
 
 /* ls_refine_scratch_bytes_bound: a worst case of the scratch of
  * ls_refine_shade / ls_refine_shade_backward for any geometry of this size
- * (every triangle in every tile); 0 when aa is off for ss. Errors:
+ * (every triangle in every tile); 0 (LS_OK, nothing else checked) when aa is
+ * off for ss. Errors:
  * LS_ERR_INVALID (NULL, zero size, aa above LS_REFINE_MAX, width or height
  * above LS_RASTER_MAX_DIM), LS_ERR_TOO_LARGE. O(1). */
 ls_status ls_refine_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_t ss, uint32_t triangle_count,
