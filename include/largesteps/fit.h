@@ -201,7 +201,7 @@ typedef struct ls_fit {
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
  * LDL^T, UniformAdam lr 1e-2, L1, boost 3, translation on, 128 x 128 with
- * S = 1, exact silhouettes, p = 2, SH shading with the caller's coefficients to fill (mode
+ * S = 1, exact silhouettes, no adaptive supersampling (aa 0), p = 2, SH shading with the caller's coefficients to fill (mode
  * LS_SHADE_MASK until then). O(1). NULL is ignored. */
 void ls_fit_config_default(ls_fit_config *config);
 
