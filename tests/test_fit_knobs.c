@@ -7,6 +7,7 @@
 #include "test.h"
 #include "dense.h"
 #include <stdlib.h>
+#include "fit_targets.h"
 
 #define RES 24u
 #define NV 3u
@@ -17,39 +18,8 @@ static ls_real mvps[NV][16];
 static ls_real *targets[NV];
 static ls_real sh[27];
 
-/* Targets: an ellipsoid (level 2), SH shading, S = 4. */
-static void make_targets(void)
-{
-    ls_arena arena;
-    ls_mesh m;
-    ls_vis vis;
-    ls_real dirs[3 * NV], proj[16], view[16], *normals;
-    const ls_real center[3] = {0, 0, 0};
-    ls_shade_opts o;
-    uint32_t v, i;
-    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
-    REQUIRE(ls_icosphere(2, &arena, &m) == LS_OK);
-    for (i = 0; i < m.vertex_count; i++) m.positions[3 * i + 1] *= (ls_real)0.7;
-    normals = (ls_real *)ls_arena_alloc(&arena, 3u * m.vertex_count, sizeof(ls_real));
-    REQUIRE(normals != NULL);
-    REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, normals, NULL) == LS_OK);
-    REQUIRE(ls_camera_fibonacci_dirs(NV, dirs) == LS_OK);
-    REQUIRE(ls_camera_perspective((ls_real)0.8, LS_FOV_X, 1, (ls_real)0.1, (ls_real)10, proj) == LS_OK);
-    REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 4, m.vertex_count) == LS_OK);
-    memset(sh, 0, sizeof sh);
-    for (i = 0; i < 3; i++) sh[9 * i] = (ls_real)1.5, sh[9 * i + 1] = (ls_real)0.8, sh[9 * i + 3] = (ls_real)-0.3;
-    ls_shade_opts_init(&o);
-    o.mode = LS_SHADE_SH;
-    o.sh = sh;
-    for (v = 0; v < NV; v++) {
-        REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
-        ls_mat4_mul(proj, view, mvps[v]);
-        targets[v] = (ls_real *)malloc(4u * RES * RES * sizeof(ls_real));
-        REQUIRE(targets[v] != NULL);
-        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
-    }
-}
+/* Targets: an ellipsoid (level 2), SH shading, S = 4 (fit_targets.h). */
+static void make_targets(void) { fit_test_targets(2, NV, RES, buf, BUF_BYTES, mvps, targets, sh); }
 
 static void config(ls_fit_config *c)
 {
@@ -180,6 +150,50 @@ static void first_gradient(const ls_fit_config *c, ls_real *g, ls_real *loss)
     *loss = fit.loss;
 }
 
+/* The first iteration's loss of the initial sphere composed here, outside
+ * the fit: raster (S = 1), vertex normals, SH shade, then the pair blend
+ * (pair) or the A x A refinement of silhouette pixels (aa > 1), and the
+ * mean L1 over views, pixels and RGBA against the targets, into *loss. */
+static void composed_loss(int pair, uint32_t aa, double *loss)
+{
+    ls_arena arena;
+    ls_mesh init;
+    ls_vis vis;
+    ls_edge_table tab;
+    ls_shade_opts o;
+    ls_real *normals, *img, *blend;
+    double sum = 0;
+    uint32_t v, p;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    normals = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
+    img = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
+    blend = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
+    REQUIRE(normals != NULL && img != NULL && blend != NULL);
+    REQUIRE(ls_shade_vertex_normals(init.positions, init.vertex_count, init.triangles, init.face_count, normals,
+                                    NULL) == LS_OK);
+    REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 1, init.vertex_count) == LS_OK);
+    REQUIRE(ls_edge_table_build(&tab, init.triangles, init.face_count, init.vertex_count, &arena, NULL) == LS_OK);
+    ls_shade_opts_init(&o);
+    o.mode = LS_SHADE_SH;
+    o.sh = sh;
+    for (v = 0; v < NV; v++) {
+        const ls_real *out = img;
+        REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles, init.face_count,
+                          NULL) == LS_OK);
+        REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
+        if (pair) {
+            REQUIRE(ls_pair_forward(&vis, &tab, init.triangles, init.face_count, img, blend, NULL) == LS_OK);
+            out = blend;
+        } else if (aa > 1) {
+            REQUIRE(ls_refine_shade(&vis, &tab, init.triangles, init.face_count, normals, init.vertex_count, &o, aa,
+                                    img, &arena, NULL, NULL) == LS_OK);
+        }
+        for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)out[p] - (double)targets[v][p]);
+    }
+    *loss = sum / (double)(4u * RES * RES * NV);
+}
+
 /* The modes: none = exact with boost 0 (bit for bit); the silhouette term is
  * not zero; pair: the loss is that of the blended images composed here. */
 static void fit_silhouette_modes(void)
@@ -209,36 +223,8 @@ static void fit_silhouette_modes(void)
     CHECK(diff > 1e-4);
     CHECK(pair_diff > 1e-4);
     {
-        /* the pair loss composed independently: raster, normals, shade, blend, mean L1 */
-        ls_arena arena;
-        ls_mesh init;
-        ls_vis vis;
-        ls_edge_table tab;
-        ls_shade_opts o;
-        ls_real *normals, *img, *blend;
         double sum = 0;
-        uint32_t v, p;
-        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
-        sphere(&arena, &init);
-        normals = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
-        img = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
-        blend = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
-        REQUIRE(blend != NULL);
-        REQUIRE(ls_shade_vertex_normals(init.positions, init.vertex_count, init.triangles, init.face_count, normals,
-                                        NULL) == LS_OK);
-        REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 1, init.vertex_count) == LS_OK);
-        REQUIRE(ls_edge_table_build(&tab, init.triangles, init.face_count, init.vertex_count, &arena, NULL) == LS_OK);
-        ls_shade_opts_init(&o);
-        o.mode = LS_SHADE_SH;
-        o.sh = sh;
-        for (v = 0; v < NV; v++) {
-            REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles,
-                              init.face_count, NULL) == LS_OK);
-            REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
-            REQUIRE(ls_pair_forward(&vis, &tab, init.triangles, init.face_count, img, blend, NULL) == LS_OK);
-            for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)blend[p] - (double)targets[v][p]);
-        }
-        sum /= (double)(4u * RES * RES * NV);
+        composed_loss(1, 0, &sum); /* raster, normals, shade, blend, mean L1 */
         printf("     pair loss composed here %.9f, by the fit %.9f\n", sum, (double)l_pair);
         CHECK_NEAR((double)l_pair, sum, 1e-12 + TEST_EPS(16) * sum);
     }
@@ -340,36 +326,8 @@ static void fit_adaptive_supersampling(void)
     CHECK(l_aa < l_off);
     CHECK(diff > 1e-4);
     {
-        /* the refined loss composed independently */
-        ls_arena arena;
-        ls_mesh init;
-        ls_vis vis;
-        ls_edge_table tab;
-        ls_shade_opts o;
-        ls_real *normals, *img;
         double sum = 0;
-        uint32_t v, p;
-        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
-        sphere(&arena, &init);
-        normals = (ls_real *)ls_arena_alloc(&arena, 3u * init.vertex_count, sizeof(ls_real));
-        img = (ls_real *)ls_arena_alloc(&arena, 4u * RES * RES, sizeof(ls_real));
-        REQUIRE(img != NULL);
-        REQUIRE(ls_shade_vertex_normals(init.positions, init.vertex_count, init.triangles, init.face_count, normals,
-                                        NULL) == LS_OK);
-        REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 1, init.vertex_count) == LS_OK);
-        REQUIRE(ls_edge_table_build(&tab, init.triangles, init.face_count, init.vertex_count, &arena, NULL) == LS_OK);
-        ls_shade_opts_init(&o);
-        o.mode = LS_SHADE_SH;
-        o.sh = sh;
-        for (v = 0; v < NV; v++) {
-            REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles,
-                              init.face_count, NULL) == LS_OK);
-            REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
-            REQUIRE(ls_refine_shade(&vis, &tab, init.triangles, init.face_count, normals, init.vertex_count, &o, 8, img,
-                                    &arena, NULL, NULL) == LS_OK);
-            for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)img[p] - (double)targets[v][p]);
-        }
-        sum /= (double)(4u * RES * RES * NV);
+        composed_loss(0, 8, &sum); /* the refined loss composed independently */
         printf("     refined loss composed here %.9f, by the fit %.9f\n", sum, (double)l_aa);
         CHECK_NEAR((double)l_aa, sum, 1e-12 + TEST_EPS(16) * sum);
     }

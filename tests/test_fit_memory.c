@@ -8,6 +8,7 @@
 #include "test.h"
 #include "sweep.h"
 #include <stdlib.h>
+#include "fit_targets.h"
 
 #define RES 24u
 #define NV 3u
@@ -26,34 +27,8 @@ static ls_mesh init;
 static void make_problem(void)
 {
     ls_arena arena;
-    ls_mesh m;
-    ls_vis vis;
-    ls_real dirs[3 * NV], proj[16], view[16], *normals;
-    const ls_real center[3] = {0, 0, 0};
-    ls_shade_opts o;
-    uint32_t v, i;
-    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
-    REQUIRE(ls_icosphere(3, &arena, &m) == LS_OK);
-    for (i = 0; i < m.vertex_count; i++) m.positions[3 * i + 1] *= (ls_real)0.7;
-    normals = (ls_real *)ls_arena_alloc(&arena, 3u * m.vertex_count, sizeof(ls_real));
-    REQUIRE(normals != NULL);
-    REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, normals, NULL) == LS_OK);
-    REQUIRE(ls_camera_fibonacci_dirs(NV, dirs) == LS_OK);
-    REQUIRE(ls_camera_perspective((ls_real)0.8, LS_FOV_X, 1, (ls_real)0.1, (ls_real)10, proj) == LS_OK);
-    REQUIRE(ls_vis_init(&vis, &arena, RES, RES, 4, m.vertex_count) == LS_OK);
-    memset(sh, 0, sizeof sh);
-    for (i = 0; i < 3; i++) sh[9 * i] = (ls_real)1.5, sh[9 * i + 1] = (ls_real)0.8, sh[9 * i + 3] = (ls_real)-0.3;
-    ls_shade_opts_init(&o);
-    o.mode = LS_SHADE_SH;
-    o.sh = sh;
-    for (v = 0; v < NV; v++) {
-        REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
-        ls_mat4_mul(proj, view, mvps[v]);
-        targets[v] = (ls_real *)malloc(4u * RES * RES * sizeof(ls_real));
-        REQUIRE(targets[v] != NULL);
-        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
-    }
+    uint32_t i;
+    fit_test_targets(3, NV, RES, buf, BUF_BYTES, mvps, targets, sh);
     REQUIRE(ls_arena_init(&arena, mesh_buf.bytes, sizeof mesh_buf.bytes) == LS_OK);
     REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
     for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.6;

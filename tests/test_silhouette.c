@@ -62,138 +62,16 @@ typedef struct scene {
 
 /* ---- exact coverage ---- */
 
-typedef struct poly {
-    int n;
-    double x[MAXP], y[MAXP];
-} poly;
+#include "box_ref.h"
 
-/* Keeps the part of `in` where (q - p) x (pt - p) * sign >= 0. */
-static void clip_half(const poly *in, double px, double py, double qx, double qy, poly *out)
-{
-    int i;
-    out->n = 0;
-    for (i = 0; i < in->n; i++) {
-        int j = (i + 1) % in->n;
-        double si = (qx - px) * (in->y[i] - py) - (qy - py) * (in->x[i] - px);
-        double sj = (qx - px) * (in->y[j] - py) - (qy - py) * (in->x[j] - px);
-        if (si >= 0 && out->n < MAXP) {
-            out->x[out->n] = in->x[i];
-            out->y[out->n++] = in->y[i];
-        }
-        if ((si >= 0) != (sj >= 0) && out->n < MAXP) {
-            double t = si / (si - sj);
-            out->x[out->n] = in->x[i] + t * (in->x[j] - in->x[i]);
-            out->y[out->n++] = in->y[i] + t * (in->y[j] - in->y[i]);
-        }
-    }
-}
-
-static double area(const poly *p)
-{
-    double a = 0;
-    int i;
-    for (i = 0; i < p->n; i++) {
-        int j = (i + 1) % p->n;
-        a += p->x[i] * p->y[j] - p->x[j] * p->y[i];
-    }
-    return 0.5 * a;
-}
-
-/* a n b for convex polygons, b counter-clockwise (positive area). */
-static void intersect(const poly *a, const poly *b, poly *out)
-{
-    poly tmp = *a;
-    int i;
-    for (i = 0; i < b->n; i++) {
-        int j = (i + 1) % b->n;
-        clip_half(&tmp, b->x[i], b->y[i], b->x[j], b->y[j], out);
-        tmp = *out;
-    }
-    *out = tmp;
-}
-
-static void make_ccw(poly *p)
-{
-    if (area(p) < 0) {
-        int i;
-        for (i = 0; i < p->n / 2; i++) {
-            double tx = p->x[i], ty = p->y[i];
-            p->x[i] = p->x[p->n - 1 - i];
-            p->y[i] = p->y[p->n - 1 - i];
-            p->x[p->n - 1 - i] = tx;
-            p->y[p->n - 1 - i] = ty;
-        }
-    }
-}
-
-/* Window coordinates (pixels, y down) and NDC depth of world point q. */
 static void to_window(const scene *sc, const double *q, double *x, double *y, double *z)
 {
-    double c[4];
-    int r;
-    for (r = 0; r < 4; r++) c[r] = sc->mvp[4 * r] * q[0] + sc->mvp[4 * r + 1] * q[1] + sc->mvp[4 * r + 2] * q[2] + sc->mvp[4 * r + 3];
-    *x = (c[0] / c[3] + 1) * 0.5 * IMG;
-    *y = (1 - c[1] / c[3]) * 0.5 * IMG;
-    *z = c[2] / c[3];
+    ref_to_window(sc->mvp, IMG, q, x, y, z);
 }
 
-/* Convex hull (gift wrapping) of n points, counter-clockwise in (x, y). */
-static void hull(const double *x, const double *y, int n, poly *out)
-{
-    int start = 0, cur, i;
-    out->n = 0;
-    for (i = 1; i < n; i++)
-        if (x[i] < x[start] || (x[i] == x[start] && y[i] < y[start])) start = i;
-    cur = start;
-    do {
-        int next = (cur + 1) % n;
-        out->x[out->n] = x[cur];
-        out->y[out->n++] = y[cur];
-        for (i = 0; i < n; i++) {
-            double cr = (x[next] - x[cur]) * (y[i] - y[cur]) - (y[next] - y[cur]) * (x[i] - x[cur]);
-            if (cr < 0) next = i;
-        }
-        cur = next;
-    } while (cur != start && out->n < n && out->n < MAXP);
-    make_ccw(out);
-}
-
-/* Triangle t clipped at the near plane Z + W >= 0 in clip space, projected
- * to the window, counter-clockwise; returns the mean NDC depth of its
- * corners. *near_inside (if not NULL) is set when a point made by the clip
- * lands inside the image (its discontinuity is not a mesh edge). */
 static double tri_window(const scene *sc, uint32_t t, poly *out, int *near_inside)
 {
-    double c[3][4], zs = 0;
-    int k, r, n = 0;
-    for (k = 0; k < 3; k++) {
-        const double *q = sc->p + 3 * sc->f[3 * t + k];
-        for (r = 0; r < 4; r++) c[k][r] = sc->mvp[4 * r] * q[0] + sc->mvp[4 * r + 1] * q[1] + sc->mvp[4 * r + 2] * q[2] + sc->mvp[4 * r + 3];
-    }
-    if (near_inside) *near_inside = 0;
-    for (k = 0; k < 3; k++) {
-        const double *p0 = c[k], *p1 = c[(k + 1) % 3];
-        double d0 = p0[2] + p0[3], d1 = p1[2] + p1[3];
-        if (d0 >= 0) {
-            out->x[n] = (p0[0] / p0[3] + 1) * 0.5 * IMG;
-            out->y[n] = (1 - p0[1] / p0[3]) * 0.5 * IMG;
-            zs += p0[2] / p0[3];
-            n++;
-        }
-        if ((d0 >= 0) != (d1 >= 0)) {
-            double s = d0 / (d0 - d1), q[4];
-            for (r = 0; r < 4; r++) q[r] = p0[r] + s * (p1[r] - p0[r]);
-            out->x[n] = (q[0] / q[3] + 1) * 0.5 * IMG;
-            out->y[n] = (1 - q[1] / q[3]) * 0.5 * IMG;
-            zs += q[2] / q[3];
-            if (near_inside && out->x[n] > -1 && out->x[n] < IMG + 1 && out->y[n] > -1 && out->y[n] < IMG + 1)
-                *near_inside = 1;
-            n++;
-        }
-    }
-    out->n = n;
-    make_ccw(out);
-    return n > 0 ? zs / n : 0;
+    return ref_tri_window(sc->mvp, IMG, sc->p, sc->f, t, out, near_inside);
 }
 
 /* Positions the shading of the reference uses (NULL: the scene's): with
@@ -469,26 +347,9 @@ static fdstats fd_compare(scene *sc, double h)
     return st;
 }
 
-static void camera_ortho(scene *sc)
-{
-    ls_real view[16], proj[16], mvp[16], eye[3] = {(ls_real)0.2, (ls_real)0.3, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0};
-    int k;
-    ls_camera_look_at(eye, tgt, up, view);
-    ls_camera_orthographic(-1, 1, -1, 1, (ls_real)0.1, 10, proj);
-    ls_mat4_mul(proj, view, mvp);
-    for (k = 0; k < 16; k++) sc->mvp[k] = (double)mvp[k];
-}
+static void camera_ortho(scene *sc) { ref_camera_ortho(sc->mvp); }
 
-static void camera_persp(scene *sc)
-{
-    ls_real view[16], proj[16], mvp[16], eye[3] = {(ls_real)0.4, (ls_real)0.5, (ls_real)2.6}, tgt[3] = {0, 0, 0};
-    ls_real up[3] = {0, 1, 0};
-    int k;
-    ls_camera_look_at(eye, tgt, up, view);
-    ls_camera_perspective((ls_real)0.9, LS_FOV_Y, 1, (ls_real)0.3, 20, proj);
-    ls_mat4_mul(proj, view, mvp);
-    for (k = 0; k < 16; k++) sc->mvp[k] = (double)mvp[k];
-}
+static void camera_persp(scene *sc) { ref_camera_persp(sc->mvp); }
 
 static void random_weights(scene *sc)
 {

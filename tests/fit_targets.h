@@ -1,0 +1,47 @@
+/* tests/fit_targets.h - the fit tests' small problem (test_fit_knobs.c,
+ * test_fit_memory.c): an ellipsoid (icosphere of `level`, y scaled by 0.7)
+ * with SH shading (coefficients written to sh), seen from nv Fibonacci
+ * directions at distance 3.2 (45.8 degree horizontal fov), res x res with
+ * S = 4. The view transforms go to mvps, the target images (malloc'ed,
+ * RGBA) to targets. work: scratch of work_bytes. Static: include once. */
+#ifndef LS_TEST_FIT_TARGETS_H
+#define LS_TEST_FIT_TARGETS_H
+
+#define FIT_TARGETS_MAX_VIEWS 16u
+
+static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned char *work, size_t work_bytes,
+                             ls_real (*mvps)[16], ls_real **targets, ls_real sh[27])
+{
+    ls_arena arena;
+    ls_mesh m;
+    ls_vis vis;
+    ls_real dirs[3 * FIT_TARGETS_MAX_VIEWS], proj[16], view[16], *normals;
+    const ls_real center[3] = {0, 0, 0};
+    ls_shade_opts o;
+    uint32_t v, i;
+    REQUIRE(nv <= FIT_TARGETS_MAX_VIEWS);
+    REQUIRE(ls_arena_init(&arena, work, work_bytes) == LS_OK);
+    REQUIRE(ls_icosphere(level, &arena, &m) == LS_OK);
+    for (i = 0; i < m.vertex_count; i++) m.positions[3 * i + 1] *= (ls_real)0.7;
+    normals = (ls_real *)ls_arena_alloc(&arena, 3u * m.vertex_count, sizeof(ls_real));
+    REQUIRE(normals != NULL);
+    REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, normals, NULL) == LS_OK);
+    REQUIRE(ls_camera_fibonacci_dirs(nv, dirs) == LS_OK);
+    REQUIRE(ls_camera_perspective((ls_real)0.8, LS_FOV_X, 1, (ls_real)0.1, (ls_real)10, proj) == LS_OK);
+    REQUIRE(ls_vis_init(&vis, &arena, res, res, 4, m.vertex_count) == LS_OK);
+    memset(sh, 0, 27 * sizeof(ls_real));
+    for (i = 0; i < 3; i++) sh[9 * i] = (ls_real)1.5, sh[9 * i + 1] = (ls_real)0.8, sh[9 * i + 3] = (ls_real)-0.3;
+    ls_shade_opts_init(&o);
+    o.mode = LS_SHADE_SH;
+    o.sh = sh;
+    for (v = 0; v < nv; v++) {
+        REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
+        ls_mat4_mul(proj, view, mvps[v]);
+        targets[v] = (ls_real *)malloc(4u * res * res * sizeof(ls_real));
+        REQUIRE(targets[v] != NULL);
+        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
+        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
+    }
+}
+
+#endif /* LS_TEST_FIT_TARGETS_H */
