@@ -121,6 +121,10 @@ check experiment_texture_grid "$ls" experiment texture --side 32 --res 24 --view
     --methods ls --lambda-ls 4,16 --lr-ls 0.3 -o "$out/texgrid"
 if [ "$(grep -c '^| large steps' "$out/texgrid/texture.md" 2>/dev/null)" = 3 ] && ! grep -q '^| naive' "$out/texgrid/texture.md"; then
     ok "experiment_texture_grid_rows"; else bad "experiment_texture_grid_rows"; fi
+check experiment_texture_ls_adam "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
+    --methods ls --ls-optimizer adam --lambda-ls 4 --lr-ls 0.3 -o "$out/texadam"
+if [ "$(grep -c '^| large steps (Adam on u' "$out/texadam/texture.md" 2>/dev/null)" = 2 ]; then
+    ok "experiment_texture_ls_adam_rows"; else bad "experiment_texture_ls_adam_rows"; fi
 expect experiment_texture_bad_method 2 "usage" "$ls" experiment texture --methods ls,foo -o "$out/x"
 expect experiment_texture_bad_grid 2 "usage" "$ls" experiment texture --lr-ls 0.1,0 -o "$out/x"
 

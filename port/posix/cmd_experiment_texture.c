@@ -74,7 +74,7 @@ typedef struct tx_grid {
 
 typedef struct tx_args {
     const char *out, *image, *scene;
-    uint32_t res, views, side, full, fit_ss, own_targets;
+    uint32_t res, views, side, full, fit_ss, own_targets, ls_adam;
     double tune_s, run_s;
     uint32_t methods;                   /* bit m: run method m */
     tx_grid lr[3], weight[3];           /* per method; weight: w (regularized) or lambda (large steps) */
@@ -92,6 +92,7 @@ typedef struct tx_problem {
     ls_real *truth;             /* the true texture, 1024^2 */
     uint32_t truth_side;
     uint32_t footprint;         /* box-filter block for the texture error */
+    uint32_t ls_adam;           /* large steps with per-element Adam on u instead of UniformAdam */
     ls_shade_opts opts;
     ls_csc lap;                 /* the grid Laplacian of the fitted texture */
     ls_arena *arena;
@@ -180,6 +181,7 @@ static int usage(FILE *f)
                "  --res R       render size R x R (default 108)\n"
                "  --views N     training views (default 8)\n"
                "  --fit-ss S    samples per pixel side of the fit's renders: 4 (default, as the targets), 2 or 1\n"
+               "  --ls-optimizer O   uniform (default: UniformAdam, the method's) or adam (per-texel Adam on u)\n"
                "  --targets T   training targets: box (default: 4 x 4 samples, box resolve) or fit\n"
                "                (rendered like the fit's renders, --fit-ss); error renders are always box\n"
                "  --side N      fitted texture side (default 256; --full: 1024)\n"
@@ -386,6 +388,12 @@ static double texture_psnr(const tx_problem *p, const ls_real *texels, uint32_t 
 
 static const char *const method_names[3] = {"naive (Adam)", "regularized (Adam + w tr(x^T L x))", "large steps (UniformAdam, I + lambda L)"};
 
+/* The row label of method m (large steps names its optimizer). */
+static const char *method_label(const tx_problem *p, int m)
+{
+    return m == M_LS && p->ls_adam ? "large steps (Adam on u, I + lambda L)" : method_names[m];
+}
+
 typedef struct tx_run {
     double lr, weight, seconds, setup, loss, val, test, tex;
     uint32_t iters;
@@ -419,7 +427,7 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
     memset(&gr, 0, sizeof gr);
     for (i = 0; i < 3u * (size_t)n; i++) x[i] = (ls_real)0.5;
     if (g == NULL || gimg == NULL || (m == M_LS && par == NULL)) goto done;
-    ls_optim_config_default(m == M_LS ? LS_OPTIM_UNIFORM_ADAM : LS_OPTIM_ADAM, &oc);
+    ls_optim_config_default(m == M_LS && !p->ls_adam ? LS_OPTIM_UNIFORM_ADAM : LS_OPTIM_ADAM, &oc);
     oc.lr = (ls_real)lr;
     bs[0] = 3u * n;
     if (ls_optim_init(&opt, &oc, 3u * n, 1, bs, a) != LS_OK) goto done;
@@ -428,9 +436,9 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
         greg = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
         if (greg == NULL) goto done;
     }
-    if (m == M_LS) { /* M^{-2} g: the optimizer moves x = M^{-1} u directly (ls_optim_step_mapped) */
+    if (m == M_LS) { /* M^{-2} g: UniformAdam moves x = M^{-1} u directly (ls_optim_step_mapped); Adam: u itself */
         gu2 = (ls_real *)ls_arena_alloc(a, 3u * n, sizeof(ls_real));
-        if (gu2 == NULL) goto done;
+        if (gu2 == NULL || (p->ls_adam && ls_param_to_differential(par, x, gu2) != LS_OK)) goto done;
     }
     if (ls_texture_init(&tex, side, side, p->wrap, x) != LS_OK) goto done;
     o.texture = &tex;
@@ -460,6 +468,10 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
             if (ls_laplacian_energy(&p->lap, 3, x, (ls_real)weight, NULL, greg, NULL) != LS_OK) goto done;
             for (i = 0; i < 3u * (size_t)n; i++) g[i] += greg[i];
             if (ls_optim_step(&opt, x, g, NULL) != LS_OK) goto done;
+        } else if (p->ls_adam) { /* per-element Adam does not commute with M^{-1}: the u form */
+            if (ls_param_adjoint(par, g, greg) != LS_OK || ls_optim_step(&opt, gu2, greg, NULL) != LS_OK ||
+                ls_param_from_differential(par, gu2, x) != LS_OK)
+                goto done;
         } else {
             if (ls_param_adjoint2(par, g, greg, gu2) != LS_OK || ls_optim_step_mapped(&opt, x, greg, gu2, NULL) != LS_OK)
                 goto done;
@@ -584,6 +596,7 @@ static int setup(tx_problem *p, const tx_args *a)
     size_t np = (size_t)a->res * a->res;
     int sphere = strcmp(a->scene, "sphere") == 0;
     p->side = a->side;
+    p->ls_adam = a->ls_adam;
     p->res = a->res;
     p->ntrain = a->views;
     p->nviews = a->views + TX_VAL + TX_TEST;
@@ -660,6 +673,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         if (strcmp(opt, "-o") == 0) a.out = v;
         else if (strcmp(opt, "--image") == 0) a.image = v;
         else if (strcmp(opt, "--scene") == 0 && (strcmp(v, "quad") == 0 || strcmp(v, "sphere") == 0)) a.scene = v;
+        else if (strcmp(opt, "--ls-optimizer") == 0 && (strcmp(v, "uniform") == 0 || strcmp(v, "adam") == 0)) a.ls_adam = strcmp(v, "adam") == 0;
         else if (strcmp(opt, "--targets") == 0 && (strcmp(v, "box") == 0 || strcmp(v, "fit") == 0)) a.own_targets = strcmp(v, "fit") == 0;
         else if (strcmp(opt, "--fit-ss") == 0 && (atoi(v) == 1 || atoi(v) == 2 || atoi(v) == 4)) a.fit_ss = (uint32_t)atoi(v);
         else if (strcmp(opt, "--res") == 0 && atoi(v) >= 8 && atoi(v) <= 1024) a.res = (uint32_t)atoi(v);
@@ -706,6 +720,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
                "large-steps solver %s.\n\n",
             (unsigned)a.views, TX_VAL, TX_TEST, (unsigned)a.res, (unsigned)a.res, (unsigned)a.fit_ss, (unsigned)a.fit_ss, (unsigned)p.footprint,
             (unsigned)p.footprint, tx_solver(a.side) == LS_PARAM_LDLT ? "LDL^T (AMD)" : tx_solver(a.side) == LS_PARAM_CG ? "CG" : "the grid's transform solver");
+    if (a.ls_adam) fprintf(f, "Large steps runs per-texel Adam on u (--ls-optimizer adam), not the method's UniformAdam.\n\n");
     /* tuning grids: learning rate, and w (regularized) or lambda (large steps), scaled with the footprint */
     default_grids(&a, p.footprint);
     fprintf(f, "## tuning (%.0f s per run; validation-view PSNR in dB)\n\n| method | lr | w or lambda | iterations | train loss | validation PSNR |\n|---|---|---|---|---|---|\n",
@@ -727,12 +742,12 @@ int ls_cmd_experiment_texture(int argc, char **argv)
                 double lr = a.lr[m].v[gi];
                 tx_run r = fit(&p, m, lr, w, a.tune_s, fitted[m], buf, m == M_LS ? &par : NULL);
                 if (!r.ok) {
-                    fprintf(stderr, "largesteps experiment texture: %s lr %g failed\n", method_names[m], lr);
+                    fprintf(stderr, "largesteps experiment texture: %s lr %g failed\n", method_label(&p, m), lr);
                     continue;
                 }
                 r.setup = setup;
                 evaluate(&p, &r, fitted[m], buf, 0);
-                fprintf(f, "| %s | %g | %g | %u | %.3g | %.2f |\n", method_names[m], lr, w, (unsigned)r.iters, r.loss, r.val);
+                fprintf(f, "| %s | %g | %g | %u | %.3g | %.2f |\n", method_label(&p, m), lr, w, (unsigned)r.iters, r.loss, r.val);
                 fflush(f);
                 if (r.val > best[m].val) best[m] = r;
             }
@@ -752,7 +767,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         ls_arena_restore(&arena, pm);
         if (!r.ok) continue;
         evaluate(&p, &r, fitted[m], buf, 1);
-        fprintf(f, "| %s | %g | %g | %.2f | %u | %.1f | %.3g | %.2f | %.2f |\n", method_names[m], r.lr, r.weight, setup,
+        fprintf(f, "| %s | %g | %g | %.2f | %u | %.1f | %.3g | %.2f | %.2f |\n", method_label(&p, m), r.lr, r.weight, setup,
                 (unsigned)r.iters, r.seconds, r.loss, r.test, r.tex);
         fflush(f);
     }
