@@ -430,12 +430,12 @@ static ls_status solve(ls_param *p, const ls_real *b, ls_real *x, ls_real *warm)
 {
     size_t nk = (size_t)p->n * p->k;
     ls_status st;
+    if (p->solver == LS_PARAM_GRID) return ls_grid_solver_solve(&p->gs, b, x); /* it checks b itself */
     if (!finite_all(b, nk)) return LS_ERR_NONFINITE;
     if (p->identity) {
         if (x != b) memmove(x, b, nk * sizeof(ls_real));
         return LS_OK;
     }
-    if (p->solver == LS_PARAM_GRID) return ls_grid_solver_solve(&p->gs, b, x);
     if (p->solver == LS_PARAM_LDLT) {
         if (x != b) memmove(x, b, nk * sizeof(ls_real));
         return ls_ldlt_solve(&p->f, p->k, x, &p->work);

@@ -107,6 +107,17 @@ if [ -e "$out/x" ] && [ -n "$(ls -A "$out/x")" ]; then bad "fit_failures_write_n
 check experiment_silhouettes "$ls" experiment silhouettes --iters 8 --res 24 --views 3 --level 1 -o "$out/exp"
 if grep -q '^| large steps, lambda 99 |' "$out/exp/silhouettes.md" 2>/dev/null; then ok "experiment_table_written"; else bad "experiment_table_written"; fi
 
+# the compare experiment (tiny): four methods at equal iterations and at equal time, and its contact sheet
+check experiment_compare "$ls" experiment compare --iters 6 --res 24 --views 2 --level 1 -o "$out/cmp"
+if [ "$(grep -c -e '^| naive' -e '^| Laplacian' -e '^| bilaplacian' -e '^| large steps' "$out/cmp/compare.md" 2>/dev/null)" = 8 ] &&
+    [ -s "$out/cmp/compare.png" ]; then ok "experiment_compare_rows_and_sheet"; else bad "experiment_compare_rows_and_sheet"; fi
+
+# an initial mesh of the target's genus: the elephant (genus 3) remeshed coarse and smoothed, no iteration
+check fit_init_coarse "$ls" fit fixtures/meshes/elephant.obj --init-coarse 0.03 --iters 0 --res 24 --views 1 --quiet -o "$out/coarse"
+if "$ls" info "$out/coarse/result.obj" 2>/dev/null | grep -q '^genus  *3$' && [ "$(field "$out/coarse/metrics.json" intersecting_pairs)" = 0 ]; then
+    ok "fit_init_coarse_keeps_genus_3_untangled"; else bad "fit_init_coarse_keeps_genus_3_untangled"; fi
+expect fit_init_coarse_bad 2 "bad value" "$ls" fit --init-coarse 0 -o "$out/x"
+
 # 5. the trade study's tables and plot (tiny)
 check experiment_tradeoffs "$ls" experiment tradeoffs --iters 8 --res 24 --views 2 --level 1 --knobs silhouette,power -o "$out/trade"
 if [ "$(grep -c '^| bunny | ' "$out/trade/tradeoffs.md" 2>/dev/null)" = 7 ] && grep -q '</svg>' "$out/trade/tradeoffs.svg" 2>/dev/null &&

@@ -35,7 +35,11 @@
 
 typedef struct exp_args {
     const char *name, *target, *out;
-    uint32_t iters, res, views, level;
+    uint32_t iters, res, views, level, init_smooth;
+    uint32_t remesh_count, remesh_at[LS_JOB_MAX_REMESH]; /* compare: every run's remesh schedule */
+    uint32_t forms;   /* lambda-sweep: 1 the alpha form, 2 the lambda form, 3 both */
+    double cap;       /* compare: a baseline run stops at cap x the large-steps run's time */
+    double init_edge; /* > 0: the initial mesh is the target remeshed and smoothed (fit_job.h) */
 } exp_args;
 
 typedef struct exp_result {
@@ -52,13 +56,22 @@ static int usage(FILE *f)
                "  --iters N   iterations per run (default 400)\n"
                "  --res R     render size R x R (default 64)\n"
                "  --views N   views (default 16; the views experiment sets its own)\n"
-               "  --level K   initial icosphere level (default 3)\n");
+               "  --level K   initial icosphere level (default 3)\n"
+               "  --init-coarse E, --init-smooth N   initial mesh: the target remeshed to edge E x its\n"
+               "              bounding-box diagonal, N Taubin steps (default 10); for targets of genus > 0\n"
+               "  --form F    lambda-sweep: alpha | lambda | both (default both)\n"
+               "  --remesh I,J  compare: remesh every run before these iterations (default none, as the\n"
+               "              paper's comparison figure)\n"
+               "  --cap F     compare: each baseline run stops at F x the tuned large-steps run's time\n"
+               "              (default 3; a tangled mesh can cost 10x per iteration)\n");
     return f == stderr ? 2 : 0;
 }
 
-/* One run from the problem's initial mesh, measured against its target. */
+/* One run from the problem's initial mesh, measured against its target;
+ * render (optional): the result's views (S = 1), rendered before the run's
+ * memory is released. */
 static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iters, double budget_ms,
-                          const uint32_t *remesh, uint32_t nremesh, ls_arena *arena, ls_mesh *keep)
+                          const uint32_t *remesh, uint32_t nremesh, ls_arena *arena, ls_real **render)
 {
     ls_arena_mark mark = ls_arena_save(arena);
     ls_job_run r;
@@ -82,24 +95,11 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
         e.loss = r.iterations > 0 ? (double)r.loss[r.iterations - 1] : 0;
         e.pairs = t.intersecting_pairs;
         e.vertices = r.result.vertex_count;
-    }
-    if (keep != NULL && e.ok) {
-        /* the caller keeps the mesh: copy it below the roll-back point */
-        ls_mesh m = r.result;
-        ls_real *pos;
-        uint32_t *tri;
-        ls_arena_restore(arena, mark);
-        pos = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)m.vertex_count, sizeof(ls_real));
-        tri = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)m.face_count, sizeof(uint32_t));
-        if (pos != NULL && tri != NULL) {
-            memmove(pos, m.positions, 3u * (size_t)m.vertex_count * sizeof(ls_real));
-            memmove(tri, m.triangles, 3u * (size_t)m.face_count * sizeof(uint32_t));
-            keep->positions = pos;
-            keep->triangles = tri;
-            keep->vertex_count = m.vertex_count;
-            keep->face_count = m.face_count;
+        if (render != NULL) {
+            ls_diag rd;
+            ls_diag_clear(&rd);
+            e.ok = ls_job_render(p, &r.result, 1, render, arena, &rd) == LS_OK;
         }
-        return e;
     }
     ls_arena_restore(arena, mark);
     return e;
@@ -129,14 +129,13 @@ static void config(ls_fit_config *c, uint32_t method, ls_real lr)
     c->optim.lr = lr;
 }
 
-static void lambda_sweep(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
+/* The alpha form at the paper's fixed learning rate. */
+static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
 {
     static const double alphas[8] = {0, 0.25, 0.5, 0.75, 0.95, 0.98, 0.99, 0.999};
-    static const double lambdas[6] = {0, 1, 3, 19, 99, 999};
-    static const double lrs[6] = {3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1};
     ls_fit_config c;
     char label[64];
-    int i, k;
+    int i;
     fprintf(f, "## alpha form, lr 1e-3 (the paper's; x moves lr / (1 - alpha) per unit step), %u iterations, L1\n\n",
             (unsigned)a->iters);
     header(f);
@@ -150,6 +149,16 @@ static void lambda_sweep(FILE *f, const ls_job_problem *p, const exp_args *a, ls
         row(f, label, &e);
         fflush(f);
     }
+}
+
+/* The lambda form, the learning rate tuned per lambda. */
+static void sweep_lambda(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
+{
+    static const double lambdas[6] = {0, 1, 3, 19, 99, 999};
+    static const double lrs[6] = {3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1};
+    ls_fit_config c;
+    char label[64];
+    int i, k;
     fprintf(f, "\n## lambda form, learning rate chosen per lambda from {3e-3, 1e-2, 3e-2, 0.1, 0.3, 1} (lowest H)\n\n");
     header(f);
     for (i = 0; i < 6; i++) {
@@ -169,15 +178,36 @@ static void lambda_sweep(FILE *f, const ls_job_problem *p, const exp_args *a, ls
     }
 }
 
-/* The best of a grid of learning rates and weights for one method. */
-static exp_result tuned(const ls_job_problem *p, uint32_t method, uint32_t iters, double budget_ms, ls_arena *arena,
-                        double *lr_out, double *w_out)
+/* Renders of every view of a result (S = 1), for the contact sheet. */
+typedef struct view_set {
+    ls_real **v;
+    size_t bytes; /* of one view */
+} view_set;
+
+static int views_alloc(const ls_job_problem *p, ls_arena *arena, view_set *s)
+{
+    uint32_t k;
+    s->bytes = 4u * (size_t)p->width * p->height * sizeof(ls_real);
+    s->v = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
+    for (k = 0; s->v != NULL && k < p->views; k++) {
+        s->v[k] = (ls_real *)ls_arena_alloc(arena, s->bytes / sizeof(ls_real), sizeof(ls_real));
+        if (s->v[k] == NULL) s->v = NULL;
+    }
+    return s->v != NULL;
+}
+
+/* The best (lowest H) of a grid of learning rates and weights for one
+ * method; each run stops at budget_ms when > 0. best (optional) receives
+ * the best run's renders (tmp: scratch renders of the same size). */
+static exp_result tuned(const ls_job_problem *p, const exp_args *a, uint32_t method, uint32_t iters, double budget_ms,
+                        ls_arena *arena, double *lr_out, double *w_out, const view_set *best_views, const view_set *tmp)
 {
     static const double lrs_adam[3] = {3e-3, 1e-2, 3e-2};
     static const double lrs_large[3] = {1e-2, 3e-2, 1e-1};
     static const double weights[3] = {0.3, 3, 30};
     ls_fit_config c;
     exp_result best;
+    uint32_t v;
     int i, k, nw = method == LS_FIT_LAPLACIAN || method == LS_FIT_BILAPLACIAN ? 3 : 1;
     memset(&best, 0, sizeof best);
     for (i = 0; i < 3; i++)
@@ -186,10 +216,39 @@ static exp_result tuned(const ls_job_problem *p, uint32_t method, uint32_t iters
             double lr = method == LS_FIT_LARGE_STEPS ? lrs_large[i] : lrs_adam[i];
             config(&c, method, (ls_real)lr);
             c.reg_weight = (ls_real)weights[k];
-            e = run_one(p, &c, iters, budget_ms, NULL, 0, arena, NULL);
-            if (e.ok && (!best.ok || e.h < best.h)) best = e, *lr_out = lr, *w_out = nw > 1 ? weights[k] : 0;
+            e = run_one(p, &c, iters, budget_ms, a->remesh_at, a->remesh_count, arena,
+                        best_views != NULL ? tmp->v : NULL);
+            if (e.ok && (!best.ok || e.h < best.h)) {
+                best = e, *lr_out = lr, *w_out = nw > 1 ? weights[k] : 0;
+                for (v = 0; best_views != NULL && v < p->views; v++) memcpy(best_views->v[v], tmp->v[v], tmp->bytes);
+            }
         }
     return best;
+}
+
+static void method_label(char *label, size_t cap, const char *name, double lr, double w, const exp_result *e,
+                         uint32_t iters)
+{
+    int n = w > 0 ? snprintf(label, cap, "%s, lr %g, weight %g", name, lr, w) : snprintf(label, cap, "%s, lr %g", name, lr);
+    if (n > 0 && (size_t)n < cap && e->ok && e->iterations < iters)
+        snprintf(label + n, cap - (size_t)n, ", %u iterations", (unsigned)e->iterations);
+}
+
+/* DIR/compare.png: a row per mesh (target, initial, then each method's
+ * equal-time result), a column per view. */
+static void compare_sheet(const ls_job_problem *p, const exp_args *a, const view_set *rows, uint32_t nrows,
+                          ls_arena *arena)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
+    ls_contact sheet;
+    uint32_t r, v;
+    ls_status st = ls_contact_init(&sheet, arena, nrows * p->views, p->width, p->height, p->views, 1, NULL);
+    for (r = 0; r < nrows && st == LS_OK; r++)
+        for (v = 0; v < p->views && st == LS_OK; v++) st = ls_contact_put_rgba(&sheet, r * p->views + v, rows[r].v[v]);
+    if (st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st))
+        fprintf(stderr, "largesteps experiment: cannot write %s/compare.png: %s\n", a->out, ls_status_str(st));
+    ls_arena_restore(arena, mark);
 }
 
 static void compare(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
@@ -197,35 +256,46 @@ static void compare(FILE *f, const ls_job_problem *p, const exp_args *a, ls_aren
     static const uint32_t methods[4] = {LS_FIT_NAIVE, LS_FIT_LAPLACIAN, LS_FIT_BILAPLACIAN, LS_FIT_LARGE_STEPS};
     static const char *const names[4] = {"naive (Adam)", "Laplacian reg. (Adam)", "bilaplacian reg. (Adam)",
                                          "large steps (UniformAdam, lambda 19)"};
+    ls_arena_mark mark = ls_arena_save(arena);
     exp_result large;
-    double lr = 0, w = 0, large_lr = 0;
-    char label[128];
-    int m;
-    large = tuned(p, LS_FIT_LARGE_STEPS, a->iters, 0, arena, &large_lr, &w);
-    fprintf(f, "## equal iterations (%u), each method tuned on a grid of learning rates (and weights)\n\n",
-            (unsigned)a->iters);
+    double lr = 0, w = 0, large_lr = 0, cap_ms;
+    view_set rows[6], tmp; /* target, initial, the four methods at equal time */
+    char label[160];
+    int m, ok = views_alloc(p, arena, &tmp);
+    ls_diag d;
+    ls_diag_clear(&d);
+    for (m = 0; m < 6 && ok; m++) ok = views_alloc(p, arena, &rows[m]);
+    ok = ok && ls_job_render(p, &p->target, 1, rows[0].v, arena, &d) == LS_OK &&
+         ls_job_render(p, &p->initial, 1, rows[1].v, arena, &d) == LS_OK;
+    large = tuned(p, a, LS_FIT_LARGE_STEPS, a->iters, 0, arena, &large_lr, &w, ok ? &rows[5] : NULL, &tmp);
+    cap_ms = a->cap * large.ms;
+    fprintf(f, "## equal iterations (%u), each method tuned on a grid of learning rates (and weights); a baseline run "
+               "stops at %g x the large-steps run's time (%.0f ms)\n\n",
+            (unsigned)a->iters, a->cap, cap_ms);
     header(f);
     for (m = 0; m < 4; m++) {
-        exp_result e = m == 3 ? large : tuned(p, methods[m], a->iters, 0, arena, &lr, &w);
-        if (m == 3) lr = large_lr;
-        if (m == 3)
-            snprintf(label, sizeof label, "%s, lr %g", names[m], lr);
-        else if (w > 0)
-            snprintf(label, sizeof label, "%s, lr %g, weight %g", names[m], lr, w);
-        else
-            snprintf(label, sizeof label, "%s, lr %g", names[m], lr);
+        exp_result e = m == 3 ? large : tuned(p, a, methods[m], a->iters, cap_ms, arena, &lr, &w, NULL, NULL);
+        if (m == 3) lr = large_lr, w = 0;
+        method_label(label, sizeof label, names[m], lr, w, &e, a->iters);
         row(f, label, &e);
         fflush(f);
     }
     fprintf(f, "\n## equal time (%.0f ms, the large-steps run's)\n\n", large.ms);
     header(f);
     for (m = 0; m < 3; m++) {
-        exp_result e = tuned(p, methods[m], 1000000u, large.ms, arena, &lr, &w);
-        snprintf(label, sizeof label, "%s, lr %g, %u iterations", names[m], lr, (unsigned)e.iterations);
+        exp_result e = tuned(p, a, methods[m], 1000000u, large.ms, arena, &lr, &w, ok ? &rows[2 + m] : NULL, &tmp);
+        method_label(label, sizeof label, names[m], lr, w, &e, 1000000u);
         row(f, label, &e);
         fflush(f);
     }
-    row(f, names[3], &large);
+    method_label(label, sizeof label, names[3], large_lr, 0, &large, a->iters);
+    row(f, label, &large);
+    if (ok) {
+        compare_sheet(p, a, rows, 6, arena);
+        fprintf(f, "\nContact sheet: compare.png (rows: target, initial, naive, Laplacian, bilaplacian, large steps at "
+                   "equal time; a column per view).\n");
+    }
+    ls_arena_restore(arena, mark);
 }
 
 static void silhouettes(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
@@ -271,6 +341,9 @@ int ls_cmd_experiment(int argc, char **argv)
     a.res = 64;
     a.views = 16;
     a.level = 3;
+    a.init_smooth = 10;
+    a.cap = 3;
+    a.forms = 3;
     if (argc < 2) return usage(stderr);
     if (strcmp(argv[1], "texture") == 0) return ls_cmd_experiment_texture(argc - 1, argv + 1);
     a.name = argv[1];
@@ -289,6 +362,12 @@ int ls_cmd_experiment(int argc, char **argv)
         else if (strcmp(opt, "--res") == 0 && n >= 8 && n <= 4096) a.res = (uint32_t)n;
         else if (strcmp(opt, "--views") == 0 && n >= 1 && n <= 1024) a.views = (uint32_t)n;
         else if (strcmp(opt, "--level") == 0 && n <= 7) a.level = (uint32_t)n;
+        else if (strcmp(opt, "--init-smooth") == 0 && n <= 10000) a.init_smooth = (uint32_t)n;
+        else if (strcmp(opt, "--init-coarse") == 0 && strtod(v, NULL) > 0 && strtod(v, NULL) <= 1) a.init_edge = strtod(v, NULL);
+        else if (strcmp(opt, "--remesh") == 0 && ls_job_parse_remesh(v, a.remesh_at, &a.remesh_count)) continue;
+        else if (strcmp(opt, "--form") == 0 && (strcmp(v, "alpha") == 0 || strcmp(v, "lambda") == 0 || strcmp(v, "both") == 0))
+            a.forms = strcmp(v, "alpha") == 0 ? 1u : strcmp(v, "lambda") == 0 ? 2u : 3u;
+        else if (strcmp(opt, "--cap") == 0 && strtod(v, NULL) >= 1 && strtod(v, NULL) <= 1000) a.cap = strtod(v, NULL);
         else return usage(stderr);
     }
     if (a.out == NULL) return usage(stderr);
@@ -311,8 +390,18 @@ int ls_cmd_experiment(int argc, char **argv)
     o.target_ss = 4;
     o.shading = strcmp(a.name, "silhouettes") == 0 ? LS_SHADE_MASK : LS_SHADE_SH;
     o.level = a.level;
-    fprintf(f, "# experiment %s: %s, %u x %u, initial icosphere level %u\n\n", a.name,
-            a.target != NULL ? a.target : "embedded bunny", (unsigned)a.res, (unsigned)a.res, (unsigned)a.level);
+    o.init_edge = a.init_edge;
+    o.init_smooth = a.init_smooth;
+    fprintf(f, "# experiment %s: %s, %u x %u, ", a.name, a.target != NULL ? a.target : "embedded bunny", (unsigned)a.res,
+            (unsigned)a.res);
+    if (a.init_edge > 0)
+        fprintf(f, "initial mesh the target remeshed to %g x its bounding-box diagonal and %u Taubin steps", a.init_edge,
+                (unsigned)a.init_smooth);
+    else
+        fprintf(f, "initial icosphere level %u", (unsigned)a.level);
+    for (i = 0; i < (int)a.remesh_count; i++)
+        fprintf(f, i == 0 ? ", remeshing before iterations %u" : ", %u", (unsigned)a.remesh_at[i]);
+    fprintf(f, "\n\n");
     if (strcmp(a.name, "views") == 0) {
         static const uint32_t counts[7] = {1, 2, 4, 9, 16, 25, 49};
         ls_fit_config c;
@@ -334,7 +423,8 @@ int ls_cmd_experiment(int argc, char **argv)
         }
     } else {
         if (!ls_job_load(&p, &o, &arena)) return 1;
-        if (strcmp(a.name, "lambda-sweep") == 0) lambda_sweep(f, &p, &a, &arena);
+        if (strcmp(a.name, "lambda-sweep") == 0 && (a.forms & 1u) != 0) sweep_alpha(f, &p, &a, &arena);
+        if (strcmp(a.name, "lambda-sweep") == 0 && (a.forms & 2u) != 0) sweep_lambda(f, &p, &a, &arena);
         if (strcmp(a.name, "compare") == 0) compare(f, &p, &a, &arena);
         if (strcmp(a.name, "silhouettes") == 0) silhouettes(f, &p, &a, &arena);
     }

@@ -542,29 +542,13 @@ static void texture_tile(const ls_real *t, uint32_t side, uint32_t tile, ls_real
         }
 }
 
-typedef struct png_ctx {
-    const ls_image *img;
-    ls_arena *arena;
-} png_ctx;
-
-static int png_body(FILE *f, void *ctx)
-{
-    png_ctx *c = (png_ctx *)ctx;
-    ls_image_format fmt;
-    fmt.type = LS_IMAGE_PNG;
-    fmt.channels = 3;
-    fmt.bits = 8;
-    fmt.big_endian = 0;
-    return ls_image_encode(c->img, &fmt, ls_posix_write_file, f, c->arena) == LS_OK;
-}
-
 static int write_figure(tx_problem *p, const char *dir, ls_real *const fitted[3], ls_real *buf)
 {
     const uint32_t tile = 2 * p->res;
     ls_arena_mark mark = ls_arena_save(p->arena);
     ls_contact sheet;
     ls_real *rgba = (ls_real *)ls_arena_alloc(p->arena, 4u * tile * tile, sizeof(ls_real));
-    png_ctx pc;
+    ls_image_format png = {LS_IMAGE_PNG, 3, 8, 0};
     uint32_t x, y, m;
     int ok = 0;
     if (rgba == NULL || ls_contact_init(&sheet, p->arena, 5, tile, tile, 5, 2, NULL) != LS_OK) goto out;
@@ -580,9 +564,7 @@ static int write_figure(tx_problem *p, const char *dir, ls_real *const fitted[3]
         if (ls_contact_put_rgba(&sheet, 2 + m, rgba) != LS_OK) goto out;
     }
     (void)buf;
-    pc.img = &sheet.image;
-    pc.arena = p->arena;
-    ok = ls_posix_write_whole_in(dir, "texture.png", png_body, &pc);
+    ok = ls_posix_write_image_in(dir, "texture.png", &sheet.image, &png, p->arena, NULL);
 out:
     ls_arena_restore(p->arena, mark);
     return ok;

@@ -33,8 +33,9 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, iters, level, target_ss, quiet, track;
-    uint32_t remesh_count, remesh_at[32];
+    uint32_t views, res, iters, level, target_ss, quiet, track, init_smooth;
+    ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
+    uint32_t remesh_count, remesh_at[LS_JOB_MAX_REMESH];
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
     ls_fit_config cfg;
 } fit_args;
@@ -72,6 +73,9 @@ static int usage(FILE *f)
             "  --max-factor-nnz N entries of the LDL^T factor (default 6 log2(N) per vertex); a remesh\n"
             "                     beyond the capacity stops the run with the field to raise\n"
             "  --level K          subdivision level of the initial icosphere (default 3)\n"
+            "  --init-coarse E    initial mesh: the target remeshed to edge E x its bounding-box diagonal\n"
+            "                     and smoothed (keeps the target's genus; e.g. 0.05); default: the icosphere\n"
+            "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
@@ -112,6 +116,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     a->remesh_at[0] = 100;
     a->remesh_at[1] = 250;
     a->level = 3;
+    a->init_smooth = 10;
     a->target_ss = 4;
     a->track = 25;
     ls_fit_config_default(&a->cfg);
@@ -143,6 +148,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->iters);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
+        else if (strcmp(o, "--init-coarse") == 0) ok = parse_real(v, &a->init_edge) && a->init_edge > 0 && a->init_edge <= 1;
+        else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && a->cfg.ss != 3;
         else if (strcmp(o, "--aa-adaptive") == 0) ok = parse_u32(v, 0, LS_REFINE_MAX, &a->cfg.aa);
@@ -158,20 +165,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
                               : strcmp(v, "none") == 0 ? LS_FIT_SILHOUETTE_NONE : 99u;
             ok = a->cfg.silhouette != 99u;
         }
-        else if (strcmp(o, "--remesh") == 0 && strcmp(v, "none") == 0) a->remesh_count = 0;
-        else if (strcmp(o, "--remesh") == 0) {
-            const char *p = v;
-            a->remesh_count = 0;
-            while (ok && *p != '\0') {
-                char *end;
-                unsigned long it = strtoul(p, &end, 10);
-                ok = end != p && a->remesh_count < 32 && it < 1000000ul &&
-                     (a->remesh_count == 0 || it > a->remesh_at[a->remesh_count - 1]);
-                if (ok) a->remesh_at[a->remesh_count++] = (uint32_t)it;
-                p = *end == ',' ? end + 1 : end;
-                if (*end != ',' && *end != '\0') ok = 0;
-            }
-        } else if (strcmp(o, "--lambda") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA;
+        else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->remesh_at, &a->remesh_count);
+        else if (strcmp(o, "--lambda") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA;
         else if (strcmp(o, "--alpha") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA;
         else if (strcmp(o, "--lr") == 0) ok = parse_real(v, &lr), lr_set = 1;
         else if (strcmp(o, "--reg") == 0) ok = parse_real(v, &a->cfg.reg_weight);
@@ -302,21 +297,6 @@ static int write_obj(FILE *f, void *ctx)
     return ls_mesh_write_obj((const ls_mesh *)ctx, ls_posix_write_file, f) == LS_OK;
 }
 
-typedef struct png_data {
-    const ls_image *image;
-    ls_arena *arena;
-} png_data;
-
-static int write_png(FILE *f, void *ctx)
-{
-    const png_data *p = (const png_data *)ctx;
-    ls_image_format fmt = {LS_IMAGE_PNG, 4, 8, 0};
-    ls_arena_mark mark = ls_arena_save(p->arena);
-    ls_status st = ls_image_encode(p->image, &fmt, ls_posix_write_file, f, p->arena);
-    ls_arena_restore(p->arena, mark);
-    return st == LS_OK;
-}
-
 typedef struct json_data {
     const ls_job_problem *p;
     const ls_job_run *r;
@@ -376,6 +356,8 @@ int ls_cmd_fit(int argc, char **argv)
     o.target_ss = a.target_ss;
     o.shading = a.cfg.shading.mode;
     o.level = a.level;
+    o.init_edge = (double)a.init_edge;
+    o.init_smooth = a.init_smooth;
     if (!ls_job_load(&p, &o, &arena)) return 1;
     printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
            p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
@@ -424,7 +406,6 @@ int ls_cmd_fit(int argc, char **argv)
         log_data l;
         json_data j;
         ls_contact sheet;
-        png_data pd;
         l.r = &run;
         j.p = &p;
         j.r = &run;
@@ -439,12 +420,11 @@ int ls_cmd_fit(int argc, char **argv)
             if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * p.views + v, renders[p.views + v]);
         }
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
-        pd.image = &sheet.image;
-        pd.arena = &arena;
+        ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
         if (!ls_posix_write_whole_in(a.out, "result.obj", write_obj, &run.result) ||
             !ls_posix_write_whole_in(a.out, "log.csv", write_log, &l) ||
             !ls_posix_write_whole_in(a.out, "convergence.svg", write_svg, &l) ||
-            !ls_posix_write_whole_in(a.out, "contact.png", write_png, &pd) ||
+            !ls_posix_write_image_in(a.out, "contact.png", &sheet.image, &png, &arena, NULL) ||
             !ls_posix_write_whole_in(a.out, "metrics.json", write_json, &j))
             return fprintf(stderr, "largesteps fit: cannot write into %s\n", a.out), 1;
     }

@@ -126,37 +126,21 @@ static ls_status sky_sh(ls_real sh[27])
     return ls_sh_from_equirect(sky, 32, 16, sh);
 }
 
-typedef struct png_file {
-    const ls_image *img;
-    ls_image_format fmt;
-    ls_arena *arena;
-    ls_status st;
-} png_file;
-
-static int png_body(FILE *fp, void *ctx)
-{
-    png_file *p = (png_file *)ctx;
-    p->st = ls_image_encode(p->img, &p->fmt, ls_posix_write_file, fp, p->arena);
-    return p->st == LS_OK;
-}
-
-/* Writes an image whole (ls_posix_write_whole_in: a temporary name, then
- * renamed). Returns the file size, or 0 after printing an error. */
+/* Writes an image whole (ls_posix_write_image_in). Returns the file size,
+ * or 0 after printing an error. */
 static size_t write_png(const char *dir, const char *name, const ls_image *img, uint32_t bits, ls_arena *arena)
 {
-    png_file p;
+    ls_image_format fmt;
+    ls_status st;
     size_t size = 0;
-    p.img = img;
-    p.fmt.type = LS_IMAGE_PNG;
-    p.fmt.channels = 4;
-    p.fmt.bits = bits;
-    p.fmt.big_endian = 0;
-    p.arena = arena;
-    p.st = LS_OK;
-    if (ls_image_encoded_size(img->width, img->height, &p.fmt, &size) != LS_OK) return 0;
-    if (!ls_posix_write_whole_in(dir, name, png_body, &p)) {
+    fmt.type = LS_IMAGE_PNG;
+    fmt.channels = 4;
+    fmt.bits = bits;
+    fmt.big_endian = 0;
+    if (ls_image_encoded_size(img->width, img->height, &fmt, &size) != LS_OK) return 0;
+    if (!ls_posix_write_image_in(dir, name, img, &fmt, arena, &st)) {
         fprintf(stderr, "largesteps: cannot write %s/%s: %s\n", dir, name,
-                p.st != LS_OK ? ls_status_str(p.st) : strerror(errno));
+                st != LS_OK ? ls_status_str(st) : strerror(errno));
         return 0;
     }
     return size;

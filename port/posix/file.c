@@ -92,6 +92,36 @@ int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE 
     return ls_posix_write_whole(path, body, ctx);
 }
 
+typedef struct image_file {
+    const ls_image *img;
+    const ls_image_format *fmt;
+    ls_arena *arena;
+    ls_status st;
+} image_file;
+
+static int image_body(FILE *f, void *ctx)
+{
+    image_file *c = (image_file *)ctx;
+    ls_arena_mark mark = ls_arena_save(c->arena);
+    c->st = ls_image_encode(c->img, c->fmt, ls_posix_write_file, f, c->arena);
+    ls_arena_restore(c->arena, mark);
+    return c->st == LS_OK;
+}
+
+int ls_posix_write_image_in(const char *dir, const char *name, const ls_image *img, const ls_image_format *fmt,
+                            ls_arena *arena, ls_status *st)
+{
+    image_file c;
+    int ok;
+    c.img = img;
+    c.fmt = fmt;
+    c.arena = arena;
+    c.st = LS_OK;
+    ok = ls_posix_write_whole_in(dir, name, image_body, &c);
+    if (st != NULL) *st = c.st;
+    return ok;
+}
+
 int ls_posix_print_file_in(const char *dir, const char *name)
 {
     char path[4096];

@@ -17,6 +17,23 @@ static const ls_real default_sh[27] = {
     (ls_real)1.55, (ls_real)0.60, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
 };
 
+int ls_job_parse_remesh(const char *text, uint32_t *at, uint32_t *count)
+{
+    const char *p = text;
+    int ok = 1;
+    *count = 0;
+    if (strcmp(text, "none") == 0) return 1;
+    while (ok && *p != '\0') {
+        char *end;
+        unsigned long it = strtoul(p, &end, 10);
+        ok = end != p && *count < LS_JOB_MAX_REMESH && it < 1000000ul && (*count == 0 || it > at[*count - 1u]);
+        if (ok) at[(*count)++] = (uint32_t)it;
+        p = *end == ',' ? end + 1 : end;
+        if (*end != ',' && *end != '\0') ok = 0;
+    }
+    return ok && *count > 0;
+}
+
 double ls_job_now_ms(void) { return (double)ls_posix_clock_ns(NULL) * 1e-6; }
 
 int ls_job_fail(const char *what, ls_status st, const ls_diag *d)
@@ -139,6 +156,64 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
     return st;
 }
 
+/* Taubin's smoothing, n steps of x += lambda (avg of the neighbours - x)
+ * then the same with mu: a low-pass filter that does not shrink the mesh
+ * (plain averaging would). lap: the uniform Laplacian D - A (full storage),
+ * so (avg - x)_i = -(L x)_i / L_ii; y: 3 V scratch. */
+static void taubin(const ls_csc *lap, ls_real *x, ls_real *y, uint32_t n)
+{
+    static const ls_real steps[2] = {(ls_real)0.5, (ls_real)-0.53};
+    uint32_t it, i, s, c, k;
+    for (it = 0; it < n; it++)
+        for (s = 0; s < 2; s++) {
+            (void)ls_csc_matvec(lap, 3, x, y);
+            for (i = 0; i < lap->ncols; i++) {
+                ls_real deg = 0;
+                for (k = lap->colptr[i]; k < lap->colptr[i + 1u]; k++)
+                    if (lap->rowidx[k] == i) deg = lap->values[k];
+                if (deg > 0)
+                    for (c = 0; c < 3; c++) x[3u * i + c] -= steps[s] * y[3u * i + c] / deg;
+            }
+        }
+}
+
+/* The initial mesh from the target: remeshed to edge `edge` x the target's
+ * bounding-box diagonal (projected onto it: same genus), then `smooth`
+ * Taubin steps take its detail away. For targets a sphere cannot reach
+ * (the elephant has genus 3). The mesh stays at the arena's bottom. */
+static int coarse_initial(ls_job_problem *p, double edge, uint32_t smooth, ls_arena *arena)
+{
+    ls_real lo[3], hi[3], diag2 = 0, *y;
+    ls_remesh_params rp;
+    ls_arena_mark mark;
+    ls_csc lap;
+    ls_diag d;
+    uint32_t i, c;
+    ls_status st;
+    ls_diag_clear(&d);
+    for (c = 0; c < 3; c++) lo[c] = hi[c] = p->target.positions[c];
+    for (i = 0; i < p->target.vertex_count; i++)
+        for (c = 0; c < 3; c++) {
+            ls_real v = p->target.positions[3u * i + c];
+            if (v < lo[c]) lo[c] = v;
+            if (v > hi[c]) hi[c] = v;
+        }
+    for (c = 0; c < 3; c++) diag2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    ls_remesh_params_default(&rp, (ls_real)edge * LS_RSQRT(diag2));
+    st = ls_remesh(&p->target, &rp, arena, &p->initial, NULL, &d);
+    if (st != LS_OK) return ls_job_fail("remeshing the target into the initial mesh", st, &d);
+    mark = ls_arena_save(arena);
+    st = ls_laplacian_uniform(&p->initial, LS_LAP_FULL, arena, &lap, &d);
+    y = st == LS_OK ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
+    if (y == NULL) {
+        ls_arena_restore(arena, mark);
+        return ls_job_fail("smoothing the initial mesh", st != LS_OK ? st : LS_ERR_NOMEM, &d);
+    }
+    taubin(&lap, p->initial.positions, y, smooth);
+    ls_arena_restore(arena, mark);
+    return 1;
+}
+
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 {
     ls_scene scene;
@@ -220,6 +295,8 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         join_path(o->target, scene.initial_mesh, path, sizeof path);
         st = ls_posix_load_mesh(path, arena, &p->initial, &d);
         if (st != LS_OK) return ls_job_fail(path, st, &d);
+    } else if (o->init_edge > 0 && p->have_mesh) {
+        if (!coarse_initial(p, o->init_edge, o->init_smooth, arena)) return 0;
     } else {
         /* an icosphere on the target's bounding sphere */
         st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);

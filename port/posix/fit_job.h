@@ -18,6 +18,10 @@ typedef struct ls_job_options {
     uint32_t target_ss;     /* supersampling of the target renders */
     uint32_t shading;       /* LS_SHADE_SH or LS_SHADE_MASK (mesh targets) */
     uint32_t level;         /* initial icosphere level */
+    double init_edge;       /* > 0 (mesh targets): the initial mesh is the target remeshed to this
+                               edge length (x its bounding-box diagonal) and smoothed by init_smooth
+                               Taubin steps, of the target's genus; 0: the icosphere */
+    uint32_t init_smooth;
 } ls_job_options;
 
 typedef struct ls_job_problem {
@@ -92,6 +96,11 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
  * against the problem's target mesh. */
 int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *arena, ls_distance_report *dist,
                    ls_tangle_report *tangle);
+
+/* Parses a remesh schedule: "none", or increasing iterations "I,J,..."
+ * (at most LS_JOB_MAX_REMESH, each below 10^6) into at[0..*count). 1 on
+ * success; 0 (and *count unspecified) when malformed. */
+int ls_job_parse_remesh(const char *text, uint32_t *at, uint32_t *count);
 
 /* Wall clock in milliseconds. */
 double ls_job_now_ms(void);

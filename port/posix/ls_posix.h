@@ -34,6 +34,13 @@ int ls_posix_write_whole(const char *path, int (*body)(FILE *f, void *ctx), void
 /* The same for DIR/NAME. */
 int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE *f, void *ctx), void *ctx);
 
+/* Encodes img as fmt (e.g. PNG) into DIR/NAME, whole or not at all (the
+ * encoder's scratch from the arena, released). Returns 1 on success; 0 on
+ * failure, with the encoder's status in *st (LS_OK when the file itself
+ * failed; st may be NULL). */
+int ls_posix_write_image_in(const char *dir, const char *name, const ls_image *img, const ls_image_format *fmt,
+                            ls_arena *arena, ls_status *st);
+
 /* Copies the file DIR/NAME to stdout (the experiments echo their tables);
  * 1 on success, 0 if it cannot be read. */
 int ls_posix_print_file_in(const char *dir, const char *name);
