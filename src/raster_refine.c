@@ -587,6 +587,34 @@ static void backward_pixel(const rf *c, const ls_shade_bctx *bc, const ls_real *
         }
 }
 
+/* What the forward and the backward do in one marked pixel. */
+typedef struct pixel_job {
+    const ls_shade_opts *opts;
+    const ls_real *normals;
+    ls_real *image;          /* forward: the image refined; NULL: backward */
+    const ls_shade_bctx *bc; /* backward */
+    const ls_real *grad_image;
+} pixel_job;
+
+/* Every marked pixel, tile by tile (the tile's sub-sample visibility first). */
+static void each_marked_pixel(rf *c, const pixel_job *job)
+{
+    uint32_t tx, ty, x, y;
+    for (ty = 0; ty < c->tiles_y; ty++)
+        for (tx = 0; tx < c->tiles_x; tx++) {
+            if (!tile_begin(c, tx, ty)) continue;
+            tile_visibility(c, tx, ty);
+            for (y = c->y0; y <= c->y1; y++)
+                for (x = c->x0; x <= c->x1; x++) {
+                    if (!c->mark[(size_t)y * c->vis->width + x]) continue;
+                    if (job->image != NULL)
+                        shade_pixel(c, job->opts, job->normals, x, y, job->image);
+                    else
+                        backward_pixel(c, job->bc, job->grad_image, x, y);
+                }
+        }
+}
+
 /* ---- the calls ---- */
 
 /* Takes the scratch, builds the bins and the edge-pixel map. */
@@ -633,8 +661,9 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
 {
     rf c;
     ls_arena_mark mark;
+    pixel_job job;
     size_t before;
-    uint32_t counts[2], tx, ty;
+    uint32_t counts[2];
     ls_status st;
     if (image == NULL || arena == NULL) return LS_ERR_INVALID;
     st = check_vis(vis, indices, triangle_count, aa);
@@ -656,15 +685,12 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
         ls_arena_restore(arena, mark);
         return st;
     }
-    for (ty = 0; ty < c.tiles_y; ty++)
-        for (tx = 0; tx < c.tiles_x; tx++) {
-            uint32_t x, y;
-            if (!tile_begin(&c, tx, ty)) continue;
-            tile_visibility(&c, tx, ty);
-            for (y = c.y0; y <= c.y1; y++)
-                for (x = c.x0; x <= c.x1; x++)
-                    if (c.mark[(size_t)y * vis->width + x]) shade_pixel(&c, opts, normals, x, y, image);
-        }
+    job.opts = opts;
+    job.normals = normals;
+    job.image = image;
+    job.bc = NULL;
+    job.grad_image = NULL;
+    each_marked_pixel(&c, &job);
     if (info != NULL) {
         info->pixels = c.pixels;
         info->segments = c.segments;
@@ -684,7 +710,7 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
     ls_shade_bctx bc;
     rf c;
     ls_arena_mark mark;
-    uint32_t tx, ty;
+    pixel_job job;
     ls_status st;
     if (arena == NULL) return LS_ERR_INVALID;
     st = check_vis(vis, indices, triangle_count, aa);
@@ -707,15 +733,12 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
         return st;
     }
     ls_shade_backward_pixels(&bc, triangle_count, grad_image, c.mark);
-    for (ty = 0; ty < c.tiles_y; ty++)
-        for (tx = 0; tx < c.tiles_x; tx++) {
-            uint32_t x, y;
-            if (!tile_begin(&c, tx, ty)) continue;
-            tile_visibility(&c, tx, ty);
-            for (y = c.y0; y <= c.y1; y++)
-                for (x = c.x0; x <= c.x1; x++)
-                    if (c.mark[(size_t)y * vis->width + x]) backward_pixel(&c, &bc, grad_image, x, y);
-        }
+    job.opts = opts;
+    job.normals = normals;
+    job.image = NULL;
+    job.bc = &bc;
+    job.grad_image = grad_image;
+    each_marked_pixel(&c, &job);
     ls_arena_restore(arena, mark);
     return LS_OK;
 }
