@@ -3,13 +3,16 @@
 #include "render_internal.h"
 #include <largesteps/sort.h>
 #include <largesteps/math.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #if LS_REAL_IS_FLOAT
 #define R_SQRT sqrtf
+#define R_MIN_NORMAL FLT_MIN
 #else
 #define R_SQRT sqrt
+#define R_MIN_NORMAL DBL_MIN
 #endif
 
 #define EDGE_TABLE_MAGIC 0x45544231u /* "ETB1" */
@@ -256,12 +259,27 @@ static int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4
 static ls_real hdet(const ls_real *a, const ls_real *b, const ls_real *c);
 
 /* Orientation of triangle f: the sign of the homogeneous determinant of its
- * clip coordinates (X, Y, W). */
+ * clip coordinates (X, Y, W), doubled (+-2) when it is certain: the value
+ * exceeds 8 eps times the permanent of the absolute entries (plus a few
+ * smallest normals for underflow), more than twice the rounding error of
+ * hdet with the rows in any order, so every such evaluation, as the edge
+ * test's with rotated rows, has the same sign. */
 static int tri_sign(const sctx *sc, const uint32_t *f)
 {
-    const ls_real *c = sc->vis->clip;
-    ls_real d = hdet(c + 4 * (size_t)f[0], c + 4 * (size_t)f[1], c + 4 * (size_t)f[2]);
-    return d > (ls_real)0 ? 1 : (d < (ls_real)0 ? -1 : 0);
+    const ls_real *c = sc->vis->clip, *a = c + 4 * (size_t)f[0], *b = c + 4 * (size_t)f[1], *e = c + 4 * (size_t)f[2];
+    ls_real d = hdet(a, b, e), perm, bound;
+    int s = d > (ls_real)0 ? 1 : (d < (ls_real)0 ? -1 : 0);
+    perm = (r_abs(a[0]) * (r_abs(b[1] * e[3]) + r_abs(b[3] * e[1])) +
+            r_abs(a[1]) * (r_abs(b[0] * e[3]) + r_abs(b[3] * e[0]))) +
+           r_abs(a[3]) * (r_abs(b[0] * e[1]) + r_abs(b[1] * e[0]));
+    bound = (ls_real)8 * LS_REAL_EPSILON * perm + (ls_real)64 * R_MIN_NORMAL;
+    return r_abs(d) > bound ? 2 * s : s;
+}
+
+/* -1, 0 or 1: the sign of a tri_sign value. */
+static int sign_of(int sg)
+{
+    return (sg > 0) - (sg < 0);
 }
 
 /* Window box (x0, y0, x1, y1) of triangle t's visible polygon; 0 when it
@@ -271,7 +289,7 @@ static int tri_box(const sctx *sc, uint32_t t, ls_real box[4])
     ls_real x[4], y[4];
     int n, k;
     if (sc->cull != 0) {
-        int sg = sc->sign != NULL ? sc->sign[t] : tri_sign(sc, sc->indices + 3 * (size_t)t);
+        int sg = sign_of(sc->sign != NULL ? sc->sign[t] : tri_sign(sc, sc->indices + 3 * (size_t)t));
         if (sg == 0 || sg == sc->cull) return 0;
     }
     n = tri_poly(sc, sc->indices + 3 * (size_t)t, x, y);
@@ -328,39 +346,43 @@ static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
     r[3] = tile_of((ls_real)fb[3], sc->tiles_y);
 }
 
-/* Bins every triangle into the tiles its box overlaps. offs == NULL: only
- * counts the entries and the binned triangles (into count[0] and count[1];
- * *over set on overflow of size_t). Otherwise sc->tbox [4 T] gets the boxes
- * (x0 > x1: not binned), offs [tiles + 1] the bin starts and ent the bins
- * (triangles in index order in each). */
-static void bin_pass(sctx *sc, size_t *offs, uint32_t *ent, size_t count[2], int *over)
+/* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
+ * binned; sc->tbox NULL: the boxes are not kept) and counts the bin entries
+ * and the binned triangles into count[0] and count[1] (*over set on
+ * overflow of size_t). */
+static void box_pass(sctx *sc, size_t count[2], int *over)
 {
-    uint32_t t, tx, ty, r[4];
-    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
-    if (offs == NULL) {
-        count[0] = 0;
-        count[1] = 0;
-        *over = 0;
-        for (t = 0; t < sc->triangle_count; t++) {
-            float fb[4];
-            size_t add;
-            if (!tri_fbox(sc, t, fb)) continue;
-            fbox_tiles(sc, fb, r);
-            add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
-            if (count[0] > SIZE_MAX - add) *over = 1;
-            count[0] += add;
-            count[1]++;
-        }
-        return;
-    }
-    for (k = 0; k <= tiles; k++) offs[k] = 0;
+    uint32_t t, r[4];
+    count[0] = 0;
+    count[1] = 0;
+    *over = 0;
     for (t = 0; t < sc->triangle_count; t++) {
-        float *fb = sc->tbox + 4 * (size_t)t;
+        float own[4], *fb = sc->tbox != NULL ? sc->tbox + 4 * (size_t)t : own;
+        size_t add;
         if (!tri_fbox(sc, t, fb)) {
             fb[0] = 1.0f;
             fb[2] = 0.0f;
             continue;
         }
+        fbox_tiles(sc, fb, r);
+        add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
+        if (count[0] > SIZE_MAX - add) *over = 1;
+        count[0] += add;
+        count[1]++;
+    }
+}
+
+/* Bins every boxed triangle (box_pass) into the tiles its box overlaps:
+ * offs [tiles + 1] the bin starts, ent the bins (triangles in index order
+ * in each). */
+static void bin_pass(const sctx *sc, size_t *offs, uint32_t *ent)
+{
+    uint32_t t, tx, ty, r[4];
+    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
+    for (k = 0; k <= tiles; k++) offs[k] = 0;
+    for (t = 0; t < sc->triangle_count; t++) {
+        const float *fb = sc->tbox + 4 * (size_t)t;
+        if (fb[0] > fb[2]) continue;
         fbox_tiles(sc, fb, r);
         for (ty = r[1]; ty <= r[3]; ty++)
             for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
@@ -962,6 +984,24 @@ static void cut_pass(const sctx *sc, uint32_t t)
     if (n == 2) segment_pass(sc, t, LS_EDGE_NONE, &ends[0], &ends[1], sc->vis->clip + 4 * (size_t)f[front - 1]);
 }
 
+/* Whether interior edge h (twin present) is a silhouette: its two faces
+ * lie on the same side of its screen line (one front-, one back-facing).
+ * Certain orientations (tri_sign) decide at once: the face across the edge
+ * has the opposite cyclic order of its vertices, so the two determinants
+ * of the edge test have the signs of sign[ft] and -sign[fu]. */
+static int folds(const sctx *sc, const ls_edge_table *table, uint32_t h)
+{
+    uint32_t tw = table->twin[h], ft = h / 3u, fu = tw / 3u;
+    int s1 = sc->sign[ft], s2 = sc->sign[fu];
+    const uint32_t *f = sc->indices + 3 * (size_t)ft, *g = sc->indices + 3 * (size_t)fu;
+    const ls_real *c = sc->vis->clip;
+    ls_real sc_, sd_;
+    if ((s1 == 2 || s1 == -2) && (s2 == 2 || s2 == -2)) return s1 == -s2;
+    sc_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)f[(h % 3u + 2u) % 3u]);
+    sd_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
+    return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
+}
+
 /* Orientation culling of the candidates: for a closed mesh (no boundary
  * edge) of which nothing crosses the near plane, seen from outside, the
  * triangles of one orientation (back faces) are never the nearest surface
@@ -970,20 +1010,18 @@ static void cut_pass(const sctx *sc, uint32_t t)
  * samples showing the other orientation are fewer than 1/64 of those
  * showing this one (the snapped forward shows a few back faces at the rim;
  * an eye inside the mesh sees almost only back faces). sign: per-triangle
- * orientation (scratch), or NULL (the sizing query: slower, no memory). */
-static void choose_cull(sctx *sc, const ls_edge_table *table, signed char *sign)
+ * orientations (tri_sign), or NULL (the sizing query: slower, no memory). */
+static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
     size_t s, ns = (size_t)vis->sw * vis->sh, pos = 0, neg = 0;
-    uint32_t v, t;
+    uint32_t v;
     sc->cull = 0;
     if (table->boundary_edges != 0) return;
     for (v = 0; v < vis->vertex_count; v++) {
         const ls_real *cl = vis->clip + 4 * (size_t)v;
         if (!(cl[2] + cl[3] >= (ls_real)0)) return;
     }
-    for (t = 0; sign != NULL && t < sc->triangle_count; t++)
-        sign[t] = (signed char)tri_sign(sc, sc->indices + 3 * (size_t)t);
     for (s = 0; s < ns; s++) {
         uint32_t id = vis->tri[s];
         int sg;
@@ -1005,7 +1043,7 @@ static size_t slot_count(size_t binned, size_t entries)
 }
 
 /* Everything the pass needs, in the order it takes it: window positions,
- * bin starts, orientations, vertex flags, bin entries, triangle boxes, the candidate
+ * bin starts, orientations, vertex flags, triangle boxes, bin entries, the candidate
  * slots and the split parameters (4 per slot and the piece's ends). */
 static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t triangle_count, size_t entries,
                               size_t slots, size_t *bytes)
@@ -1017,8 +1055,8 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_add(&s, tiles + 1u, sizeof(size_t));
     ls_size_add(&s, (size_t)triangle_count, 1);
     ls_size_add(&s, (size_t)vertex_count, 1);
-    ls_size_add(&s, entries, sizeof(uint32_t));
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
+    ls_size_add(&s, entries, sizeof(uint32_t));
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
     ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
     ls_size_add(&s, slots, sizeof(ls_real));  /* clo */
@@ -1063,7 +1101,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
     sctx_init(&sc, vis, indices, triangle_count);
     choose_cull(&sc, table, NULL);
-    bin_pass(&sc, NULL, NULL, count, &over);
+    box_pass(&sc, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
                         slot_count(count[1], count[0]), bytes);
@@ -1144,7 +1182,8 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     offs = win ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
     sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count, 1) : NULL;
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
-    if (vfront == NULL) {
+    sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
+    if (sc.tbox == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -1158,17 +1197,17 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     }
     sc.win = win;
     sc.vfront = vfront;
+    for (t = 0; t < triangle_count; t++) sign[t] = (signed char)tri_sign(&sc, indices + 3 * (size_t)t);
+    sc.sign = sign;
     choose_cull(&sc, table, sign);
-    if (sc.cull != 0) sc.sign = sign;
-    bin_pass(&sc, NULL, NULL, count, &over);
+    box_pass(&sc, count, &over);
     slots = slot_count(count[1], count[0]);
     if (over || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
         return LS_ERR_TOO_LARGE;
     }
     ent = (uint32_t *)ls_arena_scratch(arena, count[0], sizeof(uint32_t));
-    sc.tbox = ent ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
-    sc.cid = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc.cid = ent ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc.chi = sc.cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
     sc.clo = sc.chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
     sc.cord = sc.clo ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
@@ -1178,30 +1217,27 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
-    bin_pass(&sc, offs, ent, NULL, NULL);
+    bin_pass(&sc, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
-    for (h = 0; h < 3u * triangle_count; h++) {
-        uint32_t ft = h / 3u, k = h % 3u, tw = table->twin[h], fu = LS_EDGE_NONE;
-        const uint32_t *f = indices + 3 * (size_t)ft;
-        uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
-        endp ea, eb;
-        const ls_real *A = vis->clip + 4 * (size_t)va, *B = vis->clip + 4 * (size_t)vb;
-        if (tw != LS_EDGE_NONE) {
-            const uint32_t *g = indices + 3 * (size_t)(tw / 3u);
-            uint32_t vd = g[(tw % 3u + 2u) % 3u];
-            ls_real sc_, sd_;
-            if (tw < h) continue; /* each edge once */
-            /* c and d on the same side of the edge: one face front-, one back-facing */
-            sc_ = hdet(A, B, vis->clip + 4 * (size_t)vc);
-            sd_ = hdet(A, B, vis->clip + 4 * (size_t)vd);
-            if (!((sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0))) continue;
-            fu = tw / 3u;
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        uint32_t k;
+        for (k = 0; k < 3u; k++) {
+            uint32_t h3 = 3u * t + k, tw = table->twin[h3], fu = LS_EDGE_NONE;
+            uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
+            const ls_real *A = vis->clip + 4 * (size_t)va, *B = vis->clip + 4 * (size_t)vb;
+            endp ea, eb;
+            if (tw != LS_EDGE_NONE) {
+                if (tw < h3) continue; /* each edge once */
+                fu = tw / 3u;
+                if (!folds(&sc, table, h3)) continue;
+            }
+            if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
+            end_make(&sc, va, vb, &ea);
+            end_make(&sc, vb, va, &eb);
+            segment_pass(&sc, t, fu, &ea, &eb, vis->clip + 4 * (size_t)vc);
         }
-        if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
-        end_make(&sc, va, vb, &ea);
-        end_make(&sc, vb, va, &eb);
-        segment_pass(&sc, ft, fu, &ea, &eb, vis->clip + 4 * (size_t)vc);
     }
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
