@@ -146,6 +146,7 @@ typedef struct sctx {
     ls_real *split;      /* [4 slots + 2] split parameters of the current piece */
     uint32_t triangle_count, tiles_x, tiles_y, flat;
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
+    const uint32_t *twin; /* the edge table's twins (walks across edges), or NULL */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
     ls_real width, height, qtol, boost;
     ls_real *gp;         /* [3 V] the gradient being added to */
@@ -159,6 +160,7 @@ typedef struct sedge {
     ls_real eabs;    /* |e0| + |e1| */
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
+    ls_real za, zb;  /* NDC depth at a and at a + e */
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -683,6 +685,142 @@ static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, in
     return 1;
 }
 
+/* Whether triangle o can stand in front of the segment in a walk: not its
+ * faces, every corner in front of the eye, binned (not culled, inside the
+ * image). */
+static int walk_face(const sctx *sc, const sedge *ed, uint32_t o)
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)o;
+    if (o >= sc->triangle_count || o == ed->ft || o == ed->fu) return 0;
+    if ((sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) == 0) return 0;
+    return !(sc->tbox[4 * (size_t)o] > sc->tbox[4 * (size_t)o + 2]);
+}
+
+/* Whether walk face o, whose edge sides (walk_sides) at t are num - t den
+ * and whose corners have NDC depths z, is in front of the segment at t by
+ * a margin: NDC depth is affine in window position, so the face's is the
+ * corners' weighted by the sides of the opposite edges (a convex
+ * combination inside), the segment's the interpolation of its ends'; the
+ * face's is inside the clip range and below the segment's by four times
+ * visibility()'s tolerance. */
+static int walk_front(const sedge *ed, const ls_real num[3], const ls_real den[3], const ls_real z[3], ls_real t)
+{
+    ls_real c[3], sum, zc, ze = ed->za + t * (ed->zb - ed->za), tol, zt = (ls_real)256 * LS_REAL_EPSILON;
+    int q;
+    for (q = 0; q < 3; q++) {
+        c[q] = num[q] - t * den[q];
+        if (!(c[q] > (ls_real)0)) c[q] = (ls_real)0;
+    }
+    sum = (c[0] + c[1]) + c[2];
+    if (!(sum > (ls_real)0)) return 0;
+    zc = ((c[0] * z[2] + c[1] * z[0]) + c[2] * z[1]) / sum;
+    tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
+    return zc > (ls_real)-1 + zt && zc < (ls_real)1 - zt && zc < ze - (ls_real)4 * tol;
+}
+
+#define SIL_WALK_CAP 24 /* triangles a walk crosses before it gives up */
+#define SIL_WALK_MARGIN ((ls_real)1 / (ls_real)4096) /* pixels: a walk's points are this far inside */
+
+/* Whether the segment is hidden between ts and tg (either order) behind a
+ * chain of triangles that share edges, starting at o, which holds the point
+ * at ts. In each triangle, c_q(t) = s (num_q - t den_q) (s its orientation)
+ * measures the side of edge q, affine along the segment: the walk leaves
+ * through the edge whose c_q reaches 0 first, into the face across it, and
+ * every other c_q is at least a margin (far above rounding) at both ends of
+ * each triangle's stretch, so that stretch lies inside the triangle; the
+ * depth difference is affine too, checked at both ends. The chain covers
+ * the stretch with closed triangles: points on a shared edge count as hidden
+ * (the per-sub-piece test may find an ulp-wide crack there). */
+/* The sides of the segment's points to the edges of triangle o (a walk
+ * face): c_q(t) = num_q - t den_q, positive inside, and the margin m_q
+ * (c0 as cand_interval's, far above rounding) they must exceed to count as inside; 0 when the
+ * triangle is degenerate on screen. */
+static int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3], ls_real den[3], ls_real m[3])
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)o;
+    ls_real x[3], y[3], sg, mc = (ls_real)0, c0;
+    uint32_t q;
+    for (q = 0; q < 3u; q++) {
+        ls_real v;
+        x[q] = sc->win[2 * (size_t)f[q]];
+        y[q] = sc->win[2 * (size_t)f[q] + 1];
+        v = r_abs(x[q]) + r_abs(y[q]);
+        if (v > mc) mc = v;
+    }
+    sg = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    sg = sg > (ls_real)0 ? (ls_real)1 : (sg < (ls_real)0 ? (ls_real)-1 : (ls_real)0);
+    if (sg == (ls_real)0) return 0;
+    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+    for (q = 0; q < 3u; q++) {
+        uint32_t q1 = q == 2u ? 0u : q + 1u;
+        ls_real dx = x[q1] - x[q], dy = y[q1] - y[q];
+        num[q] = sg * ((x[q] - ed->a[0]) * dy - (y[q] - ed->a[1]) * dx);
+        den[q] = sg * (ed->e[0] * dy - ed->e[1] * dx);
+        m[q] = c0 + SIL_WALK_MARGIN * (r_abs(dx) > r_abs(dy) ? r_abs(dx) : r_abs(dy));
+    }
+    return 1;
+}
+
+/* The walk face holding the segment's point at t by the margins, found by
+ * walking from o across the edge the point is farthest outside of
+ * (normalized by the margins); LS_EDGE_NONE when the walk fails. */
+static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real t)
+{
+    uint32_t step;
+    for (step = 0; step < SIL_WALK_CAP; step++) {
+        ls_real num[3], den[3], m[3], worst = (ls_real)0;
+        uint32_t q, qw = 3u, tw;
+        if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return LS_EDGE_NONE;
+        for (q = 0; q < 3u; q++) {
+            ls_real c = (num[q] - t * den[q]) / m[q];
+            if (c < (ls_real)1 && (qw == 3u || c < worst)) {
+                worst = c;
+                qw = q;
+            }
+        }
+        if (qw == 3u) return o;
+        if (worst > (ls_real)0) return LS_EDGE_NONE; /* inside, but too near an edge */
+        tw = sc->twin[3 * (size_t)o + qw];
+        if (tw == LS_EDGE_NONE) return LS_EDGE_NONE;
+        o = tw / 3u;
+    }
+    return LS_EDGE_NONE;
+}
+
+static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, ls_real tg)
+{
+    ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
+    uint32_t in = 3u, step;
+    for (step = 0; step < SIL_WALK_CAP; step++) {
+        ls_real num[3], den[3], m[3], z[3], tx = tg;
+        uint32_t q, qx = 3u, tw;
+        if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return 0;
+        for (q = 0; q < 3u; q++) {
+            const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
+            z[q] = cl[2] / cl[3];
+            if (q != in && num[q] - ts * den[q] < m[q]) return 0; /* ts not inside by the margin */
+            /* c_q falls along the walk: it leaves through q where c_q = 0 */
+            if (q != in && d * den[q] > (ls_real)0) {
+                ls_real tq = num[q] / den[q];
+                if (d * (tq - tx) < (ls_real)0) {
+                    tx = tq;
+                    qx = q;
+                }
+            }
+        }
+        for (q = 0; q < 3u; q++)
+            if (q != qx && num[q] - tx * den[q] < m[q]) return 0; /* tx not inside (a corner, or tg) */
+        if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return 0;
+        if (qx == 3u) return 1; /* tg reached */
+        tw = sc->twin[3 * (size_t)o + qx];
+        if (tw == LS_EDGE_NONE) return 0;
+        o = tw / 3u;
+        in = tw % 3u;
+        ts = tx;
+    }
+    return 0;
+}
+
 /* A run of the segment through one bin tile: its pieces, one per pixel,
  * [t[i], t[i + 1]] in pixel pix[i]. */
 #define SIL_RUN_CAP 8
@@ -693,6 +831,22 @@ typedef struct srun {
     size_t tile;
     int n;
 } srun;
+
+/* Whether the whole run [t0, t1] is hidden: walks from the triangle the
+ * forward drew at the sample under the run's middle (walk_locate finds
+ * the face holding the middle from there), both ways (walk_hidden). A quick proof that skips a run whose every sub-piece
+ * the candidate sweep would find hidden; 0 leaves the run to it. */
+static int run_hidden(const sctx *sc, const sedge *ed, const srun *run)
+{
+    const ls_vis *vis = sc->vis;
+    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss;
+    uint32_t sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
+    uint32_t sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
+    uint32_t id = vis->tri[(size_t)sy * vis->sw + sx];
+    if (id == 0 || sc->twin == NULL) return 0;
+    id = walk_locate(sc, ed, id - 1u, tm);
+    return id != LS_EDGE_NONE && walk_hidden(sc, ed, id, tm, t1) && walk_hidden(sc, ed, id, tm, t0);
+}
 
 /* The pieces of a run: the candidates of the tile's bin whose box meets
  * the run's box, the parameters where their polygon edges cross the
@@ -716,6 +870,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     fx1 = (float)((xa < xb ? xb : xa) + SIL_MARGIN);
     fy0 = (float)((ya < yb ? ya : yb) - SIL_MARGIN);
     fy1 = (float)((ya < yb ? yb : ya) + SIL_MARGIN);
+    if (run_hidden(sc, ed, run)) return;
     for (k = sc->offs[run->tile]; k < sc->offs[run->tile + 1u]; k++) {
         uint32_t id = sc->ent[k];
         const float *bx = sc->tbox + 4 * (size_t)id;
@@ -903,6 +1058,8 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     window_of(sc, eb->c, b);
     ed.e[0] = b[0] - ed.a[0];
     ed.e[1] = b[1] - ed.a[1];
+    ed.za = ea->c[2] / ea->c[3];
+    ed.zb = eb->c[2] / eb->c[3];
     ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
     ed.ext = (r_abs(ed.a[0]) + r_abs(ed.a[1])) + ed.eabs;
     ed.tau = SIL_MARGIN * (r_abs(ed.e[0]) > r_abs(ed.e[1]) ? r_abs(ed.e[0]) : r_abs(ed.e[1]));
@@ -1199,6 +1356,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.vfront = vfront;
     for (t = 0; t < triangle_count; t++) sign[t] = (signed char)tri_sign(&sc, indices + 3 * (size_t)t);
     sc.sign = sign;
+    sc.twin = table->twin;
     choose_cull(&sc, table, sign);
     box_pass(&sc, count, &over);
     slots = slot_count(count[1], count[0]);

@@ -470,6 +470,47 @@ static void make_layers(scene *sc)
     for (k = 0; k < 6; k++) sc->col[k] = (double)(ls_real)rnd();
 }
 
+/* A big triangle and a patch of four triangles sharing a centre vertex
+ * (a fan, consistently wound: its inner edges are no silhouettes), centred
+ * on one of the big triangle's edges, in front of it (patch_z 0.3) or
+ * behind it (-0.8): in front, the runs of that edge inside the patch are
+ * proven hidden by walks across the patch's inner edges and the runs it
+ * covers in part are not; behind, no walk may hide anything. */
+static double patch_z;
+static void make_patch(scene *sc)
+{
+    int k;
+    double cx, cy, a0 = 6.283185307179586 * rnd();
+    memset(sc, 0, sizeof *sc);
+    camera_ortho(sc);
+    sc->nv = 8;
+    sc->nt = 5;
+    sc->p[0] = -0.85; sc->p[1] = -0.8; sc->p[2] = -0.5;
+    sc->p[3] = 0.85;  sc->p[4] = -0.75; sc->p[5] = -0.5;
+    sc->p[6] = 0.05;  sc->p[7] = 0.85; sc->p[8] = -0.5;
+    for (k = 0; k < 9; k++) sc->p[k] += 0.05 * (rnd() - 0.5);
+    k = (int)(3 * rnd()) % 3; /* the edge the patch sits on */
+    cx = 0.5 * (sc->p[3 * k] + sc->p[3 * ((k + 1) % 3)]) + 0.1 * (rnd() - 0.5);
+    cy = 0.5 * (sc->p[3 * k + 1] + sc->p[3 * ((k + 1) % 3) + 1]) + 0.1 * (rnd() - 0.5);
+    sc->p[9] = cx;
+    sc->p[10] = cy;
+    sc->p[11] = patch_z;
+    for (k = 0; k < 4; k++) {
+        double a = a0 + 1.5707963267948966 * k + 0.4 * (rnd() - 0.5), r = 0.45 + 0.15 * rnd();
+        sc->p[12 + 3 * k] = cx + r * cos(a);
+        sc->p[13 + 3 * k] = cy + r * sin(a);
+        sc->p[14 + 3 * k] = patch_z;
+    }
+    sc->f[0] = 0; sc->f[1] = 1; sc->f[2] = 2;
+    for (k = 0; k < 4; k++) {
+        sc->f[3 + 3 * k] = 3;
+        sc->f[4 + 3 * k] = (uint32_t)(4 + k);
+        sc->f[5 + 3 * k] = (uint32_t)(4 + (k + 1) % 4);
+    }
+    for (k = 0; k < 6; k++) sc->col[k] = (double)(ls_real)rnd(); /* the patch: one colour (its inner edges are no edges of the image) */
+    for (k = 6; k < 15; k++) sc->col[k] = sc->col[k - 3];
+}
+
 static void tetra(scene *sc)
 {
     static const uint32_t tf[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
@@ -696,6 +737,15 @@ static void silhouette_perspective_distributions(void)
 static void silhouette_single_triangle_ortho(void) { run_trials("ortho single triangle", make_single, 20); }
 static void silhouette_layers_ortho(void) { run_trials("ortho layered triangles", make_layers, 10); }
 static void silhouette_tetra_ortho(void) { run_trials("ortho tetrahedron (mask)", make_tetra_ortho, 10); }
+static void silhouette_patch_ortho(void)
+{
+    uint64_t keep = rng_state; /* the other tests' scenes stay as they were */
+    patch_z = 0.3;
+    run_trials("ortho patch over an edge", make_patch, 20);
+    patch_z = -0.8;
+    run_trials("ortho patch behind an edge", make_patch, 10);
+    rng_state = keep;
+}
 static void silhouette_single_persp(void) { run_trials("perspective single triangle", make_single_persp, 10); }
 /* The fan (mask, ortho): the pieces at its centre have ~150 candidates;
  * translating it leaves the summed image
@@ -1194,6 +1244,7 @@ int main(void)
     TEST_RUN(silhouette_single_triangle_ortho);
     TEST_RUN(silhouette_layers_ortho);
     TEST_RUN(silhouette_tetra_ortho);
+    TEST_RUN(silhouette_patch_ortho);
     TEST_RUN(silhouette_single_persp);
     TEST_RUN(silhouette_tetra_persp);
     TEST_RUN(silhouette_many_candidates);
