@@ -401,21 +401,79 @@ static void bin_pass(const sctx *sc, size_t *offs, uint32_t *ent)
     offs[0] = 0;
 }
 
-/* g . (f_inside - f_behind) at parameter t of the segment, the surface
- * behind being triangle beh - 1 (0: the background of pixel p). */
-static ls_real point_term(const sctx *sc, const sedge *ed, ls_real t, uint32_t beh, size_t p)
+/* The areas a of triangle f (ls_clip_barycentric's, b = a / sum a) along
+ * a sub-piece [lo, hi] of the segment: affine in window position, so
+ * a(t) = a0 + (t - lo) inv da from their values at the two ends (one point
+ * when lo = hi). */
+typedef struct aspan {
+    const uint32_t *f;
+    ls_real lo, inv, a0[3], da[3];
+} aspan;
+
+/* One sub-piece being integrated: the spans of the segment's face and of
+ * the surface behind (beh = triangle + 1, 0: the background of pixel p). */
+typedef struct spiece {
+    aspan in, bh;
+    uint32_t beh;
+    size_t p;
+} spiece;
+
+static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_real t, ls_real a[3])
 {
-    ls_real b[3], z, rgb_in[3], rgb_bh[3], a_bh = (ls_real)0;
-    ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
-    const ls_real *g = sc->gimg + 4 * p;
-    if (!tri_point(sc, sc->indices + 3 * (size_t)ed->ft, xw, yw, b, &z)) return (ls_real)0;
-    ls_shade_point(sc->o, sc->indices + 3 * (size_t)ed->ft, sc->normals, b, rgb_in);
-    if (beh != 0) {
-        if (!tri_point(sc, sc->indices + 3 * (size_t)(beh - 1u), xw, yw, b, &z)) return (ls_real)0;
-        ls_shade_point(sc->o, sc->indices + 3 * (size_t)(beh - 1u), sc->normals, b, rgb_bh);
+    ls_real px = (ls_real)2 * (ed->a[0] + t * ed->e[0]) / sc->width - (ls_real)1;
+    ls_real py = (ls_real)1 - (ls_real)2 * (ed->a[1] + t * ed->e[1]) / sc->height;
+    ls_real u[3], v[3], b[3];
+    (void)ls_clip_barycentric(sc->vis->clip, f, px, py, u, v, b);
+    a[0] = u[1] * v[2] - u[2] * v[1];
+    a[1] = u[2] * v[0] - u[0] * v[2];
+    a[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, ls_real hi, aspan *sp)
+{
+    ls_real ah[3];
+    int k;
+    sp->f = sc->indices + 3 * (size_t)t;
+    sp->lo = lo;
+    sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
+    span_areas(sc, ed, sp->f, lo, sp->a0);
+    if (hi > lo)
+        span_areas(sc, ed, sp->f, hi, ah);
+    else
+        for (k = 0; k < 3; k++) ah[k] = sp->a0[k];
+    for (k = 0; k < 3; k++) sp->da[k] = ah[k] - sp->a0[k];
+}
+
+/* The barycentrics b of a span's triangle at t; 0 when it is edge-on there
+ * or the point is behind the eye (as tri_point). */
+static int span_bary(const sctx *sc, const aspan *sp, ls_real t, ls_real b[3])
+{
+    ls_real s = (t - sp->lo) * sp->inv, a[3], sum, cw = (ls_real)0;
+    int k;
+    for (k = 0; k < 3; k++) a[k] = sp->a0[k] + s * sp->da[k];
+    sum = (a[0] + a[1]) + a[2];
+    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
+    sum = (ls_real)1 / sum;
+    for (k = 0; k < 3; k++) {
+        b[k] = a[k] * sum;
+        cw += b[k] * sc->vis->clip[4 * (size_t)sp->f[k] + 3];
+    }
+    return cw > (ls_real)0;
+}
+
+/* g . (f_inside - f_behind) at parameter t of the segment for sub-piece pc. */
+static ls_real point_term(const sctx *sc, const spiece *pc, ls_real t)
+{
+    ls_real b[3], rgb_in[3], rgb_bh[3], a_bh = (ls_real)0;
+    const ls_real *g = sc->gimg + 4 * pc->p;
+    if (!span_bary(sc, &pc->in, t, b)) return (ls_real)0;
+    ls_shade_point(sc->o, pc->in.f, sc->normals, b, rgb_in);
+    if (pc->beh != 0) {
+        if (!span_bary(sc, &pc->bh, t, b)) return (ls_real)0;
+        ls_shade_point(sc->o, pc->bh.f, sc->normals, b, rgb_bh);
         a_bh = (ls_real)1;
     } else {
-        const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * p : sc->o->background;
+        const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * pc->p : sc->o->background;
         rgb_bh[0] = bg[0];
         rgb_bh[1] = bg[1];
         rgb_bh[2] = bg[2];
@@ -424,33 +482,40 @@ static ls_real point_term(const sctx *sc, const sedge *ed, ls_real t, uint32_t b
            g[3] * ((ls_real)1 - a_bh);
 }
 
-/* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb:
- * one point when df is constant (mask mode), else Gauss-Legendre with 5
+/* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb
+ * (the surface behind: beh, pixel p): one point when df is constant (mask
+ * mode), else Gauss-Legendre with 3
  * points, the interval halved (depth first, at most SIL_DEPTH_CAP times)
- * until the 3-point rule agrees with it to qtol. */
+ * until the 2-point rule agrees with it to qtol (the difference bounds the
+ * 2-point rule's error; the 3-point rule's is far below: 5 evaluations
+ * where 5 and 3 points took 7). */
 static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_t beh, size_t p)
 {
-    static const ls_real x3 = (ls_real)0.77459666924148337704, w3a = (ls_real)0.55555555555555555556;
-    static const ls_real w3b = (ls_real)0.88888888888888888889;
-    static const ls_real x5[2] = {(ls_real)0.90617984593866399280, (ls_real)0.53846931010568309104};
-    static const ls_real w5[3] = {(ls_real)0.23692688505618908751, (ls_real)0.47862867049936646804,
-                                  (ls_real)0.56888888888888888889};
+    static const ls_real x2 = (ls_real)0.57735026918962576451, x3 = (ls_real)0.77459666924148337704;
+    static const ls_real w3a = (ls_real)0.55555555555555555556, w3b = (ls_real)0.88888888888888888889;
     ls_real slo[2 * SIL_DEPTH_CAP + 2], shi[2 * SIL_DEPTH_CAP + 2], gabs;
     int sd[2 * SIL_DEPTH_CAP + 2], n = 1;
     const ls_real *g = sc->gimg + 4 * p;
+    spiece pc;
+    pc.beh = beh;
+    pc.p = p;
     if (sc->flat) {
-        ls_real term = point_term(sc, ed, (lo + hi) * (ls_real)0.5, beh, p), len = hi - lo;
-        ls_real mb = len * (hi + lo) * (ls_real)0.5;
+        ls_real mid = (lo + hi) * (ls_real)0.5, term, len = hi - lo, mb = len * (hi + lo) * (ls_real)0.5;
+        span_init(sc, ed, ed->ft, mid, mid, &pc.in);
+        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, &pc.bh);
+        term = point_term(sc, &pc, mid);
         ed->ka += term * (len - mb);
         ed->kb += term * mb;
         return;
     }
+    span_init(sc, ed, ed->ft, lo, hi, &pc.in);
+    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc.bh);
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
     slo[0] = lo;
     shi[0] = hi;
     sd[0] = 0;
     while (n > 0) {
-        ls_real l, h, mid, half, f[7], t[7], a3, b3, a5, b5, err;
+        ls_real l, h, mid, half, f[5], t[5], a2, b2, a3, b3, err;
         int d, k;
         n--;
         l = slo[n];
@@ -461,20 +526,17 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[0] = mid;
         t[1] = mid - half * x3;
         t[2] = mid + half * x3;
-        t[3] = mid - half * x5[0];
-        t[4] = mid + half * x5[0];
-        t[5] = mid - half * x5[1];
-        t[6] = mid + half * x5[1];
-        for (k = 0; k < 7; k++) f[k] = point_term(sc, ed, t[k], beh, p) * half;
+        t[3] = mid - half * x2;
+        t[4] = mid + half * x2;
+        for (k = 0; k < 5; k++) f[k] = point_term(sc, &pc, t[k]) * half;
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
-        a5 = ((w5[2] * ((ls_real)1 - t[0]) * f[0] + w5[0] * (((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4])) +
-              w5[1] * (((ls_real)1 - t[5]) * f[5] + ((ls_real)1 - t[6]) * f[6]));
-        b5 = ((w5[2] * t[0] * f[0] + w5[0] * (t[3] * f[3] + t[4] * f[4])) + w5[1] * (t[5] * f[5] + t[6] * f[6]));
-        err = r_abs(a5 - a3) + r_abs(b5 - b3);
-        if (d >= SIL_DEPTH_CAP || err <= sc->qtol * ((r_abs(a5) + r_abs(b5)) + (h - l) * gabs)) {
-            ed->ka += a5;
-            ed->kb += b5;
+        a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
+        b2 = t[3] * f[3] + t[4] * f[4];
+        err = r_abs(a3 - a2) + r_abs(b3 - b2);
+        if (d >= SIL_DEPTH_CAP || err <= sc->qtol * ((r_abs(a3) + r_abs(b3)) + (h - l) * gabs)) {
+            ed->ka += a3;
+            ed->kb += b3;
             continue;
         }
         slo[n] = mid; /* the upper half waits: the lower half is done first */
