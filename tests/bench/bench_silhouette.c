@@ -2,7 +2,10 @@
  * fit's workload: a mesh (the current state of a fit, or any mesh) seen from
  * the fit's cameras (N views on a Fibonacci sphere framing the target, 45
  * degrees, margin 1.1), SH shading, the L1 gradient against the target's
- * render (one sample per pixel). Prints, per run, the silhouette pass time
+ * render (one sample per pixel). The target is TARGET scaled by 1.02 about
+ * its box centre and shifted by 1/200 of its box diagonal along x (so that
+ * with TARGET = MESH the loss gradient is not zero and the hash checks
+ * bits). Prints, per run, the silhouette pass time
  * per view (process CPU time, the minimum over REPS repetitions of all
  * views), the forward time per view, the scratch bytes of the pass and a
  * hash of the bits of the summed gradient (to check that a faster pass gives
@@ -18,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <math.h>
 #include <largesteps.h>
 #include "ls_posix.h"
 
@@ -78,6 +82,26 @@ int main(int argc, char **argv)
         ls_posix_load_mesh(argc > 2 ? argv[2] : argv[1], &arena, &tg, NULL) != LS_OK) {
         fprintf(stderr, "cannot read the meshes\n");
         return 1;
+    }
+    { /* the target differs from the mesh: scaled 1.02 about its box centre, shifted along x */
+        ls_real lo[3], hi[3], c[3], d2 = 0;
+        uint32_t i, k;
+        for (k = 0; k < 3; k++) lo[k] = hi[k] = tg.positions[k];
+        for (i = 0; i < tg.vertex_count; i++)
+            for (k = 0; k < 3; k++) {
+                ls_real p = tg.positions[3 * (size_t)i + k];
+                lo[k] = p < lo[k] ? p : lo[k];
+                hi[k] = p > hi[k] ? p : hi[k];
+            }
+        for (k = 0; k < 3; k++) {
+            c[k] = (lo[k] + hi[k]) / 2;
+            d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        }
+        for (i = 0; i < tg.vertex_count; i++)
+            for (k = 0; k < 3; k++) {
+                ls_real *p = tg.positions + 3 * (size_t)i + k;
+                *p = c[k] + (ls_real)1.02 * (*p - c[k]) + (k == 0 ? (ls_real)(sqrt((double)d2) / 200.0) : (ls_real)0);
+            }
     }
     if (ls_camera_frame(tg.positions, tg.vertex_count, (ls_real)(45.0 * 3.14159265358979323846 / 180.0), LS_FOV_X, 1,
                         (ls_real)1.1, &fr, NULL) != LS_OK)
