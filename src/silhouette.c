@@ -150,6 +150,8 @@ typedef struct sctx {
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
     ls_real width, height, qtol, boost;
     ls_real *gp;         /* [3 V] the gradient being added to */
+    int shq;             /* 1: SH shading as a quadratic form (sh_quad_init), else ls_shade_point */
+    ls_real shm[30];     /* per channel, the 10 entries of M_c / pi (shade.h), upper triangle by rows */
 } sctx;
 
 /* One silhouette segment being integrated: window a + t e, t in [0, 1]. */
@@ -416,6 +418,11 @@ typedef struct spiece {
     aspan in, bh;
     uint32_t beh;
     size_t p;
+    /* the SH fast path (sc->shq): per side (0 inside, 1 behind), g.E along the
+     * sub-piece is (q0 + s q1 + s^2 q2) / S(s)^2 with S = s0 + s ds the sum
+     * of the areas, and the sign of sum a_k W_k = w0 + s dw tells the eye's side */
+    ls_real q[2][7];
+    ls_real gbg;     /* g . background (beh = 0) */
 } spiece;
 
 static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_real t, ls_real a[3])
@@ -482,6 +489,110 @@ static ls_real point_term(const sctx *sc, const spiece *pc, ls_real t)
            g[3] * ((ls_real)1 - a_bh);
 }
 
+/* SH irradiance without renormalisation is a quadratic form of the
+ * homogeneous interpolated normal, E_c = n_h^T M_c n_h / pi (shade.h), and
+ * n_h = H / S with H = sum_k a_k (n_k, 1) and S = sum_k a_k affine along a
+ * sub-piece (the areas are): so g . E = H^T G H / S^2 with G = sum_c g_c
+ * M_c / pi, a quadratic in s over S^2, set up once per sub-piece and side
+ * where ls_shade_point costs two SH evaluations per point. */
+static void sh_quad_init(sctx *sc)
+{
+    const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2, c3 = (ls_real)LS_SH_C3;
+    const ls_real c4 = (ls_real)LS_SH_C4, c5 = (ls_real)LS_SH_C5, ip = (ls_real)0.31830988618379067154;
+    const ls_shade_opts *o = sc->o;
+    int c;
+    sc->shq = o->mode == LS_SHADE_SH && !o->renormalize && o->vertex_colors == NULL && o->texture == NULL;
+    if (!sc->shq) return;
+    for (c = 0; c < 3; c++) {
+        const ls_real *L = o->sh + 9 * (size_t)c;
+        ls_real *m = sc->shm + 10 * (size_t)c;
+        m[0] = c1 * L[8] * ip;  /* xx */
+        m[1] = c1 * L[4] * ip;  /* xy */
+        m[2] = c1 * L[7] * ip;  /* xz */
+        m[3] = c2 * L[3] * ip;  /* x1 */
+        m[4] = -c1 * L[8] * ip; /* yy */
+        m[5] = c1 * L[5] * ip;  /* yz */
+        m[6] = c2 * L[1] * ip;  /* y1 */
+        m[7] = c3 * L[6] * ip;  /* zz */
+        m[8] = c2 * L[2] * ip;  /* z1 */
+        m[9] = (c4 * L[0] - c5 * L[6]) * ip; /* 11 */
+    }
+}
+
+/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m. */
+static ls_real quad_form(const ls_real *G, const ls_real *u, const ls_real *v)
+{
+    return ((G[0] * u[0] * v[0] + G[4] * u[1] * v[1]) + (G[7] * u[2] * v[2] + G[9] * u[3] * v[3])) +
+           ((G[1] * (u[0] * v[1] + u[1] * v[0]) + G[2] * (u[0] * v[2] + u[2] * v[0])) +
+            (G[3] * (u[0] * v[3] + u[3] * v[0]) + G[5] * (u[1] * v[2] + u[2] * v[1]))) +
+           (G[6] * (u[1] * v[3] + u[3] * v[1]) + G[8] * (u[2] * v[3] + u[3] * v[2]));
+}
+
+/* The coefficients q (spiece.q) of one side's span for the form G. */
+static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real q[7])
+{
+    ls_real h0[4], dh[4];
+    const ls_real *n0 = sc->normals + 3 * (size_t)sp->f[0], *n1 = sc->normals + 3 * (size_t)sp->f[1];
+    const ls_real *n2 = sc->normals + 3 * (size_t)sp->f[2];
+    int k, r;
+    h0[3] = (sp->a0[0] + sp->a0[1]) + sp->a0[2];
+    dh[3] = (sp->da[0] + sp->da[1]) + sp->da[2];
+    for (r = 0; r < 3; r++) {
+        h0[r] = (sp->a0[0] * n0[r] + sp->a0[1] * n1[r]) + sp->a0[2] * n2[r];
+        dh[r] = (sp->da[0] * n0[r] + sp->da[1] * n1[r]) + sp->da[2] * n2[r];
+    }
+    q[0] = quad_form(G, h0, h0);
+    q[1] = (ls_real)2 * quad_form(G, h0, dh);
+    q[2] = quad_form(G, dh, dh);
+    q[3] = h0[3];
+    q[4] = dh[3];
+    q[5] = (ls_real)0;
+    q[6] = (ls_real)0;
+    for (k = 0; k < 3; k++) {
+        ls_real w = sc->vis->clip[4 * (size_t)sp->f[k] + 3];
+        q[5] += sp->a0[k] * w;
+        q[6] += sp->da[k] * w;
+    }
+}
+
+/* Sets up the fast path's coefficients of sub-piece pc (spans made). */
+static void quad_piece(const sctx *sc, spiece *pc)
+{
+    const ls_real *g = sc->gimg + 4 * pc->p;
+    ls_real G[10];
+    int j;
+    for (j = 0; j < 10; j++) G[j] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
+    quad_side(sc, &pc->in, G, pc->q[0]);
+    if (pc->beh != 0) {
+        quad_side(sc, &pc->bh, G, pc->q[1]);
+    } else {
+        const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * pc->p : sc->o->background;
+        pc->gbg = (g[0] * bg[0] + g[1] * bg[1]) + g[2] * bg[2];
+    }
+}
+
+/* g . E of one side at s; 0 (as span_bary's failure) when the areas sum to
+ * zero or overflow, or the point is behind the eye. */
+static int quad_eval(const ls_real q[7], ls_real s, ls_real *val)
+{
+    ls_real S = q[3] + s * q[4], w = q[5] + s * q[6];
+    if (!(S != (ls_real)0) || S - S != (ls_real)0) return 0;
+    if (!(S > (ls_real)0 ? w > (ls_real)0 : w < (ls_real)0)) return 0;
+    *val = (q[0] + s * (q[1] + s * q[2])) / (S * S);
+    return 1;
+}
+
+/* point_term through the fast path. */
+static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
+{
+    ls_real s = (t - pc->in.lo) * pc->in.inv, vin, vbh;
+    const ls_real *g = sc->gimg + 4 * pc->p;
+    if (!quad_eval(pc->q[0], s, &vin)) return (ls_real)0;
+    if (pc->beh == 0) return (vin - pc->gbg) + g[3];
+    if (!quad_eval(pc->q[1], s, &vbh)) return (ls_real)0;
+    return vin - vbh;
+}
+
 /* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb
  * (the surface behind: beh, pixel p): one point when df is constant (mask
  * mode), else Gauss-Legendre with 3
@@ -510,6 +621,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     }
     span_init(sc, ed, ed->ft, lo, hi, &pc.in);
     if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc.bh);
+    if (sc->shq) quad_piece(sc, &pc);
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
     slo[0] = lo;
     shi[0] = hi;
@@ -528,7 +640,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[2] = mid + half * x3;
         t[3] = mid - half * x2;
         t[4] = mid + half * x2;
-        for (k = 0; k < 5; k++) f[k] = point_term(sc, &pc, t[k]) * half;
+        for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, &pc, t[k]) : point_term(sc, &pc, t[k])) * half;
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
         a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
@@ -1391,6 +1503,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.flat = opts->mode == LS_SHADE_MASK;
     sc.boost = boost;
     sc.gp = grad_positions;
+    sh_quad_init(&sc);
 #if LS_REAL_IS_FLOAT
     sc.qtol = 1e-4f;
 #else

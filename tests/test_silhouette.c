@@ -1103,6 +1103,87 @@ static void silhouette_bunny_invariants(void)
     CHECK(fabs(ds - 2 * area) <= 5e-3 * 2 * area);
 }
 
+/* The SH fast path (SH without renormalisation, vertex colours or texture:
+ * the shading as a quadratic form set up once per sub-piece) against the
+ * general path (ls_shade_point at every quadrature point), selected by unit
+ * vertex colours, which change nothing but the path: the bunny in
+ * perspective at 64^2, a grey background (edges over the background and
+ * over the surface behind), weights varying per pixel and channel. The
+ * two differ by the quadrature tolerance and rounding only. */
+static void silhouette_sh_fast_path(void)
+{
+    static const ls_real sh[27] = {
+        (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
+        (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
+        (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
+    ls_arena arena;
+    ls_mesh m;
+    ls_vis vis;
+    ls_edge_table et;
+    ls_shade_opts o;
+    unsigned char *data = NULL;
+    size_t bytes = 0, i;
+    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, lo[3], hi[3], r = 0;
+    static ls_real gimg[4 * 64 * 64];
+    ls_real *gp[2], *nrm, *ones;
+    double d2 = 0, n2 = 0;
+    uint32_t v, k, W = 64, pass;
+    if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
+        printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
+        return;
+    }
+    REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
+    REQUIRE(ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, &arena, &m, NULL) == LS_OK);
+    free(data);
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = m.positions[k];
+    for (v = 0; v < m.vertex_count; v++)
+        for (k = 0; k < 3; k++) {
+            lo[k] = m.positions[3 * v + k] < lo[k] ? m.positions[3 * v + k] : lo[k];
+            hi[k] = m.positions[3 * v + k] > hi[k] ? m.positions[3 * v + k] : hi[k];
+        }
+    for (k = 0; k < 3; k++) {
+        c[k] = (lo[k] + hi[k]) / 2;
+        r = (hi[k] - lo[k]) / 2 > r ? (hi[k] - lo[k]) / 2 : r;
+    }
+    eye[0] = c[0] + (ls_real)0.9 * r;
+    eye[1] = c[1] + (ls_real)0.6 * r;
+    eye[2] = c[2] + (ls_real)2.6 * r;
+    ls_camera_look_at(eye, c, up, view);
+    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
+    ls_mat4_mul(proj, view, mvp);
+    nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    ones = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    gp[0] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    gp[1] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    REQUIRE(gp[1] != NULL);
+    REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, nrm, NULL) == LS_OK);
+    REQUIRE(ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) == LS_OK);
+    REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, m.vertex_count) == LS_OK);
+    REQUIRE(ls_raster(&vis, &arena, mvp, m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
+    for (i = 0; i < 3 * (size_t)m.vertex_count; i++) ones[i] = 1;
+    for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
+    for (pass = 0; pass < 2; pass++) {
+        ls_shade_opts_init(&o);
+        o.mode = LS_SHADE_SH;
+        o.sh = sh;
+        o.background[0] = (ls_real)0.3;
+        o.background[1] = (ls_real)0.5;
+        o.background[2] = (ls_real)0.2;
+        o.vertex_colors = pass == 0 ? NULL : ones; /* pass 1: the general path */
+        for (i = 0; i < 3 * (size_t)m.vertex_count; i++) gp[pass][i] = 0;
+        REQUIRE(ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, 1, gimg,
+                                       gp[pass], &arena, NULL) == LS_OK);
+    }
+    for (i = 0; i < 3 * (size_t)m.vertex_count; i++) {
+        d2 += ((double)gp[0][i] - (double)gp[1][i]) * ((double)gp[0][i] - (double)gp[1][i]);
+        n2 += (double)gp[1][i] * (double)gp[1][i];
+    }
+    printf("     bunny (%u faces, 64^2 perspective, SH): fast path vs ls_shade_point: relative L2 %.3g (|g| %.3g)\n",
+           m.face_count, sqrt(d2 / n2), sqrt(n2));
+    CHECK(n2 > 0);
+    CHECK(sqrt(d2) <= (sizeof(ls_real) == 4 ? 1e-4 : 1e-9) * sqrt(n2));
+}
+
 /* ---- the pair mode ---- */
 
 /* Pair-mode loss sum w . pair(shade(raster(p))) in mask mode, and (if gp)
@@ -1254,6 +1335,7 @@ int main(void)
     TEST_RUN(silhouette_boost_and_determinism);
     TEST_RUN(silhouette_scratch_sweep);
     TEST_RUN(silhouette_bunny_invariants);
+    TEST_RUN(silhouette_sh_fast_path);
     TEST_RUN(pair_backward_matches_its_forward);
     TEST_RUN(pair_error_against_exact);
     free(arena_buf);
