@@ -163,6 +163,8 @@ typedef struct sedge {
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
     ls_real za, zb;  /* NDC depth at a and at a + e */
+    uint32_t wface;  /* the walk face holding the point at wt where the last run's walk ended, or LS_EDGE_NONE */
+    ls_real wt;
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -961,7 +963,7 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
     return LS_EDGE_NONE;
 }
 
-static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, ls_real tg)
+static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, ls_real tg, uint32_t *end)
 {
     ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
     uint32_t in = 3u, step;
@@ -985,7 +987,10 @@ static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, 
         for (q = 0; q < 3u; q++)
             if (q != qx && num[q] - tx * den[q] < m[q]) return 0; /* tx not inside (a corner, or tg) */
         if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return 0;
-        if (qx == 3u) return 1; /* tg reached */
+        if (qx == 3u) { /* tg reached, inside o by the margins */
+            *end = o;
+            return 1;
+        }
         tw = sc->twin[3 * (size_t)o + qx];
         if (tw == LS_EDGE_NONE) return 0;
         o = tw / 3u;
@@ -1006,20 +1011,35 @@ typedef struct srun {
     int n;
 } srun;
 
-/* Whether the whole run [t0, t1] is hidden: walks from the triangle the
- * forward drew at the sample under the run's middle (walk_locate finds
- * the face holding the middle from there), both ways (walk_hidden). A quick proof that skips a run whose every sub-piece
- * the candidate sweep would find hidden; 0 leaves the run to it. */
-static int run_hidden(const sctx *sc, const sedge *ed, const srun *run)
+/* Whether the whole run [t0, t1] is hidden: a quick proof that skips a run
+ * whose every sub-piece the candidate sweep would find hidden; 0 leaves the
+ * run to it. When the previous run's walk ended at t0 (runs follow each
+ * other along the segment), the walk goes on from its last face, once;
+ * else it starts from the triangle the forward drew at the sample under
+ * the run's middle (walk_locate finds the face holding the middle from
+ * there) and goes both ways (walk_hidden). */
+static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
 {
     const ls_vis *vis = sc->vis;
     ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss;
-    uint32_t sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
-    uint32_t sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
-    uint32_t id = vis->tri[(size_t)sy * vis->sw + sx];
-    if (id == 0 || sc->twin == NULL) return 0;
+    uint32_t sx, sy, id, end, last = ed->wface;
+    ed->wface = LS_EDGE_NONE;
+    if (sc->twin == NULL) return 0;
+    if (last != LS_EDGE_NONE && ed->wt == t0 && walk_hidden(sc, ed, last, t0, t1, &end)) {
+        ed->wface = end;
+        ed->wt = t1;
+        return 1;
+    }
+    sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
+    sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
+    id = vis->tri[(size_t)sy * vis->sw + sx];
+    if (id == 0) return 0;
     id = walk_locate(sc, ed, id - 1u, tm);
-    return id != LS_EDGE_NONE && walk_hidden(sc, ed, id, tm, t1) && walk_hidden(sc, ed, id, tm, t0);
+    if (id == LS_EDGE_NONE || !walk_hidden(sc, ed, id, tm, t1, &end) || !walk_hidden(sc, ed, id, tm, t0, &last))
+        return 0;
+    ed->wface = end;
+    ed->wt = t1;
+    return 1;
 }
 
 /* The pieces of a run: the candidates of the tile's bin whose box meets
@@ -1226,6 +1246,8 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     run.tile = 0;
     ed.ft = ft;
     ed.fu = fu;
+    ed.wface = LS_EDGE_NONE;
+    ed.wt = (ls_real)0;
     ed.ka = (ls_real)0;
     ed.kb = (ls_real)0;
     window_of(sc, ea->c, ed.a);
