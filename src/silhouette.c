@@ -292,24 +292,35 @@ static int sign_of(int sg)
  * has none, is not finite, lies outside the image or is culled. */
 static int tri_box(const sctx *sc, uint32_t t, ls_real box[4])
 {
-    ls_real x[4], y[4];
-    int n, k;
+    const uint32_t *f = sc->indices + 3 * (size_t)t;
+    int k;
     if (sc->cull != 0) {
-        int sg = sign_of(sc->sign != NULL ? sc->sign[t] : tri_sign(sc, sc->indices + 3 * (size_t)t));
+        int sg = sign_of(sc->sign != NULL ? sc->sign[t] : tri_sign(sc, f));
         if (sg == 0 || sg == sc->cull) return 0;
     }
-    n = tri_poly(sc, sc->indices + 3 * (size_t)t, x, y);
-    if (n < 3) return 0;
-    box[0] = box[2] = x[0];
-    box[1] = box[3] = y[0];
-    for (k = 1; k < n; k++) {
-        if (x[k] < box[0]) box[0] = x[k];
-        if (x[k] > box[2]) box[2] = x[k];
-        if (y[k] < box[1]) box[1] = y[k];
-        if (y[k] > box[3]) box[3] = y[k];
+    if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
+        /* every corner in front (most triangles): the box of the window corners */
+        const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1];
+        const ls_real *p2 = sc->win + 2 * (size_t)f[2];
+        for (k = 0; k < 2; k++) {
+            ls_real lo = p0[k] < p1[k] ? p0[k] : p1[k], hi = p0[k] < p1[k] ? p1[k] : p0[k];
+            box[k] = p2[k] < lo ? p2[k] : lo;
+            box[k + 2] = p2[k] > hi ? p2[k] : hi;
+        }
+    } else {
+        ls_real x[4], y[4];
+        int n = tri_poly(sc, f, x, y);
+        if (n < 3) return 0;
+        box[0] = box[2] = x[0];
+        box[1] = box[3] = y[0];
+        for (k = 1; k < n; k++) {
+            if (x[k] < box[0]) box[0] = x[k];
+            if (x[k] > box[2]) box[2] = x[k];
+            if (y[k] < box[1]) box[1] = y[k];
+            if (y[k] > box[3]) box[3] = y[k];
+        }
     }
-    for (k = 0; k < 4; k++)
-        if (box[k] - box[k] != (ls_real)0) return 0;
+    if ((box[0] - box[0]) + (box[1] - box[1]) + (box[2] - box[2]) + (box[3] - box[3]) != (ls_real)0) return 0;
     return !(box[2] < -SIL_MARGIN || box[0] > sc->width + SIL_MARGIN || box[3] < -SIL_MARGIN ||
              box[1] > sc->height + SIL_MARGIN);
 }
@@ -353,15 +364,17 @@ static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 }
 
 /* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
- * binned; sc->tbox NULL: the boxes are not kept) and counts the bin entries
+ * binned; sc->tbox NULL: the boxes are not kept), counts the bin entries
  * and the binned triangles into count[0] and count[1] (*over set on
- * overflow of size_t). */
-static void box_pass(sctx *sc, size_t count[2], int *over)
+ * overflow of size_t) and, when offs [tiles + 1] is not NULL, the entries
+ * of each tile into offs[tile + 1] (offs[0] = 0), for bin_pass. */
+static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
 {
-    uint32_t t, r[4];
+    uint32_t t, r[4], tx, ty;
     count[0] = 0;
     count[1] = 0;
     *over = 0;
+    if (offs != NULL) memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 1u) * sizeof(size_t));
     for (t = 0; t < sc->triangle_count; t++) {
         float own[4], *fb = sc->tbox != NULL ? sc->tbox + 4 * (size_t)t : own;
         size_t add;
@@ -375,24 +388,19 @@ static void box_pass(sctx *sc, size_t count[2], int *over)
         if (count[0] > SIZE_MAX - add) *over = 1;
         count[0] += add;
         count[1]++;
+        if (offs != NULL)
+            for (ty = r[1]; ty <= r[3]; ty++)
+                for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
     }
 }
 
-/* Bins every boxed triangle (box_pass) into the tiles its box overlaps:
- * offs [tiles + 1] the bin starts, ent the bins (triangles in index order
- * in each). */
+/* Bins every boxed triangle (box_pass, which counted the entries per tile
+ * into offs) into the tiles its box overlaps: offs [tiles + 1] becomes the
+ * bin starts, ent the bins (triangles in index order in each). */
 static void bin_pass(const sctx *sc, size_t *offs, uint32_t *ent)
 {
     uint32_t t, tx, ty, r[4];
     size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
-    for (k = 0; k <= tiles; k++) offs[k] = 0;
-    for (t = 0; t < sc->triangle_count; t++) {
-        const float *fb = sc->tbox + 4 * (size_t)t;
-        if (fb[0] > fb[2]) continue;
-        fbox_tiles(sc, fb, r);
-        for (ty = r[1]; ty <= r[3]; ty++)
-            for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
-    }
     for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
     for (t = 0; t < sc->triangle_count; t++) {
         const float *fb = sc->tbox + 4 * (size_t)t;
@@ -1454,7 +1462,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
     sctx_init(&sc, vis, indices, triangle_count);
     choose_cull(&sc, table, NULL);
-    box_pass(&sc, count, &over);
+    box_pass(&sc, NULL, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
                         slot_count(count[1], count[0]), bytes);
@@ -1555,7 +1563,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.sign = sign;
     sc.twin = table->twin;
     choose_cull(&sc, table, sign);
-    box_pass(&sc, count, &over);
+    box_pass(&sc, offs, count, &over);
     slots = slot_count(count[1], count[0]);
     if (over || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
