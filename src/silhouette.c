@@ -174,7 +174,22 @@ typedef struct endp {
     ls_real c[4];
 } endp;
 
-static ls_real r_abs(ls_real x) { return x < (ls_real)0 ? -x : x; }
+/* |x| by clearing the sign bit: branch-free (the margins and bounds take
+ * many; -0 and +0 are the same to them). */
+static ls_real r_abs(ls_real x)
+{
+#if LS_REAL_IS_FLOAT
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    u &= 0x7fffffffu;
+#else
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    u &= 0x7fffffffffffffffull;
+#endif
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
 
 /* The point of triangle f on the ray through window (xw, yw): barycentrics
  * b and NDC depth; returns 0 when the triangle is edge-on there or the point
