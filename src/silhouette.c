@@ -348,9 +348,13 @@ static uint32_t cell_of(ls_real c, uint32_t n)
     return (uint32_t)c; /* in [1, n): the cast truncates, as floor */
 }
 
+/* The tile of a box coordinate v of tri_fbox: cell_of(v / tile, n)
+ * without its branches: tri_fbox clamps v to at least -1 - margin, so
+ * v / tile > -1 and the truncation toward zero is that floor clamped. */
 static uint32_t tile_of(ls_real v, uint32_t n)
 {
-    return cell_of(v / (ls_real)(1u << SIL_TILE_LOG2), n);
+    uint32_t i = (uint32_t)(int32_t)(v / (ls_real)(1u << SIL_TILE_LOG2));
+    return i < n ? i : n - 1u;
 }
 
 /* The box of triangle t's visible polygon for the bins: clamped to the
