@@ -150,6 +150,7 @@ typedef struct sctx {
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
     ls_real width, height, qtol, boost;
     ls_real *gp;         /* [3 V] the gradient being added to */
+    ls_real wk;          /* 3 max(|x| + |y|) + width + height over the window positions (tri_sign_front) */
     int shq;             /* 1: SH shading as a quadratic form (sh_quad_init), else ls_shade_point */
     ls_real shm[30];     /* per channel, the 10 entries of M_c / pi (shade.h), upper triangle by rows */
 } sctx;
@@ -295,6 +296,28 @@ static int tri_sign(const sctx *sc, const uint32_t *f)
            r_abs(a[3]) * (r_abs(b[0] * e[1]) + r_abs(b[1] * e[0]));
     bound = (ls_real)8 * LS_REAL_EPSILON * perm + (ls_real)64 * R_MIN_NORMAL;
     return r_abs(d) > bound ? 2 * s : s;
+}
+
+/* tri_sign of a triangle with every corner in front of the eye (W > 0),
+ * from its window corners: hdet = W0 W1 W2 det(NDC), and window y runs
+ * down, so the window cross product has the opposite sign. It is certain
+ * (+-2, the exact sign, as tri_sign's certain values are) when it exceeds
+ * a bound on its error: window_of's coordinates are off by at most
+ * eps (3 |x| + width) each (sc->wk bounds 3 |x| + width + height over the
+ * front vertices), the differences and products add theirs; 16 eps covers
+ * them with room. Otherwise tri_sign decides. */
+static int tri_sign_front(const sctx *sc, const uint32_t *f)
+{
+    const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
+    ls_real dx1 = p1[0] - p0[0], dy1 = p1[1] - p0[1], dx2 = p2[0] - p0[0], dy2 = p2[1] - p0[1];
+    ls_real t1 = dx1 * dy2, t2 = dy1 * dx2, cr = t1 - t2, k = sc->wk, bound;
+    bound = (ls_real)16 * LS_REAL_EPSILON *
+                ((k * (((r_abs(dx1) + r_abs(dy1)) + (r_abs(dx2) + r_abs(dy2))) + LS_REAL_EPSILON * k) + r_abs(t1)) +
+                 r_abs(t2)) +
+            (ls_real)64 * R_MIN_NORMAL;
+    if (cr > bound) return -2;
+    if (cr < -bound) return 2;
+    return tri_sign(sc, f);
 }
 
 /* -1, 0 or 1: the sign of a tri_sign value. */
@@ -1574,11 +1597,21 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         win[2 * (size_t)h + 1] = (ls_real)0;
         vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
         sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
-        if (vfront[h]) window_of(&sc, cl, win + 2 * (size_t)h);
+        if (vfront[h]) {
+            ls_real m;
+            window_of(&sc, cl, win + 2 * (size_t)h);
+            m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
+            if (m > sc.wk) sc.wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
+        }
     }
+    sc.wk = ((ls_real)3 * sc.wk + sc.width) + sc.height;
     sc.win = win;
     sc.vfront = vfront;
-    for (t = 0; t < triangle_count; t++) sign[t] = (signed char)tri_sign(&sc, indices + 3 * (size_t)t);
+    for (t = 0; t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f)
+                                                                                  : tri_sign(&sc, f));
+    }
     sc.sign = sign;
     sc.twin = table->twin;
     choose_cull(&sc, table, sign);
