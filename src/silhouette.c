@@ -164,8 +164,10 @@ typedef struct sedge {
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
     ls_real za, zb;  /* NDC depth at a and at a + e */
-    uint32_t wface;  /* the walk face holding the point at wt where the last run's walk ended, or LS_EDGE_NONE */
-    ls_real wt;
+    ls_real tend;    /* the end of the segment's part in the image */
+    int wok;         /* 1: the walk of an earlier run proved the segment hidden from its t0 up to wtb */
+    ls_real wtb;
+    uint32_t wnext, wnin; /* where that walk goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -1013,18 +1015,26 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
     return LS_EDGE_NONE;
 }
 
-static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, ls_real tg, uint32_t *end)
+/* The walk of walk_hidden (above) from o, which holds the point at ts by
+ * the margins of its edges but `in` (its entry edge, 3: none), towards tg:
+ * returns the parameter up to which the segment is proven hidden (ts when
+ * nothing is). Stopped by SIL_WALK_CAP, it leaves in *next and *nin the
+ * face and entry edge to go on from there (else *next = LS_EDGE_NONE). */
+static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t in, ls_real ts, ls_real tg,
+                          uint32_t *next, uint32_t *nin)
 {
     ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
-    uint32_t in = 3u, step;
+    uint32_t step;
+    *next = LS_EDGE_NONE;
+    *nin = 3u;
     for (step = 0; step < SIL_WALK_CAP; step++) {
         ls_real num[3], den[3], m[3], z[3], tx = tg;
         uint32_t q, qx = 3u, tw;
-        if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return 0;
+        if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return ts;
         for (q = 0; q < 3u; q++) {
             const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
             z[q] = cl[2] / cl[3];
-            if (q != in && num[q] - ts * den[q] < m[q]) return 0; /* ts not inside by the margin */
+            if (q != in && num[q] - ts * den[q] < m[q]) return ts; /* ts not inside by the margin */
             /* c_q falls along the walk: it leaves through q where c_q = 0 */
             if (q != in && d * den[q] > (ls_real)0) {
                 ls_real tq = num[q] / den[q];
@@ -1035,19 +1045,18 @@ static int walk_hidden(const sctx *sc, const sedge *ed, uint32_t o, ls_real ts, 
             }
         }
         for (q = 0; q < 3u; q++)
-            if (q != qx && num[q] - tx * den[q] < m[q]) return 0; /* tx not inside (a corner, or tg) */
-        if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return 0;
-        if (qx == 3u) { /* tg reached, inside o by the margins */
-            *end = o;
-            return 1;
-        }
+            if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
+        if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return ts;
+        if (qx == 3u) return tx; /* tg reached */
         tw = sc->twin[3 * (size_t)o + qx];
-        if (tw == LS_EDGE_NONE) return 0;
+        if (tw == LS_EDGE_NONE) return tx;
         o = tw / 3u;
         in = tw % 3u;
         ts = tx;
     }
-    return 0;
+    *next = o;
+    *nin = in;
+    return ts;
 }
 
 /* A run of the segment through one bin tile: its pieces, one per pixel,
@@ -1063,33 +1072,39 @@ typedef struct srun {
 
 /* Whether the whole run [t0, t1] is hidden: a quick proof that skips a run
  * whose every sub-piece the candidate sweep would find hidden; 0 leaves the
- * run to it. When the previous run's walk ended at t0 (runs follow each
- * other along the segment), the walk goes on from its last face, once;
- * else it starts from the triangle the forward drew at the sample under
- * the run's middle (walk_locate finds the face holding the middle from
- * there) and goes both ways (walk_hidden). */
+ * run to it. A walk starts from the triangle the forward drew at the
+ * sample under the run's middle (walk_locate finds the face holding the
+ * middle from there), goes back to t0 and on along the segment as far as
+ * it can: the runs that follow (in order along the segment) inside what it
+ * proved hidden cost nothing, and one stopped by the cap goes on from
+ * where it stopped. */
 static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
 {
     const ls_vis *vis = sc->vis;
-    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss;
-    uint32_t sx, sy, id, end, last = ed->wface;
-    ed->wface = LS_EDGE_NONE;
+    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss, reach;
+    uint32_t sx, sy, id, nx, nin;
     if (sc->twin == NULL) return 0;
-    if (last != LS_EDGE_NONE && ed->wt == t0 && walk_hidden(sc, ed, last, t0, t1, &end)) {
-        ed->wface = end;
-        ed->wt = t1;
-        return 1;
+    if (ed->wok && t1 <= ed->wtb) return 1; /* proven by an earlier walk */
+    if (ed->wok && ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
+        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, &nx, &nin);
+        ed->wtb = reach;
+        ed->wnext = nx;
+        ed->wnin = nin;
+        if (t1 <= reach) return 1;
     }
+    ed->wok = 0;
     sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
     sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
     id = vis->tri[(size_t)sy * vis->sw + sx];
     if (id == 0) return 0;
     id = walk_locate(sc, ed, id - 1u, tm);
-    if (id == LS_EDGE_NONE || !walk_hidden(sc, ed, id, tm, t1, &end) || !walk_hidden(sc, ed, id, tm, t0, &last))
-        return 0;
-    ed->wface = end;
-    ed->wt = t1;
-    return 1;
+    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, &nx, &nin) != t0) return 0;
+    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, &nx, &nin);
+    ed->wok = 1;
+    ed->wtb = reach;
+    ed->wnext = nx;
+    ed->wnin = nin;
+    return t1 <= reach;
 }
 
 /* The pieces of a run: the candidates of the tile's bin whose box meets
@@ -1296,8 +1311,10 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     run.tile = 0;
     ed.ft = ft;
     ed.fu = fu;
-    ed.wface = LS_EDGE_NONE;
-    ed.wt = (ls_real)0;
+    ed.wok = 0;
+    ed.wtb = (ls_real)0;
+    ed.wnext = LS_EDGE_NONE;
+    ed.wnin = 3u;
     ed.ka = (ls_real)0;
     ed.kb = (ls_real)0;
     window_of(sc, ea->c, ed.a);
@@ -1321,6 +1338,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
         nrm[1] = -nrm[1];
     }
     if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
+    ed.tend = t1;
     lines_init(&lx, ed.a[0], ed.e[0], t0, t1);
     lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
     tcur = t0;
