@@ -1155,7 +1155,9 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         next = ncand;
     }
     for (j = 0; j < run->n; j++) {
-        ls_real a = run->t[j], b = run->t[j + 1];
+        ls_real a = run->t[j], b = run->t[j + 1], plo = a, phi = a;
+        uint32_t pbeh = 0;
+        int pend = 0; /* [plo, phi] seen with the surface pbeh behind, not integrated yet */
         while (i < ns && !(sp[i] > a)) i++; /* crossings at or before the piece's start */
         for (;;) {
             uint32_t beh = 0;
@@ -1164,10 +1166,22 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
             if (hi > lo) {
                 ls_real mid = (lo + hi) * (ls_real)0.5;
                 while (next < ncand && !(sc->clo[next] > mid)) sc->cact[nact++] = sc->cord[next++];
-                if (visibility(sc, ed, mid, !sorted, &nact, &beh)) integrate(sc, ed, lo, hi, beh, run->pix[j]);
+                if (visibility(sc, ed, mid, !sorted, &nact, &beh)) {
+                    /* a split whose crossing changed neither side (an edge farther than the surface
+                     * behind, or of an occluder elsewhere) joins the two sub-pieces: one integrand */
+                    if (pend && (beh != pbeh || phi != lo)) integrate(sc, ed, plo, phi, pbeh, run->pix[j]);
+                    if (!pend || beh != pbeh || phi != lo) plo = lo;
+                    phi = hi;
+                    pbeh = beh;
+                    pend = 1;
+                } else if (pend) {
+                    integrate(sc, ed, plo, phi, pbeh, run->pix[j]);
+                    pend = 0;
+                }
             }
             if (!(hi < b)) break;
         }
+        if (pend) integrate(sc, ed, plo, phi, pbeh, run->pix[j]);
     }
 }
 
