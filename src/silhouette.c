@@ -164,7 +164,9 @@ typedef struct sedge {
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
     ls_real za, zb;  /* NDC depth at a and at a + e */
-    ls_real tend;    /* the end of the segment's part in the image */
+    ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
+    int fok;         /* 1: fa holds the areas of ft at tbeg and their change to tend (span_own) */
+    ls_real fa[6];
     int wok;         /* 1: the walk of an earlier run proved the segment hidden from its t0 up to wtb */
     ls_real wtb;
     uint32_t wnext, wnin; /* where that walk goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
@@ -505,6 +507,32 @@ static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, l
     for (k = 0; k < 3; k++) sp->da[k] = ah[k] - sp->a0[k];
 }
 
+/* span_init for the segment's own face: its areas along the segment's
+ * part in the image, from their values at its ends (ed->fa, computed at
+ * the first sub-piece), affine there. On its own edge they stay within
+ * [0, their sum], so the interpolation loses nothing to magnitudes. */
+static void span_own(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, aspan *sp)
+{
+    ls_real s0, ds;
+    int k;
+    if (!ed->fok) {
+        const uint32_t *f = sc->indices + 3 * (size_t)ed->ft;
+        span_areas(sc, ed, f, ed->tbeg, ed->fa);
+        span_areas(sc, ed, f, ed->tend, ed->fa + 3);
+        for (k = 0; k < 3; k++) ed->fa[3 + k] -= ed->fa[k];
+        ed->fok = 1;
+    }
+    s0 = (lo - ed->tbeg) * ed->tinv;
+    ds = (hi - lo) * ed->tinv;
+    sp->f = sc->indices + 3 * (size_t)ed->ft;
+    sp->lo = lo;
+    sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
+    for (k = 0; k < 3; k++) {
+        sp->a0[k] = ed->fa[k] + s0 * ed->fa[3 + k];
+        sp->da[k] = ds * ed->fa[3 + k];
+    }
+}
+
 /* The barycentrics b of a span's triangle at t; 0 when it is edge-on there
  * or the point is behind the eye (as tri_point). */
 static int span_bary(const sctx *sc, const aspan *sp, ls_real t, ls_real b[3])
@@ -666,14 +694,14 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     pc.p = p;
     if (sc->flat) {
         ls_real mid = (lo + hi) * (ls_real)0.5, term, len = hi - lo, mb = len * (hi + lo) * (ls_real)0.5;
-        span_init(sc, ed, ed->ft, mid, mid, &pc.in);
+        span_own(sc, ed, mid, mid, &pc.in);
         if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, &pc.bh);
         term = point_term(sc, &pc, mid);
         ed->ka += term * (len - mb);
         ed->kb += term * mb;
         return;
     }
-    span_init(sc, ed, ed->ft, lo, hi, &pc.in);
+    span_own(sc, ed, lo, hi, &pc.in);
     if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc.bh);
     if (sc->shq) quad_piece(sc, &pc);
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
@@ -1352,7 +1380,10 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
         nrm[1] = -nrm[1];
     }
     if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
+    ed.tbeg = t0;
     ed.tend = t1;
+    ed.tinv = (ls_real)1 / (t1 - t0);
+    ed.fok = 0;
     lines_init(&lx, ed.a[0], ed.e[0], t0, t1);
     lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
     tcur = t0;
