@@ -770,10 +770,12 @@ static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_
  * first. */
 static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, uint32_t *nact, uint32_t *beh)
 {
-    ls_real b[3], ze, zc, tol, best = (ls_real)0;
+    ls_real b[3], zc, tol, best = (ls_real)0;
     ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
+    /* the segment's depth: NDC depth is affine in window position on a plane, so along a line
+     * (as walk_front's); every point of the segment is in front of the eye (W > 0 at both ends) */
+    ls_real ze = ed->za + t * (ed->zb - ed->za);
     uint32_t i = 0, best_id = 0;
-    if (!tri_point(sc, sc->indices + 3 * (size_t)ed->ft, xw, yw, b, &ze)) return 0;
     if (ze > (ls_real)1) return 0; /* beyond the far plane: not drawn */
     tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
     while (i < *nact) {
