@@ -389,14 +389,13 @@ static uint32_t tile_of(ls_real v, uint32_t n)
  * these magnitudes is far below the margin); 0 when t is not binned. */
 static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 {
-    ls_real box[4];
-    int q;
+    ls_real box[4], xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
     if (!tri_box(sc, t, box)) return 0;
-    for (q = 0; q < 4; q++) {
-        ls_real lim = q % 2 == 0 ? sc->width : sc->height, v = box[q];
-        v = v < (ls_real)-1 ? (ls_real)-1 : (v > lim + (ls_real)1 ? lim + (ls_real)1 : v);
-        fb[q] = (float)(q < 2 ? v - SIL_MARGIN : v + SIL_MARGIN);
-    }
+    /* tri_box's box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
+    fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
+    fb[1] = (float)((box[1] < (ls_real)-1 ? (ls_real)-1 : box[1]) - SIL_MARGIN);
+    fb[2] = (float)((box[2] > xl ? xl : box[2]) + SIL_MARGIN);
+    fb[3] = (float)((box[3] > yl ? yl : box[3]) + SIL_MARGIN);
     return 1;
 }
 
