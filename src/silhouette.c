@@ -478,6 +478,7 @@ typedef struct spiece {
      * of the areas, and the sign of sum a_k W_k = w0 + s dw tells the eye's side */
     ls_real q[2][7];
     ls_real gbg;     /* g . background (beh = 0) */
+    int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
 } spiece;
 
 static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_real t, ls_real a[3])
@@ -636,6 +637,19 @@ static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real
     }
 }
 
+/* Whether quad_eval's tests pass all over [0, 1] for the side q: S and
+ * sum a_k W_k are affine, so they keep their signs there when both ends
+ * have them by far more than the rounding of their evaluation. */
+static int quad_sure(const ls_real q[7])
+{
+    ls_real r = (ls_real)8 * LS_REAL_EPSILON, S0 = q[3], S1 = q[3] + q[4], w0 = q[5], w1 = q[5] + q[6];
+    ls_real ms = r * (r_abs(q[3]) + r_abs(q[4])), mw = r * (r_abs(q[5]) + r_abs(q[6]));
+    if (!(ms - ms == (ls_real)0 && mw - mw == (ls_real)0)) return 0;
+    if (S0 > ms && S1 > ms) return w0 > mw && w1 > mw;
+    if (S0 < -ms && S1 < -ms) return w0 < -mw && w1 < -mw;
+    return 0;
+}
+
 /* Sets up the fast path's coefficients of sub-piece pc (spans made). */
 static void quad_piece(const sctx *sc, spiece *pc)
 {
@@ -644,8 +658,10 @@ static void quad_piece(const sctx *sc, spiece *pc)
     int j;
     for (j = 0; j < 10; j++) G[j] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
+    pc->sure = quad_sure(pc->q[0]);
     if (pc->beh != 0) {
         quad_side(sc, &pc->bh, G, pc->q[1]);
+        pc->sure = pc->sure && quad_sure(pc->q[1]);
     } else {
         const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * pc->p : sc->o->background;
         pc->gbg = (g[0] * bg[0] + g[1] * bg[1]) + g[2] * bg[2];
@@ -668,6 +684,14 @@ static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
 {
     ls_real s = (t - pc->in.lo) * pc->in.inv, vin, vbh;
     const ls_real *g = sc->gimg + 4 * pc->p;
+    if (pc->sure) {
+        const ls_real *a = pc->q[0], *b = pc->q[1];
+        ls_real Sa = a[3] + s * a[4], Sb;
+        vin = (a[0] + s * (a[1] + s * a[2])) / (Sa * Sa);
+        if (pc->beh == 0) return (vin - pc->gbg) + g[3];
+        Sb = b[3] + s * b[4];
+        return vin - (b[0] + s * (b[1] + s * b[2])) / (Sb * Sb);
+    }
     if (!quad_eval(pc->q[0], s, &vin)) return (ls_real)0;
     if (pc->beh == 0) return (vin - pc->gbg) + g[3];
     if (!quad_eval(pc->q[1], s, &vbh)) return (ls_real)0;
