@@ -45,11 +45,25 @@
  *     their starts when a run has many), the last occluder first: the cost
  *     of a sub-piece is its depth complexity, not its tile's bin size, and
  *     the intervals decide which candidates are tested, never the answer.
- *  4. Each visible sub-piece is integrated: in mask mode df is constant
- *     (one evaluation, exact moments); otherwise (perspective-correct
- *     shading is rational along the edge) Gauss-Legendre with 5 points,
- *     the interval halved (depth first, at most 4 times) until the 3-point
- *     rule agrees with it to 1e-9 (double) / 1e-4 (float) relative.
+ *     Before that, a run is skipped when a walk proves it hidden: from the
+ *     triangle the forward drew under the run's middle, across shared
+ *     edges, through faces that contain the segment's points by a margin
+ *     and lie in front of it by a margin (containment and NDC depth are
+ *     affine along the segment, checked at each face's stretch ends); the
+ *     walk goes on along the segment as far as it can, so the runs that
+ *     follow inside what it proved cost nothing.
+ *  4. Each visible sub-piece is integrated (consecutive ones of a pixel
+ *     with the same surface behind as one: the split between them changed
+ *     neither side): in mask mode df is constant (one evaluation, exact
+ *     moments); otherwise (perspective-correct shading is rational along
+ *     the edge) Gauss-Legendre with 3 points, the interval halved (depth
+ *     first, at most 4 times) until the 2-point rule agrees with it to 1e-9
+ *     (double) / 1e-4 (float) relative. The barycentric areas are affine
+ *     along the segment (the face's own once per segment). SH shading
+ *     without renormalisation, vertex colours or texture is a quadratic form
+ *     of the homogeneous interpolated normal: g . E = (q0 + q1 s + q2 s^2) /
+ *     S(s)^2 along a sub-piece, its coefficients set up once per sub-piece
+ *     and side; other shading evaluates ls_shade_point per point.
  *  5. g_P = dL/dI_P (RGBA) dotted with df; the sums over the pieces go to a
  *     and b (times the multiplier `boost`), then through the window ->
  *     clip -> positions chain: x = (X/W + 1) width / 2, y = (1 - Y/W) height / 2.
@@ -94,9 +108,10 @@
  *
  * Left to do (issue 9):
  *  - a one-call view forward + backward (render.h) for the fit;
- *  - speed: the armadillo (52k faces) at 512^2 costs ~1.5-2 x the forward
- *    (target 0.5 x); half of it is the quadrature's shading and the
- *    per-view binning and edge scan, O(triangles);
+ *  - speed: the armadillo (52k faces) at 512^2 costs ~0.65 x the forward's
+ *    instructions, ~0.9 x its CPU time (target 0.5 x; README); a quarter
+ *    of it is O(triangles) (orientations, boxes, bins, the edge scan), the
+ *    rest the visible runs' candidate sweep, the walks and the quadrature;
  *  - interpenetrating triangles (intersection curves are not mesh edges)
  *    are not handled; depth ties within 64 eps are neither hiding nor behind.
  */
