@@ -120,7 +120,7 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 
 /* ---- the silhouette pass ---- */
 
-#define SIL_TILE_LOG2 1u                        /* candidate bins: 2 x 2 pixel tiles */
+#define SIL_TILE_LOG2 1u                        /* candidate bins: tiles of at least 2 x 2 pixels (choose_tiles) */
 #define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 
@@ -145,6 +145,7 @@ typedef struct sctx {
     uint32_t *cact;      /* [slots] the active ones */
     ls_real *split;      /* [4 slots + 2] split parameters of the current piece */
     uint32_t triangle_count, tiles_x, tiles_y, flat;
+    uint32_t tl;         /* tiles of 2^tl x 2^tl pixels (choose_tiles) */
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
     const uint32_t *twin; /* the edge table's twins (walks across edges), or NULL */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
@@ -375,12 +376,13 @@ static uint32_t cell_of(ls_real c, uint32_t n)
     return (uint32_t)c; /* in [1, n): the cast truncates, as floor */
 }
 
-/* The tile of a box coordinate v of tri_fbox: cell_of(v / tile, n)
- * without its branches: tri_fbox clamps v to at least -1 - margin, so
- * v / tile > -1 and the truncation toward zero is that floor clamped. */
-static uint32_t tile_of(ls_real v, uint32_t n)
+/* The tile of a box coordinate v of tri_fbox: cell_of(v / side, n)
+ * without its branches: tri_fbox clamps v to at least -1 - margin and a
+ * side is at least 2, so v / side > -1 and the truncation toward zero is
+ * that floor clamped. */
+static uint32_t tile_of(ls_real v, ls_real side, uint32_t n)
 {
-    uint32_t i = (uint32_t)(int32_t)(v / (ls_real)(1u << SIL_TILE_LOG2));
+    uint32_t i = (uint32_t)(int32_t)(v / side);
     return i < n ? i : n - 1u;
 }
 
@@ -402,10 +404,11 @@ static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
 static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 {
-    r[0] = tile_of((ls_real)fb[0], sc->tiles_x);
-    r[1] = tile_of((ls_real)fb[1], sc->tiles_y);
-    r[2] = tile_of((ls_real)fb[2], sc->tiles_x);
-    r[3] = tile_of((ls_real)fb[3], sc->tiles_y);
+    ls_real side = (ls_real)(1u << sc->tl);
+    r[0] = tile_of((ls_real)fb[0], side, sc->tiles_x);
+    r[1] = tile_of((ls_real)fb[1], side, sc->tiles_y);
+    r[2] = tile_of((ls_real)fb[2], side, sc->tiles_x);
+    r[3] = tile_of((ls_real)fb[3], side, sc->tiles_y);
 }
 
 /* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
@@ -1428,7 +1431,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
         mid = (tcur + tn) * (ls_real)0.5;
         px = cell_of(ed.a[0] + mid * ed.e[0], sc->vis->width);
         py = cell_of(ed.a[1] + mid * ed.e[1], sc->vis->height);
-        tile = (size_t)(py >> SIL_TILE_LOG2) * sc->tiles_x + (px >> SIL_TILE_LOG2);
+        tile = (size_t)(py >> sc->tl) * sc->tiles_x + (px >> sc->tl);
         if (run.n > 0 && (tile != run.tile || run.n == SIL_RUN_CAP)) {
             run_pass(sc, &ed, &run);
             run.n = 0;
@@ -1566,6 +1569,24 @@ static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const
     return ls_shade_check_args(vis, counts, indices, normals, opts, diag);
 }
 
+/* The bins' tile side, 2^tl pixels: 2, 4 or 8 by the covered pixels per
+ * triangle (counted on every 4th sample row): small triangles want small
+ * tiles (fewer candidates per run), large ones large tiles (fewer entries
+ * per triangle, fewer and longer runs). 2 x 2 is the smallest, so sizes
+ * counted with 2 x 2 tiles (the bounds below) hold for every choice. */
+static void choose_tiles(sctx *sc)
+{
+    const ls_vis *vis = sc->vis;
+    uint64_t cov = 0, ts = (uint64_t)sc->triangle_count * vis->ss * vis->ss;
+    uint32_t x, y;
+    for (y = 0; y < vis->sh; y += 4u)
+        for (x = 0; x < vis->sw; x++) cov += vis->tri[(size_t)y * vis->sw + x] != 0;
+    cov *= 4u; /* covered samples, estimated; ts: triangles x samples per pixel */
+    sc->tl = 4u * cov < ts ? SIL_TILE_LOG2 : (cov < 4u * ts ? SIL_TILE_LOG2 + 1u : SIL_TILE_LOG2 + 2u);
+    sc->tiles_x = (vis->width + (1u << sc->tl) - 1u) >> sc->tl;
+    sc->tiles_y = (vis->height + (1u << sc->tl) - 1u) >> sc->tl;
+}
+
 static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count)
 {
     memset(sc, 0, sizeof *sc);
@@ -1574,6 +1595,7 @@ static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint
     sc->triangle_count = triangle_count;
     sc->width = (ls_real)vis->width;
     sc->height = (ls_real)vis->height;
+    sc->tl = SIL_TILE_LOG2;
     sc->tiles_x = (vis->width + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
     sc->tiles_y = (vis->height + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
 }
@@ -1591,6 +1613,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (vis->triangle_count != triangle_count || table->triangle_count != triangle_count) return LS_ERR_INVALID;
     if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
     sctx_init(&sc, vis, indices, triangle_count);
+    choose_tiles(&sc);
     choose_cull(&sc, table, NULL);
     box_pass(&sc, NULL, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
@@ -1656,6 +1679,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     st = check_args(vis, table, indices, normals, opts, counts, diag);
     if (st != LS_OK) return st;
     sctx_init(&sc, vis, indices, triangle_count);
+    choose_tiles(&sc);
     sc.normals = normals;
     sc.o = opts;
     sc.m = mvp;

@@ -22,8 +22,11 @@
  *     its clipped polygon on the plane) is a segment of that face with
  *     nothing behind it on the face's side.
  *  2. Candidate bins: every triangle's window polygon (clipped at the near
- *     plane) is binned by its box into 2 x 2 pixel tiles (count, prefix sum,
- *     fill; triangles in index order). For a closed mesh seen from outside
+ *     plane) is binned by its box into square tiles (count, prefix sum,
+ *     fill; triangles in index order) of 2, 4 or 8 pixels: 2 below 1/4
+ *     covered pixel per triangle, 8 from 4 up (counted on every 4th sample
+ *     row), so small triangles meet few candidates per run and large ones
+ *     few tiles. For a closed mesh seen from outside
  *     (no boundary edge, nothing across the near plane, fewer than 1/64 of
  *     the covered samples showing the minority orientation) the back-facing
  *     orientation is left out: it is never the nearest surface.
@@ -160,8 +163,9 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 /* ls_silhouette_scratch_bytes: the exact scratch ls_silhouette_backward
  * takes for this view (vis rasterized with these indices, table of the same
  * mesh): 2 ls_real and one byte per vertex (window positions, flags), one
- * byte and 4 floats per triangle (orientation, box), one size_t per 2 x 2
- * pixel tile plus one, a uint32 per (triangle, tile) pair of the candidate
+ * byte and 4 floats per triangle (orientation, box), one size_t per tile
+ * (of 2, 4 or 8 pixels, as chosen for the view) plus one, a uint32 per
+ * (triangle, tile) pair of the candidate
  * bins, and per candidate slot (min(binned triangles, pairs), at least 1)
  * 3 uint32 and 6 ls_real (candidates of a run and its split parameters), plus
  * 2 ls_real; the pairs and binned triangles are counted here by the binning
@@ -181,9 +185,11 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
 
 /* ls_silhouette_scratch_bytes_bins: the scratch of a view of this size whose
  * candidate bins hold at most per_triangle (triangle, tile) pairs per
- * triangle plus per_tile per 2 x 2 pixel tile: for callers that reserve
- * memory for an expected binning (a triangle of a framed mesh typically meets
- * 1 to 4 tiles) rather than the worst case. Errors: as the bound. O(1). */
+ * triangle plus per_tile per 2 x 2 pixel tile (counted with the smallest
+ * tiles: a view binned with larger ones takes no more): for callers that
+ * reserve memory for an expected binning (a triangle of a framed mesh
+ * typically meets 1 to 4 tiles) rather than the worst case. Errors: as the
+ * bound. O(1). */
 ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint32_t vertex_count,
                                            uint32_t triangle_count, uint32_t per_triangle, uint32_t per_tile,
                                            size_t *bytes);
