@@ -111,10 +111,11 @@
  *
  * Left to do (issue 9):
  *  - a one-call view forward + backward (render.h) for the fit;
- *  - speed: the armadillo (52k faces) at 512^2 costs ~0.65 x the forward's
- *    instructions, ~0.9 x its CPU time (target 0.5 x; README); a quarter
- *    of it is O(triangles) (orientations, boxes, bins, the edge scan), the
- *    rest the visible runs' candidate sweep, the walks and the quadrature;
+ *  - speed: the armadillo (52k faces) at 512^2 costs ~0.63 x the forward's
+ *    instructions, 0.8-0.95 x its CPU time (target 0.5 x; README), at
+ *    128^2 ~1.4 x and ~2 x; a quarter of it at 512^2 is O(triangles)
+ *    (orientations, boxes, bins, the edge scan), the rest the visible runs'
+ *    candidate sweep, the walks and the quadrature;
  *  - interpenetrating triangles (intersection curves are not mesh edges)
  *    are not handled; depth ties within 64 eps are neither hiding nor behind.
  */
