@@ -146,6 +146,7 @@ typedef struct sctx {
     ls_real *split;      /* [4 slots + 2] split parameters of the current piece */
     uint32_t triangle_count, tiles_x, tiles_y, flat;
     uint32_t tl;         /* tiles of 2^tl x 2^tl pixels (choose_tiles) */
+    ls_real tside_inv;   /* 2^-tl (tile_of) */
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
     const uint32_t *twin; /* the edge table's twins (walks across edges), or NULL */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
@@ -379,10 +380,11 @@ static uint32_t cell_of(ls_real c, uint32_t n)
 /* The tile of a box coordinate v of tri_fbox: cell_of(v / side, n)
  * without its branches: tri_fbox clamps v to at least -1 - margin and a
  * side is at least 2, so v / side > -1 and the truncation toward zero is
- * that floor clamped. */
-static uint32_t tile_of(ls_real v, ls_real side, uint32_t n)
+ * that floor clamped. inv = 1 / side, a power of two: the product is the
+ * quotient exactly, without a division's latency. */
+static uint32_t tile_of(ls_real v, ls_real inv, uint32_t n)
 {
-    uint32_t i = (uint32_t)(int32_t)(v / side);
+    uint32_t i = (uint32_t)(int32_t)(v * inv);
     return i < n ? i : n - 1u;
 }
 
@@ -404,11 +406,10 @@ static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
 static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 {
-    ls_real side = (ls_real)(1u << sc->tl);
-    r[0] = tile_of((ls_real)fb[0], side, sc->tiles_x);
-    r[1] = tile_of((ls_real)fb[1], side, sc->tiles_y);
-    r[2] = tile_of((ls_real)fb[2], side, sc->tiles_x);
-    r[3] = tile_of((ls_real)fb[3], side, sc->tiles_y);
+    r[0] = tile_of((ls_real)fb[0], sc->tside_inv, sc->tiles_x);
+    r[1] = tile_of((ls_real)fb[1], sc->tside_inv, sc->tiles_y);
+    r[2] = tile_of((ls_real)fb[2], sc->tside_inv, sc->tiles_x);
+    r[3] = tile_of((ls_real)fb[3], sc->tside_inv, sc->tiles_y);
 }
 
 /* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
@@ -1585,6 +1586,7 @@ static void choose_tiles(sctx *sc)
     sc->tl = 4u * cov < ts ? SIL_TILE_LOG2 : (cov < 4u * ts ? SIL_TILE_LOG2 + 1u : SIL_TILE_LOG2 + 2u);
     sc->tiles_x = (vis->width + (1u << sc->tl) - 1u) >> sc->tl;
     sc->tiles_y = (vis->height + (1u << sc->tl) - 1u) >> sc->tl;
+    sc->tside_inv = (ls_real)1 / (ls_real)(1u << sc->tl);
 }
 
 static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count)
@@ -1598,6 +1600,7 @@ static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint
     sc->tl = SIL_TILE_LOG2;
     sc->tiles_x = (vis->width + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
     sc->tiles_y = (vis->height + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
+    sc->tside_inv = (ls_real)1 / (ls_real)(1u << SIL_TILE_LOG2);
 }
 
 ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
