@@ -794,7 +794,11 @@ static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_
  * begun yet (sc->clo by candidate), skipped. The answer does not depend on the
  * order of the list (ties of the surface behind keep the smaller triangle),
  * so an occluder found is moved to the front, where the next point tests it
- * first. */
+ * first. The quick and the exact tests disagree only within rounding of a
+ * candidate's edge: on the armadillo at 512^2 ~390 times a view, every one
+ * at the midpoint of a sub-piece one ulp long between the two crossings of
+ * an edge shared by two candidates (computed from each face, corners in
+ * opposite order), where either answer weighs nothing. */
 static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, uint32_t *nact, uint32_t *beh)
 {
     ls_real b[3], zc, tol, best = (ls_real)0;
