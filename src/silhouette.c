@@ -717,6 +717,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     int sd[2 * SIL_DEPTH_CAP + 2], n = 1;
     const ls_real *g = sc->gimg + 4 * p;
     spiece pc;
+    memset(&pc, 0, sizeof pc); /* whole: the mask and background paths leave parts unused */
     pc.beh = beh;
     pc.p = p;
     if (sc->flat) {
@@ -1491,7 +1492,7 @@ static void cut_pass(const sctx *sc, uint32_t t)
 static int folds(const sctx *sc, const ls_edge_table *table, uint32_t h)
 {
     uint32_t tw = table->twin[h], ft = h / 3u, fu = tw / 3u;
-    int s1 = sc->sign[ft], s2 = sc->sign[fu];
+    int s1 = sc->sign[ft], s2 = sc->sign[fu]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
     const uint32_t *f = sc->indices + 3 * (size_t)ft, *g = sc->indices + 3 * (size_t)fu;
     const ls_real *c = sc->vis->clip;
     ls_real sc_, sd_;
