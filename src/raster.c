@@ -98,7 +98,7 @@ static void ctx_init(rctx *cx, const ls_real mvp[16], uint32_t sw, uint32_t sh)
 
 /* Signed distance-like value of c to clip plane k (inside when >= 0):
  * 0 near (Z >= -W), 1 left, 2 right, 3 top, 4 bottom of the guard band. */
-static ls_real plane_dist(const rctx *cx, const ls_real c[4], int k)
+static inline ls_real plane_dist(const rctx *cx, const ls_real c[4], int k)
 {
     switch (k) {
     case 0: return c[2] + c[3];
@@ -208,12 +208,17 @@ NOINLINE static int clip_polygon(const rctx *cx, const rvert *const v[3], uint32
     return n;
 }
 
+/* Twice the signed area of the snapped triangle (x, y). */
+static int64_t snap_area2(const int32_t x[3], const int32_t y[3])
+{
+    return ((int64_t)x[1] - x[0]) * ((int64_t)y[2] - y[0]) - ((int64_t)y[1] - y[0]) * ((int64_t)x[2] - x[0]);
+}
+
 /* Builds a positively oriented screen triangle from three snapped points;
  * returns 0 when its snapped area is zero. */
 static int make_stri(stri *t)
 {
-    int64_t a = ((int64_t)t->x[1] - t->x[0]) * ((int64_t)t->y[2] - t->y[0]) -
-                ((int64_t)t->y[1] - t->y[0]) * ((int64_t)t->x[2] - t->x[0]);
+    int64_t a = snap_area2(t->x, t->y);
     if (a == 0) return 0;
     if (a < 0) { /* swap vertices 1 and 2 */
         int32_t ti;
@@ -232,27 +237,29 @@ static int make_stri(stri *t)
     return 1;
 }
 
-/* floor(v / 256) for any sign (>> of negative values is implementation-defined). */
+/* floor(v / 256) for |v| < 2^30 (snapped coordinates are within 2^23 + 1);
+ * shifts only non-negative values (>> of negative ones is
+ * implementation-defined). */
 static int64_t floor_div_sub(int64_t v)
 {
-    return v >= 0 ? v / SUB_ONE : -((-v + SUB_ONE - 1) / SUB_ONE);
+    return ((v + ((int64_t)1 << 30)) >> LS_RASTER_SUBPIXEL_BITS) - ((int64_t)1 << (30 - LS_RASTER_SUBPIXEL_BITS));
 }
 
 typedef struct sbox {
     int64_t x0, y0, x1, y1; /* inclusive sample range */
 } sbox;
 
-/* Sample range whose centres may be covered by t, clamped to the grid;
- * returns 0 when empty. */
-static int stri_box(uint32_t sw, uint32_t sh, const stri *t, sbox *b)
+/* Sample range whose centres may be covered by the snapped triangle (x, y)
+ * (in any vertex order), clamped to the grid; returns 0 when empty. */
+static int snap_box(uint32_t sw, uint32_t sh, const int32_t x[3], const int32_t y[3], sbox *b)
 {
-    int64_t minx = t->x[0], maxx = t->x[0], miny = t->y[0], maxy = t->y[0];
+    int64_t minx = x[0], maxx = x[0], miny = y[0], maxy = y[0];
     int i;
     for (i = 1; i < 3; i++) {
-        if (t->x[i] < minx) minx = t->x[i];
-        if (t->x[i] > maxx) maxx = t->x[i];
-        if (t->y[i] < miny) miny = t->y[i];
-        if (t->y[i] > maxy) maxy = t->y[i];
+        if (x[i] < minx) minx = x[i];
+        if (x[i] > maxx) maxx = x[i];
+        if (y[i] < miny) miny = y[i];
+        if (y[i] > maxy) maxy = y[i];
     }
     b->x0 = floor_div_sub(minx - SUB_HALF + SUB_ONE - 1);
     b->y0 = floor_div_sub(miny - SUB_HALF + SUB_ONE - 1);
@@ -310,30 +317,98 @@ static int triangle_sub(const rctx *cx, const rvert *const v[3], const clipbuf *
     return make_stri(out);
 }
 
-/* The tile range of a triangle (union of its screen triangles); 0 if empty. */
-NOINLINE static int triangle_tiles(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *tiles)
+/* Edge function of a positively oriented screen triangle from vertex a to
+ * vertex b: its value at the first sample of a box, biased by the top-left
+ * rule (inside <=> all three >= 0), and its decrease per sample along x (dx)
+ * and increase per sample along y (dy). */
+typedef struct edgef {
+    int64_t e, dx, dy, bias;
+} edgef;
+
+static inline void edge_init(edgef *g, const int32_t x[3], const int32_t y[3], int a, int b, int64_t px0, int64_t py0)
+{
+    int64_t dx = (int64_t)x[b] - x[a], dy = (int64_t)y[b] - y[a];
+    g->bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : -1; /* top-left rule */
+    g->e = dx * (py0 - y[a]) - dy * (px0 - x[a]) + g->bias;
+    g->dx = dy * SUB_ONE;
+    g->dy = dx * SUB_ONE;
+}
+
+/* The three edges at sample (i, j); edge k is opposite vertex k (from
+ * vertex k+1 to vertex k+2). */
+static void edges_init(edgef g[3], const int32_t x[3], const int32_t y[3], int64_t i, int64_t j)
+{
+    const int64_t px0 = i * SUB_ONE + SUB_HALF, py0 = j * SUB_ONE + SUB_HALF;
+    edge_init(&g[0], x, y, 1, 2, px0, py0);
+    edge_init(&g[1], x, y, 2, 0, px0, py0);
+    edge_init(&g[2], x, y, 0, 1, px0, py0);
+}
+
+/* Boxes of at most SMALL_BOX x SMALL_BOX samples are tested before binning. */
+#define SMALL_BOX 2
+
+/* 0 when the snapped triangle (x, y) with twice-area a != 0 (in input
+ * order) covers no sample of its box b, which is small: it would draw
+ * nothing, so it is not binned. 1 otherwise. */
+static int box_covered(const int32_t x[3], const int32_t y[3], int64_t a, const sbox *b)
+{
+    int32_t ox[3], oy[3];
+    edgef g[3];
+    int64_t i, j;
+    if (b->x1 - b->x0 >= SMALL_BOX || b->y1 - b->y0 >= SMALL_BOX) return 1;
+    /* the orientation make_stri gives it */
+    ox[0] = x[0];
+    oy[0] = y[0];
+    ox[1] = a > 0 ? x[1] : x[2];
+    oy[1] = a > 0 ? y[1] : y[2];
+    ox[2] = a > 0 ? x[2] : x[1];
+    oy[2] = a > 0 ? y[2] : y[1];
+    edges_init(g, ox, oy, b->x0, b->y0);
+    for (j = 0; j <= b->y1 - b->y0; j++)
+        for (i = 0; i <= b->x1 - b->x0; i++)
+            if (((g[0].e - i * g[0].dx + j * g[0].dy) | (g[1].e - i * g[1].dx + j * g[1].dy) |
+                 (g[2].e - i * g[2].dx + j * g[2].dy)) >= 0)
+                return 1;
+    return 0;
+}
+
+/* triangle_box of a triangle that needs clipping. */
+NOINLINE static int clipped_box(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *u)
 {
     int clipped, n = triangle_prepare(cx, v, cb, &clipped), k, any = 0;
-    sbox u = {0, 0, 0, 0}, b;
+    sbox b;
     stri st;
     for (k = 0; k < n; k++) {
-        if (!triangle_sub(cx, v, cb, clipped, k, &st) || !stri_box(cx->sw, cx->sh, &st, &b)) continue;
+        if (!triangle_sub(cx, v, cb, clipped, k, &st) || !snap_box(cx->sw, cx->sh, st.x, st.y, &b)) continue;
         if (!any) {
-            u = b;
+            *u = b;
             any = 1;
         } else {
-            if (b.x0 < u.x0) u.x0 = b.x0;
-            if (b.y0 < u.y0) u.y0 = b.y0;
-            if (b.x1 > u.x1) u.x1 = b.x1;
-            if (b.y1 > u.y1) u.y1 = b.y1;
+            if (b.x0 < u->x0) u->x0 = b.x0;
+            if (b.y0 < u->y0) u->y0 = b.y0;
+            if (b.x1 > u->x1) u->x1 = b.x1;
+            if (b.y1 > u->y1) u->y1 = b.y1;
         }
     }
-    if (!any) return 0;
-    tiles->x0 = u.x0 >> LS_RASTER_TILE_LOG2; /* non-negative after clamping */
-    tiles->y0 = u.y0 >> LS_RASTER_TILE_LOG2;
-    tiles->x1 = u.x1 >> LS_RASTER_TILE_LOG2;
-    tiles->y1 = u.y1 >> LS_RASTER_TILE_LOG2;
-    return 1;
+    return any;
+}
+
+/* The sample range of a triangle (union of its screen triangles' boxes);
+ * 0 if empty or known to cover no sample. An unclipped triangle is its own
+ * screen triangle, whose box and area do not depend on the vertex order: no
+ * screen triangle is built. */
+static int triangle_box(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *u)
+{
+    int32_t x[3], y[3];
+    int64_t a;
+    int i;
+    if ((v[0]->flags | v[1]->flags | v[2]->flags) != 0) return clipped_box(cx, v, cb, u);
+    for (i = 0; i < 3; i++) {
+        x[i] = v[i]->x;
+        y[i] = v[i]->y;
+    }
+    a = snap_area2(x, y);
+    return a != 0 && snap_box(cx->sw, cx->sh, x, y, u) && box_covered(x, y, a, u);
 }
 
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
@@ -507,8 +582,8 @@ typedef struct cpass {
     uint32_t triangle_count;
     uint32_t clipped;         /* out: triangles that needed clipping */
     size_t *counts;           /* out, optional: tile counts (added to) */
-    uint16_t *rects;          /* out, optional: each triangle's tile range x0, y0, x1, y1
-                                 (x0 > x1 when it covers nothing) */
+    uint16_t *rects;          /* out, optional: each triangle's sample range x0, y0, x1, y1
+                                 (< LS_RASTER_MAX_DIM; x0 > x1 when it covers nothing) */
     size_t entries;           /* out: total tile-list entries */
 } cpass;
 
@@ -523,19 +598,21 @@ NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
         const uint32_t *f = cp->indices + 3 * (size_t)t;
         const rvert *v[3];
         rvert local[3];
-        sbox tb;
-        int i;
+        sbox sb, tb;
         size_t n;
-        for (i = 0; i < 3; i++) {
-            if (cp->verts != NULL) {
-                v[i] = &cp->verts[f[i]];
-            } else {
+        if (cp->verts != NULL) {
+            v[0] = &cp->verts[f[0]];
+            v[1] = &cp->verts[f[1]];
+            v[2] = &cp->verts[f[2]];
+        } else {
+            int i;
+            for (i = 0; i < 3; i++) {
                 (void)transform_vertex(cx, cp->positions + 3 * (size_t)f[i], &local[i]); /* validated before */
                 v[i] = &local[i];
             }
         }
         if (v[0]->flags | v[1]->flags | v[2]->flags) cp->clipped++;
-        if (!triangle_tiles(cx, v, cb, &tb)) {
+        if (!triangle_box(cx, v, cb, &sb)) {
             if (cp->rects != NULL) { /* an empty range, every field set (valgrind) */
                 cp->rects[4 * (size_t)t] = 1;
                 cp->rects[4 * (size_t)t + 1] = 1;
@@ -544,12 +621,16 @@ NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
             }
             continue;
         }
-        if (cp->rects != NULL) { /* tile indices < LS_RASTER_MAX_DIM / LS_RASTER_TILE */
-            cp->rects[4 * (size_t)t] = (uint16_t)tb.x0;
-            cp->rects[4 * (size_t)t + 1] = (uint16_t)tb.y0;
-            cp->rects[4 * (size_t)t + 2] = (uint16_t)tb.x1;
-            cp->rects[4 * (size_t)t + 3] = (uint16_t)tb.y1;
+        if (cp->rects != NULL) {
+            cp->rects[4 * (size_t)t] = (uint16_t)sb.x0;
+            cp->rects[4 * (size_t)t + 1] = (uint16_t)sb.y0;
+            cp->rects[4 * (size_t)t + 2] = (uint16_t)sb.x1;
+            cp->rects[4 * (size_t)t + 3] = (uint16_t)sb.y1;
         }
+        tb.x0 = sb.x0 >> LS_RASTER_TILE_LOG2; /* non-negative after clamping */
+        tb.y0 = sb.y0 >> LS_RASTER_TILE_LOG2;
+        tb.x1 = sb.x1 >> LS_RASTER_TILE_LOG2;
+        tb.y1 = sb.y1 >> LS_RASTER_TILE_LOG2;
         n = (size_t)(tb.x1 - tb.x0 + 1) * (size_t)(tb.y1 - tb.y0 + 1);
         if (total > SIZE_MAX - n) return LS_ERR_TOO_LARGE;
         total += n;
@@ -617,64 +698,55 @@ static int64_t first_nonneg(int64_t e, int64_t step)
     return (int64_t)(num / den);
 }
 
-/* Draws one screen triangle into the samples of rectangle r (inclusive). */
-NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *r, uint32_t id)
+/* Rows at most this many samples wide find their first inside sample by
+ * stepping rather than by first_nonneg's divisions (the same sample). */
+#define NARROW_ROW 4
+
+/* Draws one screen triangle into the samples of box b (inclusive, inside
+ * the grid and the triangle's own box). */
+NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *b, uint32_t id)
 {
-    sbox b;
-    int64_t dx[3], dy[3], bias[3], e_row[3];
-    int64_t px0, py;
-    int k, i0;
+    edgef g[3];
+    const int64_t last = b->x1 - b->x0;
     const ls_real inv_area = (ls_real)1 / (ls_real)t->area;
     /* depth = zw0 + e1 (zw1 - zw0) / area + e2 (zw2 - zw0) / area */
     const ls_real dz1 = (t->zw[1] - t->zw[0]) * inv_area, dz2 = (t->zw[2] - t->zw[0]) * inv_area;
-    if (!stri_box(vis->sw, vis->sh, t, &b)) return;
-    if (b.x0 < r->x0) b.x0 = r->x0;
-    if (b.y0 < r->y0) b.y0 = r->y0;
-    if (b.x1 > r->x1) b.x1 = r->x1;
-    if (b.y1 > r->y1) b.y1 = r->y1;
-    if (b.x0 > b.x1 || b.y0 > b.y1) return;
-    /* edge k is opposite vertex k: from vertex k+1 to vertex k+2 */
-    for (k = 0; k < 3; k++) {
-        int i1 = (k + 2) % 3;
-        i0 = (k + 1) % 3;
-        dx[k] = t->x[i1] - t->x[i0];
-        dy[k] = t->y[i1] - t->y[i0];
-        bias[k] = (dy[k] < 0 || (dy[k] == 0 && dx[k] > 0)) ? 0 : -1; /* top-left rule */
-    }
-    px0 = b.x0 * SUB_ONE + SUB_HALF;
-    py = b.y0 * SUB_ONE + SUB_HALF;
-    /* biased edge values: inside <=> all three >= 0 */
-    for (k = 0; k < 3; k++) {
-        i0 = (k + 1) % 3;
-        e_row[k] = dx[k] * (py - t->y[i0]) - dy[k] * (px0 - t->x[i0]) + bias[k];
-        dy[k] *= SUB_ONE; /* steps per sample */
-        dx[k] *= SUB_ONE;
-    }
+    edges_init(g, t->x, t->y, b->x0, b->y0);
     {
         /* locals, so that the stores into the buffers cannot force reloads */
         uint32_t *tri = vis->tri;
         ls_real *depth = vis->depth, *bary = vis->bary;
         const size_t sw = vis->sw;
-        const int64_t sx0 = dy[0], sx1 = dy[1], sx2 = dy[2], b0 = bias[0], b1 = bias[1], b2 = bias[2];
+        const int64_t sx0 = g[0].dx, sx1 = g[1].dx, sx2 = g[2].dx, b0 = g[0].bias, b1 = g[1].bias, b2 = g[2].bias;
         const ls_real z0 = t->zw[0], w0 = t->iw[0], w1 = t->iw[1], w2 = t->iw[2];
         const ls_real c00 = t->b[0][0], c10 = t->b[1][0], c20 = t->b[2][0];
         const ls_real c01 = t->b[0][1], c11 = t->b[1][1], c21 = t->b[2][1];
         const uint32_t idp = id + 1u;
-        int64_t i, j;
-        for (j = b.y0; j <= b.y1; j++) {
+        int64_t i, j, r0 = g[0].e, r1 = g[1].e, r2 = g[2].e;
+        for (j = b->y0; j <= b->y1; j++, r0 += g[0].dy, r1 += g[1].dy, r2 += g[2].dy) {
             /* the first sample of the row where every edge is >= 0 (exact
              * integer arithmetic: the samples drawn are the same as testing
              * them all); past the row when there is none */
-            int64_t k0 = first_nonneg(e_row[0], sx0), k1 = first_nonneg(e_row[1], sx1);
-            int64_t k2 = first_nonneg(e_row[2], sx2), skip = k0 > k1 ? k0 : k1, e0, e1, e2;
+            int64_t e0 = r0, e1 = r1, e2 = r2, skip = 0;
             size_t s;
-            if (k2 > skip) skip = k2;
-            if (skip > b.x1 - b.x0) skip = b.x1 - b.x0 + 1;
-            e0 = e_row[0] - skip * sx0;
-            e1 = e_row[1] - skip * sx1;
-            e2 = e_row[2] - skip * sx2;
-            s = (size_t)j * sw + (size_t)(b.x0 + skip);
-            for (i = b.x0 + skip; i <= b.x1; i++, s++, e0 -= sx0, e1 -= sx1, e2 -= sx2) {
+            if (last < NARROW_ROW) {
+                while (skip <= last && (e0 | e1 | e2) < 0) {
+                    skip++;
+                    e0 -= sx0;
+                    e1 -= sx1;
+                    e2 -= sx2;
+                }
+            } else {
+                int64_t k0 = first_nonneg(r0, sx0), k1 = first_nonneg(r1, sx1), k2 = first_nonneg(r2, sx2);
+                skip = k0 > k1 ? k0 : k1;
+                if (k2 > skip) skip = k2;
+                if (skip > last) skip = last + 1;
+                e0 -= skip * sx0;
+                e1 -= skip * sx1;
+                e2 -= skip * sx2;
+            }
+            s = (size_t)j * sw + (size_t)(b->x0 + skip);
+            for (i = skip; i <= last; i++, s++, e0 -= sx0, e1 -= sx1, e2 -= sx2) {
                 ls_real f1, f2, d;
                 uint32_t cur;
                 /* from `skip` on, the edges whose value grows along the row are
@@ -696,11 +768,18 @@ NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *r, uint32
                     bary[2 * s + 1] = (q0 * c01 + q1 * c11 + q2 * c21) * rq;
                 }
             }
-            e_row[0] += dx[0];
-            e_row[1] += dx[1];
-            e_row[2] += dx[2];
         }
     }
+}
+
+/* b = b intersected with r; 0 when empty. */
+static int box_clip(sbox *b, const sbox *r)
+{
+    if (b->x0 < r->x0) b->x0 = r->x0;
+    if (b->y0 < r->y0) b->y0 = r->y0;
+    if (b->x1 > r->x1) b->x1 = r->x1;
+    if (b->y1 > r->y1) b->y1 = r->y1;
+    return b->x0 <= b->x1 && b->y0 <= b->y1;
 }
 
 /* What every tile's drawing needs. */
@@ -709,6 +788,7 @@ typedef struct dpass {
     const rctx *cx;
     const rvert *verts;
     const uint32_t *indices;
+    const uint16_t *rects; /* the count pass's sample ranges */
     clipbuf *cb;
 } dpass;
 
@@ -719,7 +799,7 @@ NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t cou
     const rvert *verts = dp->verts;
     const uint32_t *indices = dp->indices;
     clipbuf *cb = dp->cb;
-    sbox r;
+    sbox r, b;
     size_t e;
     int64_t j;
     stri st;
@@ -747,8 +827,19 @@ NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t cou
         v[1] = &verts[f[1]];
         v[2] = &verts[f[2]];
         n = triangle_prepare(cx, v, cb, &clipped);
-        for (k = 0; k < n; k++)
-            if (triangle_sub(cx, v, cb, clipped, k, &st)) draw_stri(vis, &st, &r, t);
+        for (k = 0; k < n; k++) {
+            if (!triangle_sub(cx, v, cb, clipped, k, &st)) continue;
+            if (clipped) {
+                if (!snap_box(cx->sw, cx->sh, st.x, st.y, &b)) continue;
+            } else { /* the triangle's own box, from the count pass */
+                const uint16_t *rc = dp->rects + 4 * (size_t)t;
+                b.x0 = rc[0];
+                b.y0 = rc[1];
+                b.x1 = rc[2];
+                b.y1 = rc[3];
+            }
+            if (box_clip(&b, &r)) draw_stri(vis, &st, &b, t);
+        }
     }
 }
 
@@ -813,9 +904,10 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
      * that every list ends up in increasing triangle order */
     for (t = triangle_count; t-- > 0;) {
         const uint16_t *rc = rects + 4 * (size_t)t;
-        uint32_t tx, ty;
-        for (ty = rc[1]; ty <= rc[3] && rc[0] <= rc[2]; ty++)
-            for (tx = rc[0]; tx <= rc[2]; tx++) {
+        uint32_t tx, ty, tx0 = (uint32_t)rc[0] >> LS_RASTER_TILE_LOG2, tx1 = (uint32_t)rc[2] >> LS_RASTER_TILE_LOG2;
+        if (rc[0] > rc[2]) continue;
+        for (ty = (uint32_t)rc[1] >> LS_RASTER_TILE_LOG2; ty <= (uint32_t)rc[3] >> LS_RASTER_TILE_LOG2; ty++)
+            for (tx = tx0; tx <= tx1; tx++) {
                 size_t k = (size_t)ty * cx.tiles_x + tx + 1;
                 list[--offs[k]] = t;
             }
@@ -826,6 +918,7 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     dp.cx = &cx;
     dp.verts = verts;
     dp.indices = indices;
+    dp.rects = rects;
     dp.cb = cb;
     for (t = 0; t < cx.tiles_y; t++) {
         uint32_t tx;

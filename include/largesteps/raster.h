@@ -29,7 +29,9 @@
  *    therefore cover every sample on it exactly once (watertight);
  *  - binning in LS_RASTER_TILE x LS_RASTER_TILE sample tiles, two passes over
  *    the triangles (count, prefix sum, fill): each tile lists its triangles in
- *    input order, and the bin memory is known before anything is drawn;
+ *    input order, and the bin memory is known before anything is drawn; a
+ *    triangle whose sample box (at most 2 x 2) holds no covered sample is not
+ *    binned;
  *  - depth test on the pair (depth, triangle index): the smaller depth wins and
  *    on equal depth the smaller index wins, so the result does not depend on
  *    drawing order. Samples with depth > 1 (beyond the far plane) are dropped.
