@@ -255,22 +255,6 @@ ls_status ls_vertex_normals_backward_bytes(uint32_t vertex_count, size_t *bytes)
     return ls_size_get(&s, bytes);
 }
 
-/* c = (p1 - p0) x (p2 - p0) of face f, edges into e1, e2; returns |c|^2. */
-static ls_real face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
-{
-    const ls_real *p0 = positions + 3 * (size_t)f[0], *p1 = positions + 3 * (size_t)f[1];
-    const ls_real *p2 = positions + 3 * (size_t)f[2];
-    int k;
-    for (k = 0; k < 3; k++) {
-        e1[k] = p1[k] - p0[k];
-        e2[k] = p2[k] - p0[k];
-    }
-    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-}
-
 ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
                                      uint32_t triangle_count, const ls_real *grad_normals,
                                      ls_real *grad_positions, ls_arena *arena, ls_diag *diag)
@@ -289,17 +273,7 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
-    /* the forward's sums m_v, in the forward's order */
-    for (v = 0; v < 3 * vertex_count; v++) m[v] = (ls_real)0;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l;
-        int k, q;
-        if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue;
-        l = R_SQRT(l2);
-        for (q = 0; q < 3; q++)
-            for (k = 0; k < 3; k++) m[3 * (size_t)f[q] + (size_t)k] += c[k] / l;
-    }
+    ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, m); /* the forward's sums m_v */
     /* m_v becomes dL/dm_v */
     for (v = 0; v < vertex_count; v++) {
         ls_real *mv = m + 3 * (size_t)v;
@@ -317,7 +291,7 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
     }
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l, n[3], gn[3], gc[3], d;
+        ls_real e1[3], e2[3], c[3], l2 = ls_face_cross(positions, f, e1, e2, c), l, n[3], gn[3], gc[3], d;
         ls_real *d0, *d1, *d2;
         int k;
         if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue;

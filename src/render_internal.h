@@ -26,6 +26,17 @@ ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, 
 void ls_shade_point(const ls_shade_opts *opts, const uint32_t *f, const ls_real *normals, const ls_real b[3],
                     ls_real rgb[3]);
 
+/* ls_face_cross: c = (p1 - p0) x (p2 - p0) of face f, its edges into e1,
+ * e2; returns |c|^2. O(1). (shade.c) */
+ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3]);
+
+/* ls_vertex_normal_sums: m[3 vertex_count] = per vertex, the sum of the unit
+ * normals of its faces, added in face order (degenerate faces skipped): the
+ * vectors ls_shade_vertex_normals normalizes. Indices checked by the caller.
+ * O(V + T). (shade.c) */
+void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
+                           uint32_t triangle_count, ls_real *m);
+
 /* ls_shade_uv: the texture coordinates uv[2] of triangle f at barycentrics b
  * from the per-vertex uvs [2 vertex_count]. O(1). (shade.c) */
 void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_real uv[2]);

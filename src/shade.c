@@ -223,34 +223,51 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
     return LS_OK;
 }
 
-ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
-                                  uint32_t triangle_count, ls_real *out, ls_diag *diag)
+ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
+{
+    const ls_real *p0 = positions + 3 * (size_t)f[0], *p1 = positions + 3 * (size_t)f[1];
+    const ls_real *p2 = positions + 3 * (size_t)f[2];
+    int k;
+    for (k = 0; k < 3; k++) {
+        e1[k] = p1[k] - p0[k];
+        e2[k] = p2[k] - p0[k];
+    }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+}
+
+void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
+                           uint32_t triangle_count, ls_real *m)
 {
     uint32_t t, v;
-    if ((vertex_count > 0 && (positions == NULL || out == NULL)) || (triangle_count > 0 && indices == NULL))
-        return LS_ERR_INVALID;
-    if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
-    for (v = 0; v < 3 * vertex_count; v++) out[v] = (ls_real)0;
+    for (v = 0; v < 3 * vertex_count; v++) m[v] = (ls_real)0;
     /* faces in input order: a fixed accumulation order per vertex */
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        const ls_real *p0 = positions + 3 * (size_t)f[0], *p1 = positions + 3 * (size_t)f[1];
-        const ls_real *p2 = positions + 3 * (size_t)f[2];
-        ls_real e1[3], e2[3], c[3], l2, l;
-        int k, q;
-        for (k = 0; k < 3; k++) {
-            e1[k] = p1[k] - p0[k];
-            e2[k] = p2[k] - p0[k];
-        }
-        c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        l2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+        ls_real e1[3], e2[3], c[3], l2 = ls_face_cross(positions, f, e1, e2, c), l, n[3];
+        ls_real *m0 = m + 3 * (size_t)f[0], *m1 = m + 3 * (size_t)f[1], *m2 = m + 3 * (size_t)f[2];
+        int k;
         if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue; /* degenerate or overflow */
         l = R_SQRT(l2);
-        for (q = 0; q < 3; q++)
-            for (k = 0; k < 3; k++) out[3 * (size_t)f[q] + (size_t)k] += c[k] / l;
+        n[0] = c[0] / l;
+        n[1] = c[1] / l;
+        n[2] = c[2] / l;
+        for (k = 0; k < 3; k++) m0[k] += n[k];
+        for (k = 0; k < 3; k++) m1[k] += n[k];
+        for (k = 0; k < 3; k++) m2[k] += n[k];
     }
+}
+
+ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
+                                  uint32_t triangle_count, ls_real *out, ls_diag *diag)
+{
+    uint32_t v;
+    if ((vertex_count > 0 && (positions == NULL || out == NULL)) || (triangle_count > 0 && indices == NULL))
+        return LS_ERR_INVALID;
+    if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
+    ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, out);
     for (v = 0; v < vertex_count; v++) {
         ls_real *n = out + 3 * (size_t)v;
         ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
