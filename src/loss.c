@@ -49,8 +49,15 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
         (acc->kind != LS_LOSS_L1 && acc->kind != LS_LOSS_L2))
         return LS_ERR_INVALID;
     count = (size_t)4 * (size_t)acc->width * (size_t)acc->height;
-    /* Check first, so that nothing is written on failure. */
-    for (i = 0; i < count; i++) {
+    /* Check first, so that nothing is written on failure: a pixel at a time
+     * (x - x is +0 for a finite x, NaN otherwise), then the first bad value. */
+    for (i = 0; i < count; i += 4) {
+        const ls_real *r = rendered + i, *t = target + i;
+        ls_real z = ((r[0] - r[0]) + (t[0] - t[0])) + ((r[1] - r[1]) + (t[1] - t[1]));
+        z += ((r[2] - r[2]) + (t[2] - t[2])) + ((r[3] - r[3]) + (t[3] - t[3]));
+        if (z != (ls_real)0) break;
+    }
+    for (; i < count; i++) {
         if (!finite_real(rendered[i]) || !finite_real(target[i])) {
             if (diag != NULL) {
                 ls_diag_clear(diag);
@@ -65,25 +72,22 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
         }
     }
     n = norm_count(acc);
+    /* Adding +0 leaves (s, c) as they are (neither is ever -0): zero
+     * differences are skipped, and branches on the sign of d, which would be
+     * mispredicted, are avoided. */
     if (acc->kind == LS_LOSS_L1) {
         ls_real inv = (ls_real)1 / n;
         for (i = 0; i < count; i++) {
             ls_real d = rendered[i] - target[i];
-            if (d > (ls_real)0) {
-                comp_add(&s, &c, d);
-                if (grad != NULL) grad[i] = inv;
-            } else if (d < (ls_real)0) {
-                comp_add(&s, &c, -d);
-                if (grad != NULL) grad[i] = -inv;
-            } else if (grad != NULL) {
-                grad[i] = (ls_real)0;
-            }
+            int sg = (d > (ls_real)0) - (d < (ls_real)0);
+            if (sg != 0) comp_add(&s, &c, d * (ls_real)sg); /* |d| */
+            if (grad != NULL) grad[i] = inv * (ls_real)sg;   /* +-inv or +0 */
         }
     } else {
         for (i = 0; i < count; i++) {
-            ls_real d = rendered[i] - target[i];
-            comp_add(&s, &c, d * d);
-            if (grad != NULL) grad[i] = (d + d) / n;
+            ls_real d = rendered[i] - target[i], d2 = d * d;
+            if (d2 != (ls_real)0) comp_add(&s, &c, d2);
+            if (grad != NULL) grad[i] = d == (ls_real)0 ? d : (d + d) / n; /* (d + d) / n is d there */
         }
     }
     comp_add(&acc->sum, &acc->comp, s + c);
