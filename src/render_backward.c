@@ -74,7 +74,11 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
             }
         }
         if (o->mode == LS_SHADE_SH) {
-            ls_shade_sh_eval(o->sh, nn, s);
+            /* the irradiance s only scales the albedo's gradient */
+            if (o->vertex_colors != NULL || o->texture != NULL)
+                ls_shade_sh_eval(o->sh, nn, s);
+            else
+                s[0] = s[1] = s[2] = (ls_real)0;
             for (c = 0; c < 3; c++) ds[c] = g[c] * alb[c];
             sh_grad(o->sh, nn, ds, dnn);
         } else { /* Lambert */
@@ -134,7 +138,8 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
 /* One covered sample at NDC (px, py) of triangle f, g = dL/d(sample rgb). */
 static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
 {
-    ls_real u[3], v[3], b[3], gb[3], ga[3], sum, dot;
+    static const int next[3] = {1, 2, 0}, prev[3] = {2, 0, 1}; /* (k + 1) % 3, (k + 2) % 3 */
+    ls_real u[3], v[3], b[3], gb[3], ga[3], m[9], sum, dot;
     int k, c;
     sum = ls_clip_barycentric(bc->vis->clip, f, px, py, u, v, b);
     if (sum == (ls_real)0) return; /* edge-on: no gradient */
@@ -142,13 +147,18 @@ static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_re
     if (bc->gp == NULL) return;
     dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
     for (k = 0; k < 3; k++) ga[k] = (gb[k] - dot) / sum;
+    for (c = 0; c < 3; c++) { /* rows X, Y, W of the transform: not reloaded after each store */
+        m[c] = bc->m[c];
+        m[3 + c] = bc->m[4 + c];
+        m[6 + c] = bc->m[12 + c];
+    }
     for (k = 0; k < 3; k++) {
-        int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        int k1 = next[k], k2 = prev[k];
         ls_real gu = v[k1] * ga[k2] - v[k2] * ga[k1]; /* (v x ga)_k */
         ls_real gv = ga[k1] * u[k2] - ga[k2] * u[k1]; /* (ga x u)_k */
         ls_real gw = -(px * gu + py * gv);
         ls_real *dp = bc->gp + 3 * (size_t)f[k];
-        for (c = 0; c < 3; c++) dp[c] += bc->m[c] * gu + bc->m[4 + c] * gv + bc->m[12 + c] * gw;
+        for (c = 0; c < 3; c++) dp[c] += m[c] * gu + m[3 + c] * gv + m[6 + c] * gw;
     }
 }
 
