@@ -300,9 +300,9 @@ static int triangle_sub(const rctx *cx, const rvert *const v[3], const clipbuf *
             out->y[i] = v[i]->y;
             out->zw[i] = v[i]->zw;
             out->iw[i] = v[i]->iw;
-            out->b[i][0] = i == 0 ? (ls_real)1 : (ls_real)0;
-            out->b[i][1] = i == 1 ? (ls_real)1 : (ls_real)0;
         }
+        out->b[0][0] = out->b[1][1] = (ls_real)1;
+        out->b[0][1] = out->b[1][0] = out->b[2][0] = out->b[2][1] = (ls_real)0;
     } else {
         const pvert *p[3];
         p[0] = &cb->a[0];

@@ -223,7 +223,8 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
     return LS_OK;
 }
 
-ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
+/* ls_face_cross, inlined into the sums below. */
+static inline ls_real face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
 {
     const ls_real *p0 = positions + 3 * (size_t)f[0], *p1 = positions + 3 * (size_t)f[1];
     const ls_real *p2 = positions + 3 * (size_t)f[2];
@@ -238,6 +239,11 @@ ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3]
     return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
 }
 
+ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3], ls_real e2[3], ls_real c[3])
+{
+    return face_cross(positions, f, e1, e2, c);
+}
+
 void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
                            uint32_t triangle_count, ls_real *m)
 {
@@ -246,17 +252,22 @@ void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, cons
     /* faces in input order: a fixed accumulation order per vertex */
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        ls_real e1[3], e2[3], c[3], l2 = ls_face_cross(positions, f, e1, e2, c), l, n[3];
+        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l, n0, n1, n2;
         ls_real *m0 = m + 3 * (size_t)f[0], *m1 = m + 3 * (size_t)f[1], *m2 = m + 3 * (size_t)f[2];
-        int k;
         if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue; /* degenerate or overflow */
         l = R_SQRT(l2);
-        n[0] = c[0] / l;
-        n[1] = c[1] / l;
-        n[2] = c[2] / l;
-        for (k = 0; k < 3; k++) m0[k] += n[k];
-        for (k = 0; k < 3; k++) m1[k] += n[k];
-        for (k = 0; k < 3; k++) m2[k] += n[k];
+        n0 = c[0] / l;
+        n1 = c[1] / l;
+        n2 = c[2] / l;
+        m0[0] += n0;
+        m0[1] += n1;
+        m0[2] += n2;
+        m1[0] += n0;
+        m1[1] += n1;
+        m1[2] += n2;
+        m2[0] += n0;
+        m2[1] += n1;
+        m2[2] += n2;
     }
 }
 
