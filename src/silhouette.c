@@ -124,6 +124,8 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 
+struct spiece;
+
 typedef struct sctx {
     const ls_vis *vis;
     const uint32_t *indices;
@@ -152,6 +154,7 @@ typedef struct sctx {
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
     ls_real width, height, qtol, boost;
     ls_real *gp;         /* [3 V] the gradient being added to */
+    struct spiece *piece; /* the sub-piece being integrated: scratch, not integrate's frame (the MCU's stack) */
     ls_real wk;          /* 3 max(|x| + |y|) + width + height over the window positions (tri_sign_front) */
     int shq;             /* 1: SH shading as a quadratic form (sh_quad_init), else ls_shade_point */
     ls_real shm[30];     /* per channel, the 10 entries of M_c / pi (shade.h), upper triangle by rows */
@@ -713,25 +716,28 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
 {
     static const ls_real x2 = (ls_real)0.57735026918962576451, x3 = (ls_real)0.77459666924148337704;
     static const ls_real w3a = (ls_real)0.55555555555555555556, w3b = (ls_real)0.88888888888888888889;
-    ls_real slo[2 * SIL_DEPTH_CAP + 2], shi[2 * SIL_DEPTH_CAP + 2], gabs;
-    int sd[2 * SIL_DEPTH_CAP + 2], n = 1;
+    /* pending intervals, depth first: their depths increase up the stack
+     * but for the two halves just pushed, so it holds at most CAP + 1 */
+    ls_real slo[SIL_DEPTH_CAP + 1], shi[SIL_DEPTH_CAP + 1], gabs;
+    unsigned char sd[SIL_DEPTH_CAP + 1];
+    int n = 1;
     const ls_real *g = sc->gimg + 4 * p;
-    spiece pc;
-    memset(&pc, 0, sizeof pc); /* whole: the mask and background paths leave parts unused */
-    pc.beh = beh;
-    pc.p = p;
+    spiece *pc = sc->piece;
+    memset(pc, 0, sizeof *pc); /* whole: the mask and background paths leave parts unused */
+    pc->beh = beh;
+    pc->p = p;
     if (sc->flat) {
         ls_real mid = (lo + hi) * (ls_real)0.5, term, len = hi - lo, mb = len * (hi + lo) * (ls_real)0.5;
-        span_own(sc, ed, mid, mid, &pc.in);
-        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, &pc.bh);
-        term = point_term(sc, &pc, mid);
+        span_own(sc, ed, mid, mid, &pc->in);
+        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, &pc->bh);
+        term = point_term(sc, pc, mid);
         ed->ka += term * (len - mb);
         ed->kb += term * mb;
         return;
     }
-    span_own(sc, ed, lo, hi, &pc.in);
-    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc.bh);
-    if (sc->shq) quad_piece(sc, &pc);
+    span_own(sc, ed, lo, hi, &pc->in);
+    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc->bh);
+    if (sc->shq) quad_piece(sc, pc);
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
     slo[0] = lo;
     shi[0] = hi;
@@ -750,7 +756,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[2] = mid + half * x3;
         t[3] = mid - half * x2;
         t[4] = mid + half * x2;
-        for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, &pc, t[k]) : point_term(sc, &pc, t[k])) * half;
+        for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
         a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
@@ -763,10 +769,10 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         }
         slo[n] = mid; /* the upper half waits: the lower half is done first */
         shi[n] = h;
-        sd[n] = d + 1;
+        sd[n] = (unsigned char)(d + 1);
         slo[n + 1] = l;
         shi[n + 1] = mid;
-        sd[n + 1] = d + 1;
+        sd[n + 1] = (unsigned char)(d + 1);
         n += 2;
     }
 }
@@ -1563,6 +1569,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cord */
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cact */
     ls_size_add(&s, 4u * slots + 2u, sizeof(ls_real));
+    ls_size_add(&s, 1, sizeof(spiece));
     return ls_size_get(&s, bytes);
 }
 
@@ -1748,7 +1755,8 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.cord = sc.clo ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc.cact = sc.cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc.split = sc.cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
-    if (sc.split == NULL) {
+    sc.piece = sc.split ? (spiece *)ls_arena_scratch(arena, 1, sizeof(spiece)) : NULL;
+    if (sc.piece == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
