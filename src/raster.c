@@ -13,13 +13,6 @@
 #define FLAG_OUT_MASK 0x1Fu   /* bits 0..4: outside plane k */
 #define FLAG_BAD_W 0x20u      /* W <= 0 although no plane rejects it */
 
-/* Keeps the frames of the big helpers apart (the per-function stack limit). */
-#if defined(__GNUC__) || defined(__clang__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
 /* One transformed vertex (scratch, and the on-the-fly copy of the queries). */
 typedef struct rvert {
     ls_real c[4];   /* clip coordinates */
@@ -179,7 +172,7 @@ static void clip_edge(const rctx *cx, const pvert *p, const pvert *q, int k, pve
 
 /* Clips the triangle (v0, v1, v2) against the planes in `planes`; the polygon
  * ends up in cb->a. Returns its vertex count (0 when nothing is left). */
-NOINLINE static int clip_polygon(const rctx *cx, const rvert *const v[3], uint32_t planes, clipbuf *cb)
+LS_NOINLINE static int clip_polygon(const rctx *cx, const rvert *const v[3], uint32_t planes, clipbuf *cb)
 {
     int n = 3, k, i;
     pvert *src = cb->a, *dst = cb->b, *tmp;
@@ -373,7 +366,7 @@ static int box_covered(const int32_t x[3], const int32_t y[3], int64_t a, const 
 }
 
 /* triangle_box of a triangle that needs clipping. */
-NOINLINE static int clipped_box(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *u)
+LS_NOINLINE static int clipped_box(const rctx *cx, const rvert *const v[3], clipbuf *cb, sbox *u)
 {
     int clipped, n = triangle_prepare(cx, v, cb, &clipped), k, any = 0;
     sbox b;
@@ -589,7 +582,7 @@ typedef struct cpass {
 
 /* Count pass over the triangles: adds each triangle's tiles to counts and the
  * total to entries. */
-NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
+LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
 {
     uint32_t t;
     size_t total = 0;
@@ -647,7 +640,7 @@ NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
 /* The clip buffer (768 bytes in double) lives in this helper's frame rather
  * than in its caller's, so no frame passes the 1024-byte limit on s390x,
  * whose frames also carry a 160-byte register save area. */
-NOINLINE static ls_status count_pass_local(const rctx *cx, cpass *cp)
+LS_NOINLINE static ls_status count_pass_local(const rctx *cx, cpass *cp)
 {
     clipbuf cb;
     return count_pass(cx, &cb, cp);
@@ -704,7 +697,7 @@ static int64_t first_nonneg(int64_t e, int64_t step)
 
 /* Draws one screen triangle into the samples of box b (inclusive, inside
  * the grid and the triangle's own box). */
-NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *b, uint32_t id)
+LS_NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *b, uint32_t id)
 {
     edgef g[3];
     const int64_t last = b->x1 - b->x0;
@@ -792,7 +785,7 @@ typedef struct dpass {
     clipbuf *cb;
 } dpass;
 
-NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t count, uint32_t tx, uint32_t ty)
+LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t count, uint32_t tx, uint32_t ty)
 {
     ls_vis *vis = dp->vis;
     const rctx *cx = dp->cx;

@@ -3,6 +3,14 @@
 #ifndef LS_RENDER_INTERNAL_H
 #define LS_RENDER_INTERNAL_H
 
+/* Keeps the frames of big helpers apart (the per-function stack limit,
+ * -Wstack-usage=1024, holds on every target: s390x's frames are largest). */
+#if defined(__GNUC__) || defined(__clang__)
+#define LS_NOINLINE __attribute__((noinline))
+#else
+#define LS_NOINLINE
+#endif
+
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
 #include <largesteps/render_backward.h>

@@ -1467,7 +1467,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
 
 /* Triangle t cut by the near plane: the cut (between the two points where
  * its edges cross the plane) bounds what is drawn of it. */
-static void cut_pass(const sctx *sc, uint32_t t)
+LS_NOINLINE static void cut_pass(const sctx *sc, uint32_t t)
 {
     const uint32_t *f = sc->indices + 3 * (size_t)t;
     ls_real d[3];
@@ -1671,6 +1671,34 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
     return scratch_for_entries(width, height, vertex_count, triangle_count, (size_t)tiles * triangle_count, bytes);
 }
 
+/* Every silhouette edge (boundary edges, and interior edges whose faces
+ * fold: one front-, one back-facing), each once, integrated; its own frame
+ * (the stack limit on every target). */
+LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table)
+{
+    const ls_real *clip = sc->vis->clip;
+    uint32_t t;
+    for (t = 0; t < sc->triangle_count; t++) {
+        const uint32_t *f = sc->indices + 3 * (size_t)t;
+        uint32_t k;
+        for (k = 0; k < 3u; k++) {
+            uint32_t h3 = 3u * t + k, tw = table->twin[h3], fu = LS_EDGE_NONE;
+            uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
+            const ls_real *A = clip + 4 * (size_t)va, *B = clip + 4 * (size_t)vb;
+            endp ea, eb;
+            if (tw != LS_EDGE_NONE) {
+                if (tw < h3) continue; /* each edge once */
+                fu = tw / 3u;
+                if (!folds(sc, table, h3)) continue;
+            }
+            if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
+            end_make(sc, va, vb, &ea);
+            end_make(sc, vb, va, &eb);
+            segment_pass(sc, t, fu, &ea, &eb, clip + 4 * (size_t)vc);
+        }
+    }
+}
+
 ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                                  uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
                                  const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
@@ -1763,25 +1791,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     bin_pass(&sc, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
-    for (t = 0; t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        uint32_t k;
-        for (k = 0; k < 3u; k++) {
-            uint32_t h3 = 3u * t + k, tw = table->twin[h3], fu = LS_EDGE_NONE;
-            uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
-            const ls_real *A = vis->clip + 4 * (size_t)va, *B = vis->clip + 4 * (size_t)vb;
-            endp ea, eb;
-            if (tw != LS_EDGE_NONE) {
-                if (tw < h3) continue; /* each edge once */
-                fu = tw / 3u;
-                if (!folds(&sc, table, h3)) continue;
-            }
-            if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
-            end_make(&sc, va, vb, &ea);
-            end_make(&sc, vb, va, &eb);
-            segment_pass(&sc, t, fu, &ea, &eb, vis->clip + 4 * (size_t)vc);
-        }
-    }
+    edges_pass(&sc, table);
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
