@@ -1030,6 +1030,39 @@ static void silhouette_scratch_sweep(void)
     }
 }
 
+/* The bunny fixture into a fresh arena (arena_buf), with the centre and
+ * the largest half-side of its bounding box; 0 (after saying so) when the
+ * fixture is missing. */
+static int load_bunny(ls_arena *arena, ls_mesh *m, ls_real c[3], ls_real *r)
+{
+    unsigned char *data = NULL;
+    size_t bytes = 0;
+    ls_real lo[3], hi[3];
+    uint32_t v, k;
+    int ok;
+    if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
+        printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
+        return 0;
+    }
+    ok = ls_arena_init(arena, arena_buf, ARENA_BYTES) == LS_OK &&
+         ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, arena, m, NULL) == LS_OK;
+    free(data);
+    CHECK(ok);
+    if (!ok) return 0;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->positions[k];
+    for (v = 0; v < m->vertex_count; v++)
+        for (k = 0; k < 3; k++) {
+            lo[k] = m->positions[3 * v + k] < lo[k] ? m->positions[3 * v + k] : lo[k];
+            hi[k] = m->positions[3 * v + k] > hi[k] ? m->positions[3 * v + k] : hi[k];
+        }
+    *r = 0;
+    for (k = 0; k < 3; k++) {
+        c[k] = (lo[k] + hi[k]) / 2;
+        *r = (hi[k] - lo[k]) / 2 > *r ? (hi[k] - lo[k]) / 2 : *r;
+    }
+    return 1;
+}
+
 /* The bunny (closed, not convex: silhouette edges hidden behind its own
  * parts), orthographic, mask mode: translating it in the image plane keeps
  * the covered area (summed gradient ~ 0) and scaling it about a point gives
@@ -1041,30 +1074,13 @@ static void silhouette_bunny_invariants(void)
     ls_vis vis;
     ls_edge_table et;
     ls_shade_opts o;
-    unsigned char *data = NULL;
-    size_t bytes = 0, i;
-    ls_real view[16], proj[16], mvp[16], eye[3], c[3] = {0, 0, 0}, up[3] = {0, 1, 0}, lo[3], hi[3], r = 0;
+    size_t i;
+    ls_real view[16], proj[16], mvp[16], eye[3], c[3] = {0, 0, 0}, up[3] = {0, 1, 0}, r = 0;
     static ls_real img[4 * 64 * 64], gimg[4 * 64 * 64];
     ls_real *gp;
     double tr[2] = {0, 0}, trabs = 0, ds = 0, area = 0;
     uint32_t v, k, W = 64;
-    if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
-        printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
-        return;
-    }
-    REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
-    REQUIRE(ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, &arena, &m, NULL) == LS_OK);
-    free(data);
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m.positions[k];
-    for (v = 0; v < m.vertex_count; v++)
-        for (k = 0; k < 3; k++) {
-            lo[k] = m.positions[3 * v + k] < lo[k] ? m.positions[3 * v + k] : lo[k];
-            hi[k] = m.positions[3 * v + k] > hi[k] ? m.positions[3 * v + k] : hi[k];
-        }
-    for (k = 0; k < 3; k++) {
-        c[k] = (lo[k] + hi[k]) / 2;
-        r = (hi[k] - lo[k]) / 2 > r ? (hi[k] - lo[k]) / 2 : r;
-    }
+    if (!load_bunny(&arena, &m, c, &r)) return;
     eye[0] = c[0] + (ls_real)0.5 * r;
     eye[1] = c[1] + (ls_real)0.3 * r;
     eye[2] = c[2] + 3 * r;
@@ -1121,30 +1137,13 @@ static void silhouette_sh_fast_path(void)
     ls_vis vis;
     ls_edge_table et;
     ls_shade_opts o;
-    unsigned char *data = NULL;
-    size_t bytes = 0, i;
-    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, lo[3], hi[3], r = 0;
+    size_t i;
+    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, r = 0;
     static ls_real gimg[4 * 64 * 64];
     ls_real *gp[2], *nrm, *ones;
     double d2 = 0, n2 = 0;
-    uint32_t v, k, W = 64, pass;
-    if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
-        printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
-        return;
-    }
-    REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
-    REQUIRE(ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, &arena, &m, NULL) == LS_OK);
-    free(data);
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m.positions[k];
-    for (v = 0; v < m.vertex_count; v++)
-        for (k = 0; k < 3; k++) {
-            lo[k] = m.positions[3 * v + k] < lo[k] ? m.positions[3 * v + k] : lo[k];
-            hi[k] = m.positions[3 * v + k] > hi[k] ? m.positions[3 * v + k] : hi[k];
-        }
-    for (k = 0; k < 3; k++) {
-        c[k] = (lo[k] + hi[k]) / 2;
-        r = (hi[k] - lo[k]) / 2 > r ? (hi[k] - lo[k]) / 2 : r;
-    }
+    uint32_t W = 64, pass;
+    if (!load_bunny(&arena, &m, c, &r)) return;
     eye[0] = c[0] + (ls_real)0.9 * r;
     eye[1] = c[1] + (ls_real)0.6 * r;
     eye[2] = c[2] + (ls_real)2.6 * r;
