@@ -445,19 +445,27 @@ static void make_single(scene *sc)
     for (k = 0; k < 3; k++) sc->col[k] = (double)(ls_real)rnd();
 }
 
+/* An empty orthographic scene with one big triangle at depth -0.5 (its
+ * corners jittered): vertices 0-2 of the layered scenes. */
+static void big_back_triangle(scene *sc)
+{
+    int k;
+    memset(sc, 0, sizeof *sc);
+    camera_ortho(sc);
+    sc->p[0] = -0.85; sc->p[1] = -0.8; sc->p[2] = -0.5;
+    sc->p[3] = 0.85;  sc->p[4] = -0.75; sc->p[5] = -0.5;
+    sc->p[6] = 0.05;  sc->p[7] = 0.85; sc->p[8] = -0.5;
+    for (k = 0; k < 9; k++) sc->p[k] += 0.05 * (rnd() - 0.5);
+}
+
 /* A small triangle well inside a big one, in front of it. */
 static void make_layers(scene *sc)
 {
     int k;
     double cx, cy;
-    memset(sc, 0, sizeof *sc);
-    camera_ortho(sc);
+    big_back_triangle(sc);
     sc->nv = 6;
     sc->nt = 2;
-    sc->p[0] = -0.85; sc->p[1] = -0.8; sc->p[2] = -0.5;
-    sc->p[3] = 0.85;  sc->p[4] = -0.75; sc->p[5] = -0.5;
-    sc->p[6] = 0.05;  sc->p[7] = 0.85; sc->p[8] = -0.5;
-    for (k = 0; k < 9; k++) sc->p[k] += 0.05 * (rnd() - 0.5);
     cx = 0.1 * (rnd() - 0.5);
     cy = -0.2 + 0.1 * (rnd() - 0.5);
     for (k = 0; k < 3; k++) {
@@ -481,14 +489,9 @@ static void make_patch(scene *sc)
 {
     int k;
     double cx, cy, a0 = 6.283185307179586 * rnd();
-    memset(sc, 0, sizeof *sc);
-    camera_ortho(sc);
+    big_back_triangle(sc);
     sc->nv = 8;
     sc->nt = 5;
-    sc->p[0] = -0.85; sc->p[1] = -0.8; sc->p[2] = -0.5;
-    sc->p[3] = 0.85;  sc->p[4] = -0.75; sc->p[5] = -0.5;
-    sc->p[6] = 0.05;  sc->p[7] = 0.85; sc->p[8] = -0.5;
-    for (k = 0; k < 9; k++) sc->p[k] += 0.05 * (rnd() - 0.5);
     k = (int)(3 * rnd()) % 3; /* the edge the patch sits on */
     cx = 0.5 * (sc->p[3 * k] + sc->p[3 * ((k + 1) % 3)]) + 0.1 * (rnd() - 0.5);
     cy = 0.5 * (sc->p[3 * k + 1] + sc->p[3 * ((k + 1) % 3) + 1]) + 0.1 * (rnd() - 0.5);
