@@ -1,17 +1,49 @@
 /* loss.c - L1 / L2 image losses over RGBA views (largesteps/loss.h). */
 #include <largesteps/loss.h>
 
-/* Neumaier's compensated addition of x to (*s, *c); fixed order, no FMA. */
+/* Neumaier's compensated addition of x to (*s, *c); fixed order, no FMA.
+ * Every sum here adds non-negative values (|d|, d^2 and sums of those), so
+ * the larger magnitude is the larger value: max and min, no branch. */
 static void comp_add(ls_real *s, ls_real *c, ls_real x)
 {
     ls_real t = *s + x;
-    ls_real as = *s < (ls_real)0 ? -*s : *s;
-    ls_real ax = x < (ls_real)0 ? -x : x;
-    if (as >= ax)
-        *c += (*s - t) + x;
-    else
-        *c += (x - t) + *s;
+    ls_real hi = x > *s ? x : *s; /* maxsd and minsd, where SSE2 has them */
+    ls_real lo = x < *s ? x : *s;
+    *c += (hi - t) + lo;
     *s = t;
+}
+
+/* 1 when every value of a[0..n) and b[0..n) is finite (n a multiple of 4):
+ * x - x is +0 for a finite x and NaN otherwise, and a NaN stays in a sum;
+ * four independent sums, no early exit. */
+static int all_finite(const ls_real *a, const ls_real *b, size_t n)
+{
+    ls_real z0 = (ls_real)0, z1 = (ls_real)0, z2 = (ls_real)0, z3 = (ls_real)0;
+    size_t i;
+    for (i = 0; i < n; i += 4) {
+        z0 += (a[i] - a[i]) + (b[i] - b[i]);
+        z1 += (a[i + 1] - a[i + 1]) + (b[i + 1] - b[i + 1]);
+        z2 += (a[i + 2] - a[i + 2]) + (b[i + 2] - b[i + 2]);
+        z3 += (a[i + 3] - a[i + 3]) + (b[i + 3] - b[i + 3]);
+    }
+    return ((z0 + z1) + (z2 + z3)) == (ls_real)0;
+}
+
+/* One channel's value of the L1 loss: |d| into its sum, sign(d) / N into g. */
+static void l1_value(ls_real r, ls_real t, ls_real inv, ls_real *s, ls_real *c, ls_real *g)
+{
+    ls_real d = r - t;
+    int sg = (d > (ls_real)0) - (d < (ls_real)0);
+    comp_add(s, c, d * (ls_real)sg); /* |d| */
+    *g = inv * (ls_real)sg;          /* +-inv or +0 */
+}
+
+/* The same for L2: d^2, and 2 d / N ((d + d) / n is d when d is 0). */
+static void l2_value(ls_real r, ls_real t, ls_real n, ls_real *s, ls_real *c, ls_real *g)
+{
+    ls_real d = r - t;
+    comp_add(s, c, d * d);
+    *g = d == (ls_real)0 ? d : (d + d) / n;
 }
 
 static int finite_real(ls_real x)
@@ -44,20 +76,13 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
                        ls_diag *diag)
 {
     size_t i, count;
-    ls_real s = (ls_real)0, c = (ls_real)0, n;
+    ls_real s0, s1, s2, s3, c0, c1, c2, c3, n, dummy[4];
     if (acc == NULL || rendered == NULL || target == NULL || acc->views_done >= acc->view_count ||
         (acc->kind != LS_LOSS_L1 && acc->kind != LS_LOSS_L2))
         return LS_ERR_INVALID;
     count = (size_t)4 * (size_t)acc->width * (size_t)acc->height;
-    /* Check first, so that nothing is written on failure: a pixel at a time
-     * (x - x is +0 for a finite x, NaN otherwise), then the first bad value. */
-    for (i = 0; i < count; i += 4) {
-        const ls_real *r = rendered + i, *t = target + i;
-        ls_real z = ((r[0] - r[0]) + (t[0] - t[0])) + ((r[1] - r[1]) + (t[1] - t[1]));
-        z += ((r[2] - r[2]) + (t[2] - t[2])) + ((r[3] - r[3]) + (t[3] - t[3]));
-        if (z != (ls_real)0) break;
-    }
-    for (; i < count; i++) {
+    /* Check first, so that nothing is written on failure; on failure, the first bad value. */
+    for (i = all_finite(rendered, target, count) ? count : 0; i < count; i++) {
         if (!finite_real(rendered[i]) || !finite_real(target[i])) {
             if (diag != NULL) {
                 ls_diag_clear(diag);
@@ -72,25 +97,35 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
         }
     }
     n = norm_count(acc);
-    /* Adding +0 leaves (s, c) as they are (neither is ever -0): zero
-     * differences are skipped, and branches on the sign of d, which would be
-     * mispredicted, are avoided. */
+    /* One compensated sum per RGBA channel (four independent chains, not one
+     * long dependent one), combined in channel order. Adding +0 leaves a sum
+     * as it is (neither part is ever -0 where it matters), so zero
+     * differences need no branch, nor does the sign of d. Without grad, the
+     * gradients go to a dummy (no branch in the loop). */
+    s0 = s1 = s2 = s3 = c0 = c1 = c2 = c3 = (ls_real)0;
     if (acc->kind == LS_LOSS_L1) {
         ls_real inv = (ls_real)1 / n;
-        for (i = 0; i < count; i++) {
-            ls_real d = rendered[i] - target[i];
-            int sg = (d > (ls_real)0) - (d < (ls_real)0);
-            if (sg != 0) comp_add(&s, &c, d * (ls_real)sg); /* |d| */
-            if (grad != NULL) grad[i] = inv * (ls_real)sg;   /* +-inv or +0 */
+        for (i = 0; i < count; i += 4) {
+            ls_real *g = grad != NULL ? grad + i : dummy;
+            l1_value(rendered[i], target[i], inv, &s0, &c0, &g[0]);
+            l1_value(rendered[i + 1], target[i + 1], inv, &s1, &c1, &g[1]);
+            l1_value(rendered[i + 2], target[i + 2], inv, &s2, &c2, &g[2]);
+            l1_value(rendered[i + 3], target[i + 3], inv, &s3, &c3, &g[3]);
         }
     } else {
-        for (i = 0; i < count; i++) {
-            ls_real d = rendered[i] - target[i], d2 = d * d;
-            if (d2 != (ls_real)0) comp_add(&s, &c, d2);
-            if (grad != NULL) grad[i] = d == (ls_real)0 ? d : (d + d) / n; /* (d + d) / n is d there */
+        for (i = 0; i < count; i += 4) {
+            ls_real *g = grad != NULL ? grad + i : dummy;
+            l2_value(rendered[i], target[i], n, &s0, &c0, &g[0]);
+            l2_value(rendered[i + 1], target[i + 1], n, &s1, &c1, &g[1]);
+            l2_value(rendered[i + 2], target[i + 2], n, &s2, &c2, &g[2]);
+            l2_value(rendered[i + 3], target[i + 3], n, &s3, &c3, &g[3]);
         }
     }
-    comp_add(&acc->sum, &acc->comp, s + c);
+    comp_add(&s0, &c0, s1);
+    comp_add(&s0, &c0, s2);
+    comp_add(&s0, &c0, s3);
+    c0 += (c1 + c2) + c3;
+    comp_add(&acc->sum, &acc->comp, s0 + c0);
     acc->views_done++;
     return LS_OK;
 }

@@ -12,9 +12,10 @@
  * ls_shade's output and of ls_image). A reference loaded as an ls_image
  * (float) is converted by the caller (value by value) to ls_real.
  *
- * Accumulation is in a fixed order: values in memory order within a view
- * (compensated Neumaier summation in ls_real), then the per-view sums in view
- * order (compensated), then one division by N. The result is therefore the
+ * Accumulation is in a fixed order: within a view, one compensated
+ * (Neumaier) sum in ls_real per RGBA channel over the pixels in memory order,
+ * the four combined in channel order; then the per-view sums in view order
+ * (compensated), then one division by N. The result is therefore the
  * same bits on every platform and independent of how the views are passed
  * (all at once with ls_loss_views, or view by view with ls_loss_view followed
  * by ls_loss_finish). No memory is used.
