@@ -10,6 +10,7 @@
 #endif
 
 #define R_INV_PI ((ls_real)0.31830988618379067154)
+#define MAX_SS 4 /* samples per pixel side: ls_vis_init takes 1, 2 or 4 */
 
 /* Everything one sample's backward needs (render_internal.h). */
 typedef ls_shade_bctx bctx;
@@ -214,11 +215,15 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
     const ls_vis *vis = bc->vis;
     uint32_t x, y, ss = vis->ss;
     ls_real inv_n = (ls_real)1 / (ls_real)(ss * ss);
+    if (ss > MAX_SS) return; /* not a vis of ls_vis_init */
     for (y = 0; y < vis->height; y++) {
+        ls_real pys[MAX_SS]; /* the NDC y of the row's samples, once per row */
+        uint32_t j;
+        for (j = 0; j < ss; j++) pys[j] = (ls_real)1 - (ls_real)(2u * (y * ss + j) + 1u) / (ls_real)vis->sh;
         for (x = 0; x < vis->width; x++) {
             size_t p = (size_t)y * vis->width + x;
             ls_real g[3];
-            uint32_t i, j;
+            uint32_t i;
             if (skip != NULL && skip[p]) continue;
             g[0] = grad_image[4 * p] * inv_n;
             g[1] = grad_image[4 * p + 1] * inv_n;
@@ -226,7 +231,7 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
             if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
             for (j = 0; j < ss; j++) {
                 uint32_t sy = y * ss + j;
-                ls_real py = (ls_real)1 - (ls_real)(2u * sy + 1u) / (ls_real)vis->sh;
+                ls_real py = pys[j];
                 for (i = 0; i < ss; i++) {
                     uint32_t sx = x * ss + i;
                     size_t s = (size_t)sy * vis->sw + sx;
