@@ -225,6 +225,7 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
             ls_real g[3];
             uint32_t i;
             if (skip != NULL && skip[p]) continue;
+            if (ss == 1u && vis->tri[p] == 0) continue; /* background: cheaper to test first */
             g[0] = grad_image[4 * p] * inv_n;
             g[1] = grad_image[4 * p + 1] * inv_n;
             g[2] = grad_image[4 * p + 2] * inv_n;
