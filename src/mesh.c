@@ -481,6 +481,115 @@ ls_status ls_mesh_weld(ls_mesh *mesh, ls_arena *arena, uint32_t *remap, uint32_t
     return LS_OK;
 }
 
+/* --- spatial order --------------------------------------------------------- */
+
+ls_status ls_mesh_reorder_bytes(uint32_t vertex_count, uint32_t face_count, size_t *bytes)
+{
+    ls_size s, perm, tris;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    ls_size_init(&s);
+    ls_size_add(&s, face_count, sizeof(uint64_t)); /* keys */
+    ls_size_add(&s, face_count, sizeof(uint32_t)); /* order */
+    ls_size_add(&s, face_count, sizeof(uint32_t)); /* the sort's scratch */
+    ls_size_add(&s, vertex_count, sizeof(uint32_t)); /* new vertex indices */
+    /* one buffer for the old positions, then the old triangles */
+    ls_size_init(&perm);
+    ls_size_add(&perm, vertex_count, 3 * sizeof(ls_real));
+    ls_size_init(&tris);
+    ls_size_add(&tris, face_count, 3 * sizeof(uint32_t));
+    ls_size_max(&perm, &tris);
+    ls_size_add_size(&s, &perm);
+    return ls_size_get(&s, bytes);
+}
+
+/* The 10 low bits of x spread to every third bit (Morton interleaving). */
+static uint32_t spread10(uint32_t x)
+{
+    x &= 0x3ffu;
+    x = (x | (x << 16)) & 0x030000ffu;
+    x = (x | (x << 8)) & 0x0300f00fu;
+    x = (x | (x << 4)) & 0x030c30c3u;
+    x = (x | (x << 2)) & 0x09249249u;
+    return x;
+}
+
+/* (v - lo) * inv as a cell 0..1023 (NaN and below: 0). */
+static uint32_t cell10(ls_real v, ls_real lo, ls_real inv)
+{
+    ls_real t = (v - lo) * inv;
+    if (!(t > 0)) return 0;
+    return t >= (ls_real)1023 ? 1023u : (uint32_t)t;
+}
+
+ls_status ls_mesh_reorder(ls_mesh *mesh, ls_arena *arena, uint32_t *remap)
+{
+    ls_arena_mark mark;
+    ls_real lo[3], hi[3], inv[3];
+    uint64_t *keys;
+    uint32_t *order, *tmp, *vmap, nv, nf, f, v, next = 0;
+    size_t nbuf, c;
+    void *buf;
+    int k;
+    if (check_mesh(mesh) != LS_OK || arena == NULL) return LS_ERR_INVALID;
+    if (first_bad_face(mesh) != LS_MESH_NONE) return LS_ERR_MESH;
+    nv = mesh->vertex_count;
+    nf = mesh->face_count;
+    if (nf == 0) { /* every vertex unused: the order stays */
+        for (v = 0; remap != NULL && v < nv; v++) remap[v] = v;
+        return LS_OK;
+    }
+    nbuf = 3 * (size_t)nv * sizeof(ls_real) > 3 * (size_t)nf * sizeof(uint32_t) ? 3 * (size_t)nv * sizeof(ls_real)
+                                                                                : 3 * (size_t)nf * sizeof(uint32_t);
+    mark = ls_arena_save(arena);
+    keys = (uint64_t *)ls_arena_scratch(arena, nf, sizeof(uint64_t));
+    order = keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
+    tmp = order == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
+    vmap = tmp == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nv, sizeof(uint32_t));
+    buf = vmap == NULL ? NULL : ls_arena_scratch(arena, nbuf, 1);
+    if (buf == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    /* centroids are summed, not divided: cells over 3 x the box */
+    if (ls_mesh_bounds(mesh, lo, hi) != LS_OK) lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0;
+    for (k = 0; k < 3; k++) {
+        ls_real ext = (ls_real)3 * (hi[k] - lo[k]);
+        inv[k] = ext > 0 ? (ls_real)1024 / ext : (ls_real)0;
+        lo[k] *= (ls_real)3;
+    }
+    for (f = 0; f < nf; f++) {
+        const uint32_t *t = mesh->triangles + 3 * (size_t)f;
+        uint32_t code = 0;
+        for (k = 0; k < 3; k++) {
+            ls_real sum = (mesh->positions[3 * (size_t)t[0] + (size_t)k] + mesh->positions[3 * (size_t)t[1] + (size_t)k]) +
+                          mesh->positions[3 * (size_t)t[2] + (size_t)k];
+            code |= spread10(cell10(sum, lo[k], inv[k])) << k;
+        }
+        keys[f] = code;
+        order[f] = f;
+    }
+    (void)ls_sort_u64(keys, order, nf, tmp); /* stable: equal codes keep their order */
+    /* vertices by first use, the unused ones after them in their order */
+    for (v = 0; v < nv; v++) vmap[v] = LS_MESH_NONE;
+    for (f = 0; f < nf; f++)
+        for (k = 0; k < 3; k++) {
+            uint32_t *m = &vmap[mesh->triangles[3 * (size_t)order[f] + (size_t)k]];
+            if (*m == LS_MESH_NONE) *m = next++;
+        }
+    for (v = 0; v < nv; v++)
+        if (vmap[v] == LS_MESH_NONE) vmap[v] = next++;
+    memcpy(buf, mesh->positions, 3 * (size_t)nv * sizeof(ls_real));
+    for (v = 0; v < nv; v++) memcpy(mesh->positions + 3 * (size_t)vmap[v], (const ls_real *)buf + 3 * (size_t)v,
+                                    3 * sizeof(ls_real));
+    memcpy(buf, mesh->triangles, 3 * (size_t)nf * sizeof(uint32_t));
+    for (f = 0; f < nf; f++)
+        for (c = 0; c < 3; c++)
+            mesh->triangles[3 * (size_t)f + c] = vmap[((const uint32_t *)buf)[3 * (size_t)order[f] + c]];
+    if (remap != NULL) memcpy(remap, vmap, (size_t)nv * sizeof(uint32_t));
+    ls_arena_restore(arena, mark);
+    return LS_OK;
+}
+
 /* --- edges and adjacency ------------------------------------------------- */
 
 ls_status ls_mesh_edges_bytes(uint32_t face_count, uint32_t edge_count, size_t *bytes)

@@ -187,11 +187,12 @@ static ls_status rm_sizes_get(const ls_mesh *mesh, const ls_mesh_report *report,
     return LS_OK;
 }
 
-/* The total: max(validation, blocks + work arrays + max(compaction, output)). */
+/* The total: max(validation, blocks + work arrays + max(compaction, output),
+ * output + its reordering). */
 static ls_status rm_total(const rm_sizes *z, size_t *bytes)
 {
-    ls_size s, tail, out, first;
-    size_t ob;
+    ls_size s, tail, out, first, last;
+    size_t ob, rb;
     ls_status st;
     ls_size_init(&s);
     ls_size_add(&s, z->he, 1u);
@@ -213,6 +214,12 @@ static ls_status rm_total(const rm_sizes *z, size_t *bytes)
     ls_size_init(&first);
     first.bytes = z->validate;
     ls_size_max(&s, &first);
+    st = ls_mesh_reorder_bytes(z->vcap, z->fcap, &rb);
+    if (st != LS_OK) return st;
+    ls_size_init(&last);
+    ls_size_add(&last, ob, 1u);
+    ls_size_add(&last, rb, 1u);
+    ls_size_max(&s, &last);
     return ls_size_get(&s, bytes);
 }
 
@@ -829,6 +836,12 @@ ls_status ls_remesh(const ls_mesh *in, const ls_remesh_params *params, ls_arena 
         keep.bottom = arena->bottom;
         keep.top = mark.top;
         ls_arena_restore(arena, keep);
+    }
+    /* the output in spatial order: the renderer's passes read it in order */
+    st = ls_mesh_reorder(&res, arena, NULL);
+    if (st != LS_OK) {
+        diag_set(diag, st, "arena too small");
+        goto fail;
     }
     inf.bytes_used = arena->peak - entry_used;
     if (arena->peak < old_peak) arena->peak = old_peak;

@@ -1,5 +1,6 @@
 /* test_mesh.c - stable sort, mesh validation (against brute-force counts),
- * welding, edges, adjacency, normals, bounds, and arena sweeps. */
+ * welding, edges, adjacency, normals, bounds, spatial reordering, and arena
+ * sweeps. */
 #include "test.h"
 #include "sweep.h"
 #include <stdlib.h>
@@ -692,6 +693,193 @@ static void bunny_vertex_normals_point_outward(void)
     }
 }
 
+/* --- spatial order ----------------------------------------------------------- */
+
+typedef struct reorder_ctx {
+    ls_mesh m;
+    ls_real *p0;
+    uint32_t *t0;
+} reorder_ctx;
+
+static ls_status reorder_run(void *ctx, ls_arena *a)
+{
+    return ls_mesh_reorder(&((reorder_ctx *)ctx)->m, a, NULL);
+}
+
+static uint64_t reorder_hash(void *ctx)
+{
+    reorder_ctx *c = (reorder_ctx *)ctx;
+    uint64_t h = test_hash(c->m.positions, 3 * sizeof(ls_real) * c->m.vertex_count, TEST_HASH_SEED);
+    return test_hash(c->m.triangles, 3 * sizeof(uint32_t) * c->m.face_count, h);
+}
+
+static void reorder_reset(void *ctx)
+{
+    reorder_ctx *c = (reorder_ctx *)ctx;
+    memcpy(c->m.positions, c->p0, 3 * sizeof(ls_real) * c->m.vertex_count);
+    memcpy(c->m.triangles, c->t0, 3 * sizeof(uint32_t) * c->m.face_count);
+}
+
+/* Mean over faces of (largest - smallest vertex index): how far apart a
+ * face's vertices are in memory. */
+static double index_spread(const ls_mesh *m)
+{
+    double s = 0;
+    uint32_t f;
+    for (f = 0; f < m->face_count; f++) {
+        const uint32_t *t = m->triangles + 3 * f;
+        uint32_t lo = t[0] < t[1] ? t[0] : t[1], hi = t[0] < t[1] ? t[1] : t[0];
+        lo = t[2] < lo ? t[2] : lo;
+        hi = t[2] > hi ? t[2] : hi;
+        s += hi - lo;
+    }
+    return s / m->face_count;
+}
+
+/* Mean distance between consecutive faces' centroids over the box diagonal. */
+static double centroid_walk(const ls_mesh *m)
+{
+    double s = 0, prev[3] = {0, 0, 0}, d2 = 0;
+    ls_real lo[3], hi[3];
+    uint32_t f;
+    int k;
+    (void)ls_mesh_bounds(m, lo, hi);
+    for (k = 0; k < 3; k++) d2 += ((double)hi[k] - lo[k]) * ((double)hi[k] - lo[k]);
+    for (f = 0; f < m->face_count; f++) {
+        double c[3], e = 0;
+        for (k = 0; k < 3; k++) {
+            c[k] = ((double)m->positions[3 * m->triangles[3 * f] + k] + m->positions[3 * m->triangles[3 * f + 1] + k] +
+                    m->positions[3 * m->triangles[3 * f + 2] + k]) / 3;
+            e += (c[k] - prev[k]) * (c[k] - prev[k]);
+            prev[k] = c[k];
+        }
+        if (f > 0) s += sqrt(e);
+    }
+    return s / (m->face_count - 1) / sqrt(d2);
+}
+
+/* The bunny in a shuffled order (faces and vertices), reordered: the same
+ * faces (corners in their order) over the same points, vertices numbered by
+ * first use, and near each other in memory and along the face order; the
+ * same bits twice; errors and the arena sweep leave the mesh unchanged. */
+static void reorder_is_a_spatial_permutation(void)
+{
+    ls_mesh m, s;
+    ls_arena *a = fresh_arena();
+    uint32_t *perm, *remap, *seen, nv, nf, i, v, f, next = 0;
+    uint64_t *ka, *kb;
+    reorder_ctx rc;
+    sweep_job job;
+    size_t bytes = 0;
+    double spread0, spread1, walk0, walk1;
+    REQUIRE(read_fixture("fixtures/meshes/bunny.obj", &m, a));
+    nv = m.vertex_count;
+    nf = m.face_count;
+    perm = malloc(sizeof(uint32_t) * nv);
+    remap = malloc(sizeof(uint32_t) * nv);
+    seen = calloc(nv, sizeof(uint32_t));
+    ka = malloc(sizeof(uint64_t) * nf);
+    kb = malloc(sizeof(uint64_t) * nf);
+    REQUIRE(ls_mesh_alloc(&s, nv, nf, a) == LS_OK);
+    /* shuffle: vertex v moves to perm[v]; faces in a random order */
+    for (v = 0; v < nv; v++) perm[v] = v;
+    for (v = nv - 1; v > 0; v--) {
+        uint32_t j = rnd32() % (v + 1), t = perm[v];
+        perm[v] = perm[j];
+        perm[j] = t;
+    }
+    for (v = 0; v < nv; v++) memcpy(s.positions + 3 * perm[v], m.positions + 3 * v, 3 * sizeof(ls_real));
+    for (f = 0; f < nf; f++)
+        for (i = 0; i < 3; i++) s.triangles[3 * f + i] = perm[m.triangles[3 * f + i]];
+    for (f = nf - 1; f > 0; f--) {
+        uint32_t j = rnd32() % (f + 1), t[3];
+        memcpy(t, s.triangles + 3 * f, sizeof t);
+        memcpy(s.triangles + 3 * f, s.triangles + 3 * j, sizeof t);
+        memcpy(s.triangles + 3 * j, t, sizeof t);
+    }
+    m = s; /* the shuffled mesh is the input from here on */
+    REQUIRE(ls_mesh_alloc(&s, nv, nf, a) == LS_OK);
+    memcpy(s.positions, m.positions, 3 * sizeof(ls_real) * nv);
+    memcpy(s.triangles, m.triangles, 3 * sizeof(uint32_t) * nf);
+    spread0 = index_spread(&s);
+    walk0 = centroid_walk(&s);
+    CHECK_STATUS(ls_mesh_reorder(&s, a, remap), LS_OK);
+    spread1 = index_spread(&s);
+    walk1 = centroid_walk(&s);
+    printf("     bunny shuffled -> reordered: vertex index spread per face %.0f -> %.1f (of %u), "
+           "centroid step %.4f -> %.4f of the diagonal\n", spread0, spread1, nv, walk0, walk1);
+    CHECK(spread1 < spread0 / 8);
+    CHECK(walk1 < walk0 / 10);
+    /* the same points, moved by remap; a permutation */
+    for (v = 0; v < nv; v++) {
+        REQUIRE(remap[v] < nv);
+        seen[remap[v]]++;
+        CHECK(memcmp(s.positions + 3 * remap[v], m.positions + 3 * v, 3 * sizeof(ls_real)) == 0);
+    }
+    for (v = 0; v < nv; v++) CHECK_EQ(seen[v], 1);
+    /* the same faces, each with its corners in order */
+    for (f = 0; f < nf; f++) {
+        const uint32_t *t = m.triangles + 3 * f, *u = s.triangles + 3 * f;
+        ka[f] = ((uint64_t)remap[t[0]] * nv + remap[t[1]]) * nv + remap[t[2]];
+        kb[f] = ((uint64_t)u[0] * nv + u[1]) * nv + u[2];
+    }
+    {
+        uint32_t *ia = malloc(sizeof(uint32_t) * nf), *ib = malloc(sizeof(uint32_t) * nf), *tmp = malloc(sizeof(uint32_t) * nf);
+        for (f = 0; f < nf; f++) ia[f] = ib[f] = f;
+        CHECK_STATUS(ls_sort_u64(ka, ia, nf, tmp), LS_OK);
+        CHECK_STATUS(ls_sort_u64(kb, ib, nf, tmp), LS_OK);
+        for (f = 0; f < nf; f++) CHECK(ka[ia[f]] == kb[ib[f]]);
+        free(ia);
+        free(ib);
+        free(tmp);
+    }
+    /* vertices numbered by first use */
+    for (f = 0; f < 3 * nf; f++)
+        if (s.triangles[f] == next) next++;
+        else CHECK(s.triangles[f] < next);
+    CHECK_EQ(next, nv);
+    /* the same bits again, and from the reordered mesh nothing moves */
+    {
+        ls_mesh t;
+        REQUIRE(ls_mesh_alloc(&t, nv, nf, a) == LS_OK);
+        memcpy(t.positions, s.positions, 3 * sizeof(ls_real) * nv);
+        memcpy(t.triangles, s.triangles, 3 * sizeof(uint32_t) * nf);
+        CHECK_STATUS(ls_mesh_reorder(&t, a, NULL), LS_OK);
+        CHECK(memcmp(t.positions, s.positions, 3 * sizeof(ls_real) * nv) == 0);
+        CHECK(memcmp(t.triangles, s.triangles, 3 * sizeof(uint32_t) * nf) == 0);
+        /* an index out of range: refused, nothing written */
+        t.triangles[3 * 17 + 1] = nv;
+        CHECK_STATUS(ls_mesh_reorder(&t, a, NULL), LS_ERR_MESH);
+        CHECK_EQ(t.triangles[3 * 17 + 1], nv);
+        CHECK(memcmp(t.positions, s.positions, 3 * sizeof(ls_real) * nv) == 0);
+        CHECK_STATUS(ls_mesh_reorder(NULL, a, NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_mesh_reorder(&t, NULL, NULL), LS_ERR_INVALID);
+    }
+    /* the sizing query is exact; a smaller arena changes nothing */
+    rc.m = m;
+    rc.p0 = malloc(3 * sizeof(ls_real) * nv);
+    rc.t0 = malloc(3 * sizeof(uint32_t) * nf);
+    memcpy(rc.p0, m.positions, 3 * sizeof(ls_real) * nv);
+    memcpy(rc.t0, m.triangles, 3 * sizeof(uint32_t) * nf);
+    CHECK_STATUS(ls_mesh_reorder_bytes(nv, nf, &bytes), LS_OK);
+    memset(&job, 0, sizeof job);
+    job.name = "mesh_reorder";
+    job.run = reorder_run;
+    job.state_hash = reorder_hash;
+    job.reset = reorder_reset;
+    job.ctx = &rc;
+    job.answer = bytes;
+    job.exact = 1;
+    CHECK_EQ(sweep_arena(&job), 0);
+    free(rc.p0);
+    free(rc.t0);
+    free(perm);
+    free(remap);
+    free(seen);
+    free(ka);
+    free(kb);
+}
+
 static void sizes_and_alloc(void)
 {
     size_t b = 0;
@@ -724,5 +912,6 @@ int main(void)
     TEST_RUN(weld_merges_exact_duplicates_only);
     TEST_RUN(face_and_vertex_normals);
     TEST_RUN(bunny_vertex_normals_point_outward);
+    TEST_RUN(reorder_is_a_spatial_permutation);
     return TEST_END();
 }
