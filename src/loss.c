@@ -76,7 +76,7 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
                        ls_diag *diag)
 {
     size_t i, count;
-    ls_real s0, s1, s2, s3, c0, c1, c2, c3, n, dummy[4];
+    ls_real s0, s1, s2, s3, c0, c1, c2, c3, n, dummy[4] = {0, 0, 0, 0};
     if (acc == NULL || rendered == NULL || target == NULL || acc->views_done >= acc->view_count ||
         (acc->kind != LS_LOSS_L1 && acc->kind != LS_LOSS_L2))
         return LS_ERR_INVALID;
