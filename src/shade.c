@@ -140,15 +140,15 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
-/* 1 when no sample of pixel (x, y) sees a triangle (ids 0 or beyond the count). */
-static int pixel_empty(const ls_vis *vis, uint32_t x, uint32_t y, uint32_t triangle_count)
+/* 1 when no sample of the pixel whose first sample is t0 sees a triangle
+ * (ids 0 or beyond the count). */
+static int pixel_empty(const uint32_t *t0, uint32_t ss, size_t sw, uint32_t triangle_count)
 {
-    uint32_t i, j, ss = vis->ss;
-    for (j = 0; j < ss; j++) {
-        const uint32_t *row = vis->tri + ((size_t)y * ss + j) * vis->sw + (size_t)x * ss;
+    uint32_t i, j;
+    if (ss == 1) return t0[0] == 0 || t0[0] > triangle_count; /* the fit's case, without the loops */
+    for (j = 0; j < ss; j++, t0 += sw)
         for (i = 0; i < ss; i++)
-            if (row[i] != 0 && row[i] <= triangle_count) return 0;
-    }
+            if (t0[i] != 0 && t0[i] <= triangle_count) return 0;
     return 1;
 }
 
@@ -182,19 +182,20 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
         bg_pixel[3] = (ls_real)0 * inv_n;
     }
     for (y = 0; y < vis->height; y++) {
-        for (x = 0; x < vis->width; x++) {
-            size_t p = (size_t)y * vis->width + x;
+        /* the pixel's first sample, stepped along (no index products per pixel) */
+        size_t s0 = (size_t)y * ss * vis->sw, p = (size_t)y * vis->width;
+        for (x = 0; x < vis->width; x++, s0 += ss, p++) {
             const ls_real *bg = opts->background_image != NULL ? opts->background_image + 3 * p : opts->background;
             ls_real acc[3] = {(ls_real)0, (ls_real)0, (ls_real)0};
             uint32_t covered = 0, i, j;
-            if (opts->background_image == NULL && pixel_empty(vis, x, y, triangle_count)) {
+            if (opts->background_image == NULL && pixel_empty(vis->tri + s0, ss, vis->sw, triangle_count)) {
                 memcpy(out + 4 * p, bg_pixel, sizeof bg_pixel);
                 continue;
             }
             /* samples of the pixel in row-major order: a fixed summation order */
             for (j = 0; j < ss; j++) {
                 for (i = 0; i < ss; i++) {
-                    size_t s = ((size_t)y * ss + j) * vis->sw + (size_t)x * ss + i;
+                    size_t s = s0 + (size_t)j * vis->sw + i;
                     uint32_t id = vis->tri[s];
                     ls_real rgb[3];
                     if (id == 0 || id > triangle_count) {
