@@ -13,15 +13,17 @@
 #define FLAG_OUT_MASK 0x1Fu   /* bits 0..4: outside plane k */
 #define FLAG_BAD_W 0x20u      /* W <= 0 although no plane rejects it */
 
-/* The transformed vertices, as arrays (scratch; the on-the-fly count pass of
- * the queries holds three): the count pass reads only snap and flags, and
- * clip, snap and flags go to the vis whole. */
+/* The transformed vertices, as arrays (scratch, one block of VERT_BYTES per
+ * vertex; the on-the-fly count pass of the queries holds three): the count
+ * pass reads only snap and flags, and clip, snap and flags go to the vis
+ * whole. */
 typedef struct vbuf {
     ls_real *clip;   /* clip coordinates, 4 per vertex */
     ls_real *zi;     /* Z/W and 1/W (valid when flags == 0) */
     int32_t *snap;   /* snapped window position, 1/256 samples (valid when flags == 0) */
     uint32_t *flags; /* planes the vertex is outside of */
 } vbuf;
+#define VERT_BYTES (6 * sizeof(ls_real) + 3 * sizeof(int32_t))
 
 /* A polygon vertex during clipping: clip coordinates and the barycentric
  * weights (b0, b1) of the original triangle's first two vertices. */
@@ -523,10 +525,7 @@ static ls_status nonfinite_vertex(uint32_t i, ls_diag *diag)
 /* Scratch layout of ls_raster, shared by the queries. */
 static void scratch_size(ls_size *s, uint32_t vertex_count, uint32_t triangle_count, size_t tiles, size_t entries)
 {
-    ls_size_add(s, vertex_count, 4 * sizeof(ls_real)); /* the vbuf arrays */
-    ls_size_add(s, vertex_count, 2 * sizeof(ls_real));
-    ls_size_add(s, vertex_count, 2 * sizeof(int32_t));
-    ls_size_add(s, vertex_count, sizeof(uint32_t));
+    ls_size_add(s, vertex_count, VERT_BYTES);
     ls_size_add(s, tiles + 1, sizeof(size_t));
     ls_size_add(s, 1, sizeof(clipbuf));
     ls_size_add(s, triangle_count, 4 * sizeof(uint16_t));
@@ -1011,17 +1010,17 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     tiles = (size_t)cx.tiles_x * cx.tiles_y;
     mark = ls_arena_save(arena);
     before = ls_arena_used(arena);
-    vb.clip = (ls_real *)ls_arena_scratch(arena, vertex_count, 4 * sizeof(ls_real));
-    vb.zi = vb.clip ? (ls_real *)ls_arena_scratch(arena, vertex_count, 2 * sizeof(ls_real)) : NULL;
-    vb.snap = vb.zi ? (int32_t *)ls_arena_scratch(arena, vertex_count, 2 * sizeof(int32_t)) : NULL;
-    vb.flags = vb.snap ? (uint32_t *)ls_arena_scratch(arena, vertex_count, sizeof(uint32_t)) : NULL;
-    offs = vb.flags ? (size_t *)ls_arena_scratch(arena, tiles + 1, sizeof(size_t)) : NULL;
+    vb.clip = (ls_real *)ls_arena_scratch(arena, vertex_count, VERT_BYTES);
+    offs = vb.clip ? (size_t *)ls_arena_scratch(arena, tiles + 1, sizeof(size_t)) : NULL;
     cb = offs ? (clipbuf *)ls_arena_scratch(arena, 1, sizeof(clipbuf)) : NULL;
     rects = cb ? (uint16_t *)ls_arena_scratch(arena, triangle_count, 4 * sizeof(uint16_t)) : NULL;
     if (rects == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
+    vb.zi = vb.clip + 4 * (size_t)vertex_count;
+    vb.snap = (int32_t *)(void *)(vb.zi + 2 * (size_t)vertex_count);
+    vb.flags = (uint32_t *)(vb.snap + 2 * (size_t)vertex_count);
     for (t = 0; t < vertex_count; t++) {
         if (!transform_vertex(&cx, positions + 3 * (size_t)t, &vb, t)) {
             ls_arena_restore(arena, mark);
