@@ -645,11 +645,12 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
     int32_t lsnap[6];
     uint32_t lflags[3];
     vbuf local;
-    const vbuf *vb = cp->vb != NULL ? cp->vb : &local;
+    const vbuf *vb;
     local.clip = lclip;
     local.zi = lzi;
     local.snap = lsnap;
     local.flags = lflags;
+    vb = cp->vb != NULL ? cp->vb : &local;
     cp->clipped = 0;
     for (t = 0; t < cp->triangle_count; t++) {
         const uint32_t *f = cp->indices + 3 * (size_t)t;
@@ -722,7 +723,6 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
     rctx cx;
     ls_size s;
     cpass cp;
-    uint32_t i;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -734,7 +734,7 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
     {
         ls_real c[4], zi[2];
         int32_t sn[2];
-        uint32_t fl;
+        uint32_t fl, i;
         vbuf one;
         one.clip = c;
         one.zi = zi;
