@@ -236,21 +236,13 @@ static void near_point(const ls_real *p, const ls_real *q, ls_real s, ls_real ou
     for (r = 0; r < 4; r++) out[r] = p[r] + s * (q[r] - p[r]);
 }
 
-/* The window polygon of triangle f clipped at the near plane (3 or 4
- * corners, 0 when nothing is in front); each clipped corner is computed
- * from the behind vertex, as the segment ends are. */
-static int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
+/* tri_poly of a triangle with a corner behind the eye or the near plane
+ * (or without sc->win): out of line, the inlined path takes the rest. */
+LS_NOINLINE static int tri_poly_cut(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
 {
     const ls_real *c[3];
     ls_real d[3], w[2], q[4];
     int k, n = 0, front = 0;
-    if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
-        for (k = 0; k < 3; k++) { /* every corner in front: its window position */
-            x[k] = sc->win[2 * (size_t)f[k]];
-            y[k] = sc->win[2 * (size_t)f[k] + 1];
-        }
-        return 3;
-    }
     for (k = 0; k < 3; k++) {
         c[k] = sc->vis->clip + 4 * (size_t)f[k];
         d[k] = c[k][2] + c[k][3];
@@ -288,6 +280,21 @@ static int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4
     return n;
 }
 
+/* The window polygon of triangle f clipped at the near plane (3 or 4
+ * corners, 0 when nothing is in front); each clipped corner is computed
+ * from the behind vertex, as the segment ends are. */
+static inline int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
+{
+    int k;
+    if (sc->vfront == NULL || (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) == 0)
+        return tri_poly_cut(sc, f, x, y);
+    for (k = 0; k < 3; k++) { /* every corner in front: its window position */
+        x[k] = sc->win[2 * (size_t)f[k]];
+        y[k] = sc->win[2 * (size_t)f[k] + 1];
+    }
+    return 3;
+}
+
 static ls_real hdet(const ls_real *a, const ls_real *b, const ls_real *c);
 
 /* Orientation of triangle f: the sign of the homogeneous determinant of its
@@ -315,12 +322,16 @@ static int tri_sign(const sctx *sc, const uint32_t *f)
  * a bound on its error: window_of's coordinates are off by at most
  * eps (3 |x| + width) each (sc->wk bounds 3 |x| + width + height over the
  * front vertices), the differences and products add theirs; 16 eps covers
- * them with room. Otherwise tri_sign decides. */
-static int tri_sign_front(const sctx *sc, const uint32_t *f)
+ * them with room. Otherwise tri_sign decides. Most triangles' cross
+ * products exceed wkb, which bounds every triangle's bound, so the
+ * answer is the same without computing theirs. */
+static int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
 {
     const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
     ls_real dx1 = p1[0] - p0[0], dy1 = p1[1] - p0[1], dx2 = p2[0] - p0[0], dy2 = p2[1] - p0[1];
     ls_real t1 = dx1 * dy2, t2 = dy1 * dx2, cr = t1 - t2, k = sc->wk, bound;
+    if (cr > wkb) return -2;
+    if (cr < -wkb) return 2;
     bound = (ls_real)16 * LS_REAL_EPSILON *
                 ((k * (((r_abs(dx1) + r_abs(dy1)) + (r_abs(dx2) + r_abs(dy2))) + LS_REAL_EPSILON * k) + r_abs(t1)) +
                  r_abs(t2)) +
@@ -408,7 +419,7 @@ static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 }
 
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
-static void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
+static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 {
     r[0] = tile_of((ls_real)fb[0], sc->tside_inv, sc->tiles_x);
     r[1] = tile_of((ls_real)fb[1], sc->tside_inv, sc->tiles_y);
@@ -610,7 +621,7 @@ static void sh_quad_init(sctx *sc)
 }
 
 /* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m. */
-static ls_real quad_form(const ls_real *G, const ls_real *u, const ls_real *v)
+static inline ls_real quad_form(const ls_real *G, const ls_real *u, const ls_real *v)
 {
     return ((G[0] * u[0] * v[0] + G[4] * u[1] * v[1]) + (G[7] * u[2] * v[2] + G[9] * u[3] * v[3])) +
            ((G[1] * (u[0] * v[1] + u[1] * v[0]) + G[2] * (u[0] * v[2] + u[2] * v[0])) +
@@ -789,8 +800,9 @@ static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_
         ls_real cr = (x[q1] - x[q]) * (yw - y[q]) - (y[q1] - y[q]) * (xw - x[q]);
         pos |= cr > (ls_real)0;
         neg |= cr < (ls_real)0;
+        if (pos && neg) return 0;
     }
-    return !(pos && neg);
+    return 1;
 }
 
 /* Whether the segment's point at t is seen (1) and, if so, the surface
@@ -1060,12 +1072,14 @@ static int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3
 
 /* The walk face holding the segment's point at t by the margins, found by
  * walking from o across the edge the point is farthest outside of
- * (normalized by the margins); LS_EDGE_NONE when the walk fails. */
-static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real t)
+ * (normalized by the margins); LS_EDGE_NONE when the walk fails. Its
+ * walk_sides are left in w (num, den, m), for walk_reach's first step. */
+static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real t, ls_real w[9])
 {
+    ls_real *num = w, *den = w + 3, *m = w + 6;
     uint32_t step;
     for (step = 0; step < SIL_WALK_CAP; step++) {
-        ls_real num[3], den[3], m[3], worst = (ls_real)0;
+        ls_real worst = (ls_real)0;
         uint32_t q, qw = 3u, tw;
         if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return LS_EDGE_NONE;
         for (q = 0; q < 3u; q++) {
@@ -1088,21 +1102,27 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
  * the margins of its edges but `in` (its entry edge, 3: none), towards tg:
  * returns the parameter up to which the segment is proven hidden (ts when
  * nothing is). Stopped by SIL_WALK_CAP, it leaves in *next and *nin the
- * face and entry edge to go on from there (else *next = LS_EDGE_NONE). */
+ * face and entry edge to go on from there (else *next = LS_EDGE_NONE).
+ * first: o's walk_sides from walk_locate, or NULL. */
 static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t in, ls_real ts, ls_real tg,
-                          uint32_t *next, uint32_t *nin)
+                          const ls_real *first, uint32_t *next, uint32_t *nin)
 {
     ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
     uint32_t step;
     *next = LS_EDGE_NONE;
     *nin = 3u;
     for (step = 0; step < SIL_WALK_CAP; step++) {
-        ls_real num[3], den[3], m[3], z[3], tx = tg;
+        ls_real own[9], z[3], tx = tg;
+        const ls_real *num = own, *den = own + 3, *m = own + 6;
         uint32_t q, qx = 3u, tw;
-        if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return ts;
+        if (step == 0 && first != NULL) {
+            num = first;
+            den = first + 3;
+            m = first + 6;
+        } else if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, own, own + 3, own + 6)) {
+            return ts;
+        }
         for (q = 0; q < 3u; q++) {
-            const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
-            z[q] = cl[2] / cl[3];
             if (q != in && num[q] - ts * den[q] < m[q]) return ts; /* ts not inside by the margin */
             /* c_q falls along the walk: it leaves through q where c_q = 0 */
             if (q != in && d * den[q] > (ls_real)0) {
@@ -1115,6 +1135,10 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         }
         for (q = 0; q < 3u; q++)
             if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
+        for (q = 0; q < 3u; q++) {
+            const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
+            z[q] = cl[2] / cl[3];
+        }
         if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return ts;
         if (qx == 3u) return tx; /* tg reached */
         tw = sc->twin[3 * (size_t)o + qx];
@@ -1147,15 +1171,15 @@ typedef struct srun {
  * it can: the runs that follow (in order along the segment) inside what it
  * proved hidden cost nothing, and one stopped by the cap goes on from
  * where it stopped. */
-static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
+LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
 {
     const ls_vis *vis = sc->vis;
-    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss, reach;
+    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss, reach, w[9];
     uint32_t sx, sy, id, nx, nin;
     if (sc->twin == NULL) return 0;
     if (ed->wok && t1 <= ed->wtb) return 1; /* proven by an earlier walk */
     if (ed->wok && ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
-        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, &nx, &nin);
+        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, &nx, &nin);
         ed->wtb = reach;
         ed->wnext = nx;
         ed->wnin = nin;
@@ -1166,9 +1190,9 @@ static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
     sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
     id = vis->tri[(size_t)sy * vis->sw + sx];
     if (id == 0) return 0;
-    id = walk_locate(sc, ed, id - 1u, tm);
-    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, &nx, &nin) != t0) return 0;
-    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, &nx, &nin);
+    id = walk_locate(sc, ed, id - 1u, tm, w);
+    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, w, &nx, &nin) != t0) return 0;
+    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, &nx, &nin);
     ed->wok = 1;
     ed->wtb = reach;
     ed->wnext = nx;
@@ -1283,11 +1307,18 @@ static int clip_rect(const sctx *sc, const ls_real a[2], const ls_real e[2], ls_
 }
 
 /* Grid-line crossings of one coordinate along the edge: the lines
- * k = first, first + step, ... (count of them) at t = (k - a) / e. */
+ * k = first, first + step, ... (count of them) at t = (k - a) / e; next:
+ * the parameter of line k (t_end when none is left), kept from one step
+ * to the next (one division per crossing). */
 typedef struct lines {
-    ls_real k, step, a, e;
+    ls_real k, step, a, e, next;
     int32_t left;
 } lines;
+
+static void lines_next(lines *l, ls_real t_end)
+{
+    l->next = l->left > 0 ? (l->k - l->a) / l->e : t_end;
+}
 
 static void lines_init(lines *l, ls_real a, ls_real e, ls_real t0, ls_real t1)
 {
@@ -1296,15 +1327,20 @@ static void lines_init(lines *l, ls_real a, ls_real e, ls_real t0, ls_real t1)
     l->a = a;
     l->e = e;
     l->left = 0;
-    if (e == (ls_real)0 || last < first) return;
-    l->left = LS_RTO_I32(last - first) + 1;
-    l->step = e > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
-    l->k = e > (ls_real)0 ? first : last;
+    if (e != (ls_real)0 && !(last < first)) {
+        l->left = LS_RTO_I32(last - first) + 1;
+        l->step = e > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
+        l->k = e > (ls_real)0 ? first : last;
+    }
+    lines_next(l, t1);
 }
 
-static ls_real lines_next(const lines *l, ls_real t_end)
+/* Past line k: on to the next. */
+static void lines_step(lines *l, ls_real t_end)
 {
-    return l->left > 0 ? (l->k - l->a) / l->e : t_end;
+    l->left--;
+    l->k += l->step;
+    lines_next(l, t_end);
 }
 
 /* dL/d(X, Y, Z, W) of a clip-space point cl from window-space dL/d(x, y). */
@@ -1379,16 +1415,21 @@ static void end_make(const sctx *sc, uint32_t v, uint32_t w, endp *ep)
     }
 }
 
-/* One silhouette segment A -> B of face ft (twin fu); C: a point of the
+/* One silhouette segment A -> B of face ft (twin fu), its ends those of
+ * the edges v[0] -> v[1] and v[2] -> v[3] (end_make); C: a point of the
  * face off the segment's line (clip space), which tells the covered side. */
-static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *ea, const endp *eb, const ls_real *C)
+static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_t v[4], const ls_real *C)
 {
+    endp ends[2];
+    const endp *ea = ends, *eb = ends + 1;
     sedge ed;
     ls_real b[2], nrm[2], t0 = (ls_real)0, t1 = (ls_real)1, tcur, side, g[4];
     lines lx, ly;
     srun run;
     uint32_t px, py;
     size_t tile;
+    end_make(sc, v[0], v[1], &ends[0]);
+    end_make(sc, v[2], v[3], &ends[1]);
     if (!(ea->c[3] > (ls_real)0) || !(eb->c[3] > (ls_real)0)) return;
     run.n = 0;
     run.tile = 0;
@@ -1429,17 +1470,11 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const endp *e
     lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
     tcur = t0;
     while (tcur < t1) {
-        ls_real tx = lines_next(&lx, t1), ty = lines_next(&ly, t1), tn = t1, mid;
+        ls_real tx = lx.next, ty = ly.next, tn = t1, mid;
         if (tx < tn) tn = tx;
         if (ty < tn) tn = ty;
-        if (tx <= tn && lx.left > 0) {
-            lx.left--;
-            lx.k += lx.step;
-        }
-        if (ty <= tn && ly.left > 0) {
-            ly.left--;
-            ly.k += ly.step;
-        }
+        if (tx <= tn && lx.left > 0) lines_step(&lx, t1);
+        if (ty <= tn && ly.left > 0) lines_step(&ly, t1);
         if (tn <= tcur) continue; /* a crossing at (or before) the current point */
         mid = (tcur + tn) * (ls_real)0.5;
         px = cell_of(ed.a[0] + mid * ed.e[0], sc->vis->width);
@@ -1472,7 +1507,7 @@ LS_NOINLINE static void cut_pass(const sctx *sc, uint32_t t)
 {
     const uint32_t *f = sc->indices + 3 * (size_t)t;
     ls_real d[3];
-    endp ends[2];
+    uint32_t ends[4];
     int k, n = 0, front = 0;
     for (k = 0; k < 3; k++) {
         const ls_real *c = sc->vis->clip + 4 * (size_t)f[k];
@@ -1482,28 +1517,29 @@ LS_NOINLINE static void cut_pass(const sctx *sc, uint32_t t)
     if (front == 0 || (d[0] >= (ls_real)0 && d[1] >= (ls_real)0 && d[2] >= (ls_real)0)) return;
     for (k = 0; k < 3; k++) {
         uint32_t v = f[k], w = f[(k + 1) % 3];
-        if ((d[k] >= (ls_real)0) == (d[(k + 1) % 3] >= (ls_real)0)) continue;
-        if (d[k] < (ls_real)0)
-            end_make(sc, v, w, &ends[n++]);
-        else
-            end_make(sc, w, v, &ends[n++]);
+        if ((d[k] >= (ls_real)0) == (d[(k + 1) % 3] >= (ls_real)0) || n == 4) continue;
+        ends[n++] = d[k] < (ls_real)0 ? v : w; /* from the vertex behind */
+        ends[n++] = d[k] < (ls_real)0 ? w : v;
     }
-    if (n == 2) segment_pass(sc, t, LS_EDGE_NONE, &ends[0], &ends[1], sc->vis->clip + 4 * (size_t)f[front - 1]);
+    if (n == 4) segment_pass(sc, t, LS_EDGE_NONE, ends, sc->vis->clip + 4 * (size_t)f[front - 1]);
 }
 
-/* Whether interior edge h (twin present) is a silhouette: its two faces
- * lie on the same side of its screen line (one front-, one back-facing).
- * Certain orientations (tri_sign) decide at once: the face across the edge
- * has the opposite cyclic order of its vertices, so the two determinants
- * of the edge test have the signs of sign[ft] and -sign[fu]. */
-static int folds(const sctx *sc, const ls_edge_table *table, uint32_t h)
+/* Whether interior edge h (twin tw) is a silhouette: its two faces lie on
+ * the same side of its screen line (one front-, one back-facing). Certain
+ * orientations (tri_sign) decide at once: the face across the edge has the
+ * opposite cyclic order of its vertices, so the two determinants of the
+ * edge test have the signs of sign[ft] and -sign[fu]. */
+static int folds(const sctx *sc, uint32_t h, uint32_t tw)
 {
-    uint32_t tw = table->twin[h], ft = h / 3u, fu = tw / 3u;
+    uint32_t ft = h / 3u, fu = tw / 3u;
     int s1 = sc->sign[ft], s2 = sc->sign[fu]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
-    const uint32_t *f = sc->indices + 3 * (size_t)ft, *g = sc->indices + 3 * (size_t)fu;
-    const ls_real *c = sc->vis->clip;
+    const uint32_t *f, *g;
+    const ls_real *c;
     ls_real sc_, sd_;
     if ((s1 == 2 || s1 == -2) && (s2 == 2 || s2 == -2)) return s1 == -s2;
+    f = sc->indices + 3 * (size_t)ft;
+    g = sc->indices + 3 * (size_t)fu;
+    c = sc->vis->clip;
     sc_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)f[(h % 3u + 2u) % 3u]);
     sd_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
     return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
@@ -1672,31 +1708,41 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
     return scratch_for_entries(width, height, vertex_count, triangle_count, (size_t)tiles * triangle_count, bytes);
 }
 
-/* Every silhouette edge (boundary edges, and interior edges whose faces
- * fold: one front-, one back-facing), each once, integrated; its own frame
- * (the stack limit on every target). */
+/* The first silhouette half-edge from h on (3 triangle_count: none): a
+ * boundary edge, or an interior edge, seen from its larger half (each edge
+ * once), whose faces fold (one front-, one back-facing). Most edges lie
+ * between two faces certain of one orientation: the loop tells them at once. */
+static uint32_t next_edge(const sctx *sc, const uint32_t *twin, uint32_t h)
+{
+    const signed char *sign = sc->sign;
+    uint32_t n = 3u * sc->triangle_count;
+    for (; h < n; h++) {
+        uint32_t tw = twin[h];
+        int s1, s2;
+        if (tw == LS_EDGE_NONE) return h;
+        if (tw < h) continue;
+        s1 = sign[h / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
+        s2 = sign[tw / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): as s1 */
+        if (s1 + s2 != 4 && s1 + s2 != -4 && folds(sc, h, tw)) return h;
+    }
+    return n;
+}
+
+/* Every silhouette edge, integrated; its own frame (the stack limit on
+ * every target). */
 LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table)
 {
     const ls_real *clip = sc->vis->clip;
-    uint32_t t;
-    for (t = 0; t < sc->triangle_count; t++) {
+    uint32_t h;
+    for (h = next_edge(sc, table->twin, 0); h < 3u * sc->triangle_count; h = next_edge(sc, table->twin, h + 1u)) {
+        uint32_t t = h / 3u, k = h - 3u * t, tw = table->twin[h], v[4];
         const uint32_t *f = sc->indices + 3 * (size_t)t;
-        uint32_t k;
-        for (k = 0; k < 3u; k++) {
-            uint32_t h3 = 3u * t + k, tw = table->twin[h3], fu = LS_EDGE_NONE;
-            uint32_t va = f[k], vb = f[(k + 1u) % 3u], vc = f[(k + 2u) % 3u];
-            const ls_real *A = clip + 4 * (size_t)va, *B = clip + 4 * (size_t)vb;
-            endp ea, eb;
-            if (tw != LS_EDGE_NONE) {
-                if (tw < h3) continue; /* each edge once */
-                fu = tw / 3u;
-                if (!folds(sc, table, h3)) continue;
-            }
-            if (A[2] + A[3] < (ls_real)0 && B[2] + B[3] < (ls_real)0) continue; /* behind the near plane */
-            end_make(sc, va, vb, &ea);
-            end_make(sc, vb, va, &eb);
-            segment_pass(sc, t, fu, &ea, &eb, clip + 4 * (size_t)vc);
-        }
+        v[0] = v[3] = f[k];
+        v[1] = v[2] = f[k == 2u ? 0u : k + 1u];
+        if (clip[4 * (size_t)v[0] + 2] + clip[4 * (size_t)v[0] + 3] < (ls_real)0 &&
+            clip[4 * (size_t)v[1] + 2] + clip[4 * (size_t)v[1] + 3] < (ls_real)0)
+            continue; /* behind the near plane */
+        segment_pass(sc, t, tw == LS_EDGE_NONE ? LS_EDGE_NONE : tw / 3u, v, clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
     }
 }
 
@@ -1713,7 +1759,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     int over = 0;
     signed char *sign;
     unsigned char *vfront;
-    ls_real *win;
+    ls_real *win, wkb;
     size_t *offs;
     uint32_t *ent;
     ls_status st;
@@ -1761,11 +1807,14 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         }
     }
     sc.wk = ((ls_real)3 * sc.wk + sc.width) + sc.height;
+    /* with M = max(|x| + |y|) <= wk / 3, each |d| sum is at most 4 M and |t1|, |t2| at most 4 M^2:
+     * tri_sign_front's bound is below 16 eps (20 wk^2 / 9 + eps wk) + 64 min, far below this */
+    wkb = (ls_real)64 * LS_REAL_EPSILON * sc.wk * (sc.wk + (ls_real)1) + (ls_real)128 * R_MIN_NORMAL;
     sc.win = win;
     sc.vfront = vfront;
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f)
+        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f, wkb)
                                                                                   : tri_sign(&sc, f));
     }
     sc.sign = sign;
