@@ -41,74 +41,11 @@ static inline ls_arena *geo_arena(ls_arena *a, size_t n)
     return a;
 }
 
-/* The deflate stream of a gzip member (RFC 1952) in g[0..n): its offset in
- * *start and length in *len, and the trailer's CRC-32 and ISIZE (the
- * uncompressed length mod 2^32). One member only; 0 when the header or the
- * framing is malformed or uses a compression method other than deflate. */
-static inline int geo_gzip_member(const unsigned char *g, size_t n, size_t *start, size_t *len, uint32_t *crc,
-                                  uint32_t *isize)
-{
-    size_t at = 10;
-    unsigned flg;
-    if (n < 18 || g[0] != 0x1f || g[1] != 0x8b || g[2] != 8) return 0;
-    flg = g[3];
-    if (flg & 0xe0u) return 0; /* reserved bits */
-    if (flg & 4u) {            /* FEXTRA: a 2-byte length, then that many bytes */
-        if (at + 2 > n) return 0;
-        at += 2 + ((size_t)g[at] | (size_t)g[at + 1] << 8);
-    }
-    if (flg & 8u) { /* FNAME, zero-terminated */
-        while (at < n && g[at] != 0) at++;
-        at++;
-    }
-    if (flg & 16u) { /* FCOMMENT, zero-terminated */
-        while (at < n && g[at] != 0) at++;
-        at++;
-    }
-    if (flg & 2u) at += 2; /* FHCRC */
-    if (at + 8 > n) return 0;
-    *start = at;
-    *len = n - 8 - at;
-    *crc = (uint32_t)g[n - 8] | (uint32_t)g[n - 7] << 8 | (uint32_t)g[n - 6] << 16 | (uint32_t)g[n - 5] << 24;
-    *isize = (uint32_t)g[n - 4] | (uint32_t)g[n - 3] << 8 | (uint32_t)g[n - 2] << 16 | (uint32_t)g[n - 1] << 24;
-    return 1;
-}
-
-/* Reads a file whole into a malloc'd buffer (free it); a name ending in
- * ".gz" is decompressed with the library's ls_inflate and its CRC-32 and
- * length checked against the gzip trailer. 0 on any failure. */
+/* Reads a file whole into a malloc'd buffer (free it), a gzip file
+ * decompressed (ls_posix_read_data). 0 on any failure. */
 static inline int geo_read_file(const char *path, unsigned char **data, size_t *bytes)
 {
-    unsigned char *g = NULL, *out = NULL, *work = NULL;
-    size_t n = 0, len = strlen(path), start = 0, dlen = 0, got = 0, wbytes = 0;
-    uint32_t crc = 0, isize = 0;
-    ls_arena a;
-    int ok;
-    *data = NULL;
-    *bytes = 0;
-    if (ls_posix_read_file(path, &g, &n) != LS_OK) return 0;
-    if (len < 3 || strcmp(path + len - 3, ".gz") != 0) {
-        *data = g;
-        *bytes = n;
-        return 1;
-    }
-    ok = geo_gzip_member(g, n, &start, &dlen, &crc, &isize) && ls_inflate_bytes(&wbytes) == LS_OK;
-    if (ok) {
-        out = (unsigned char *)malloc((size_t)isize + 1);
-        work = (unsigned char *)malloc(wbytes + 16);
-        ok = out != NULL && work != NULL && ls_arena_init(&a, work, wbytes + 16) == LS_OK &&
-             ls_inflate(g + start, dlen, out, (size_t)isize, &got, &a, NULL) == LS_OK && got == (size_t)isize &&
-             ls_crc32(0, out, got) == crc;
-    }
-    free(g);
-    free(work);
-    if (!ok) {
-        free(out);
-        return 0;
-    }
-    *data = out;
-    *bytes = got;
-    return 1;
+    return ls_posix_read_data(path, data, bytes) == LS_OK;
 }
 
 /* Reads a mesh file (".gz" too, see geo_read_file) into the arena; 0 on failure. */

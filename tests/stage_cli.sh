@@ -106,6 +106,13 @@ printf 'largesteps-scene 1\nresolution 32 32\ncamera 0 0 3 0 0 0\nlighting sun\n
 expect fit_malformed_scene 1 "bad.txt:4:10" "$ls" fit "$out/scene/bad.txt" -o "$out/x"
 if [ -e "$out/x" ] && [ -n "$(ls -A "$out/x")" ]; then bad "fit_failures_write_nothing"; else ok "fit_failures_write_nothing"; fi
 
+# a gzip-compressed mesh is read (the armadillo fixture, remeshed coarse); a corrupt one is refused
+check remesh_gzip_mesh "$ls" remesh fixtures/meshes/armadillo.obj.gz --factor 2 --iters 1 -o "$out/armadillo_coarse.obj"
+if [ "$(grep -c '^f ' "$out/armadillo_coarse.obj" 2>/dev/null)" -gt 5000 ]; then ok "remesh_gzip_mesh_written"; else bad "remesh_gzip_mesh_written"; fi
+{ head -c 200000 fixtures/meshes/armadillo.obj.gz; printf 'x'; tail -c +200002 fixtures/meshes/armadillo.obj.gz; } > "$out/corrupt.obj.gz"
+expect remesh_corrupt_gzip 1 "corrupt.obj.gz" "$ls" remesh "$out/corrupt.obj.gz" -o "$out/corrupt_out.obj"
+if [ -e "$out/corrupt_out.obj" ]; then bad "remesh_corrupt_gzip_writes_nothing"; else ok "remesh_corrupt_gzip_writes_nothing"; fi
+
 # 4. an experiment table
 check experiment_silhouettes "$ls" experiment silhouettes --iters 8 --res 24 --views 3 --level 1 -o "$out/exp"
 if grep -q '^| large steps, lambda 99 |' "$out/exp/silhouettes.md" 2>/dev/null; then ok "experiment_table_written"; else bad "experiment_table_written"; fi

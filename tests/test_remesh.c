@@ -457,8 +457,9 @@ static void armadillo_double(void)
     if (!armadillo_skipped()) remesh_closed("fixtures/meshes/armadillo.obj.gz", 2.0);
 }
 
-/* The gzip fixture decompresses (with ls_inflate, CRC-32 and length checked)
- * to the mesh the README documents; a corrupted copy is refused. */
+/* The gzip fixture decompresses (with ls_inflate, CRC-32 and length checked:
+ * ls_posix_read_data) to the mesh the README documents; a corrupted copy is
+ * refused. */
 static void gzip_fixture(void)
 {
     unsigned char *d = NULL, *g = NULL;
@@ -475,13 +476,29 @@ static void gzip_fixture(void)
     free_mesh(&m);
     /* a flipped bit in the deflate data or in the trailer's CRC is an error */
     REQUIRE(ls_posix_read_file("fixtures/meshes/armadillo.obj.gz", &g, &gn) == LS_OK);
-    REQUIRE(geo_gzip_member(g, gn, &start, &len, &crc, &isize));
+    REQUIRE(ls_posix_gzip_member(g, gn, &start, &len, &crc, &isize));
     CHECK_EQ(start, 10u); /* gzip -n: no name field */
     CHECK_EQ(isize, 1675109u);
-    CHECK_EQ(geo_gzip_member(g, 17, &start, &len, &crc, &isize), 0);
+    CHECK_EQ(ls_posix_gzip_member(g, 17, &start, &len, &crc, &isize), 0);
     g[0] ^= 1u;
-    CHECK_EQ(geo_gzip_member(g, gn, &start, &len, &crc, &isize), 0);
+    CHECK_EQ(ls_posix_gzip_member(g, gn, &start, &len, &crc, &isize), 0);
     g[0] ^= 1u;
+    {
+        unsigned char *o = NULL;
+        size_t on = 0;
+        CHECK_STATUS(ls_posix_gunzip(g, gn, &o, &on), LS_OK);
+        CHECK_EQ(on, 1675109u);
+        free(o);
+        o = NULL;
+        g[gn - 6] ^= 1u; /* the trailer's CRC-32 */
+        CHECK_STATUS(ls_posix_gunzip(g, gn, &o, &on), LS_ERR_PARSE);
+        CHECK(o == NULL);
+        g[gn - 6] ^= 1u;
+        g[gn / 2] ^= 0x10u; /* the deflate data */
+        CHECK(ls_posix_gunzip(g, gn, &o, &on) != LS_OK);
+        CHECK(o == NULL);
+        g[gn / 2] ^= 0x10u;
+    }
     free(g);
 }
 

@@ -36,7 +36,7 @@ static int load(const char *path, loaded *out)
     ls_diag diag;
     ls_status st;
     out->work = NULL;
-    st = ls_posix_read_file(path, &data, &bytes);
+    st = ls_posix_read_data(path, &data, &bytes);
     if (st != LS_OK) {
         fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_status_str(st));
         return 0;

@@ -160,7 +160,7 @@ int ls_cmd_remesh(int argc, char **argv)
     }
     if (in_path == NULL || out_path == NULL) return remesh_usage();
     ls_diag_clear(&diag);
-    st = ls_posix_read_file(in_path, &data, &bytes);
+    st = ls_posix_read_data(in_path, &data, &bytes);
     if (st != LS_OK) {
         fprintf(stderr, "largesteps: cannot read %s: %s\n", in_path, ls_status_str(st));
         return 1;

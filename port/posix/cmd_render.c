@@ -186,7 +186,7 @@ static int setup(render_run *r)
     uint32_t v, cols;
     ls_real mvp[16];
     ls_diag_clear(&d);
-    st = ls_posix_read_file(r->a.mesh_path, &data, &bytes);
+    st = ls_posix_read_data(r->a.mesh_path, &data, &bytes);
     if (st != LS_OK) {
         fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.mesh_path, ls_status_str(st));
         return 1;

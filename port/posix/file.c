@@ -134,11 +134,89 @@ int ls_posix_print_file_in(const char *dir, const char *name)
     return ok;
 }
 
+int ls_posix_gzip_member(const unsigned char *g, size_t n, size_t *start, size_t *len, uint32_t *crc,
+                         uint32_t *isize)
+{
+    size_t at = 10;
+    unsigned flg;
+    if (n < 18 || g[0] != 0x1f || g[1] != 0x8b || g[2] != 8) return 0;
+    flg = g[3];
+    if (flg & 0xe0u) return 0; /* reserved bits */
+    if (flg & 4u) {            /* FEXTRA: a 2-byte length, then that many bytes */
+        if (at + 2 > n) return 0;
+        at += 2 + ((size_t)g[at] | (size_t)g[at + 1] << 8);
+    }
+    if (flg & 8u) { /* FNAME, zero-terminated */
+        while (at < n && g[at] != 0) at++;
+        at++;
+    }
+    if (flg & 16u) { /* FCOMMENT, zero-terminated */
+        while (at < n && g[at] != 0) at++;
+        at++;
+    }
+    if (flg & 2u) at += 2; /* FHCRC */
+    if (at > n || n - at < 8) return 0;
+    *start = at;
+    *len = n - 8 - at;
+    *crc = (uint32_t)g[n - 8] | (uint32_t)g[n - 7] << 8 | (uint32_t)g[n - 6] << 16 | (uint32_t)g[n - 5] << 24;
+    *isize = (uint32_t)g[n - 4] | (uint32_t)g[n - 3] << 8 | (uint32_t)g[n - 2] << 16 | (uint32_t)g[n - 1] << 24;
+    return 1;
+}
+
+ls_status ls_posix_gunzip(const unsigned char *g, size_t n, unsigned char **data, size_t *bytes)
+{
+    unsigned char *out, *work;
+    size_t start = 0, len = 0, got = 0, wbytes = 0;
+    uint32_t crc = 0, isize = 0;
+    ls_arena a;
+    ls_status st;
+    if (g == NULL || data == NULL || bytes == NULL) return LS_ERR_INVALID;
+    *data = NULL;
+    *bytes = 0;
+    if (!ls_posix_gzip_member(g, n, &start, &len, &crc, &isize)) return LS_ERR_PARSE;
+    st = ls_inflate_bytes(&wbytes);
+    if (st != LS_OK) return st;
+    out = (unsigned char *)malloc((size_t)isize + 1u);
+    work = (unsigned char *)malloc(wbytes + LS_ARENA_ALIGN);
+    if (out == NULL || work == NULL) {
+        free(out);
+        free(work);
+        return LS_ERR_TOO_LARGE;
+    }
+    st = ls_arena_init(&a, work, wbytes + LS_ARENA_ALIGN);
+    if (st == LS_OK) st = ls_inflate(g + start, len, out, (size_t)isize, &got, &a, NULL);
+    /* the trailer's length and CRC-32 must match what came out */
+    if (st == LS_OK && (got != (size_t)isize || ls_crc32(0, out, got) != crc)) st = LS_ERR_PARSE;
+    free(work);
+    if (st != LS_OK) {
+        free(out);
+        return st;
+    }
+    *data = out;
+    *bytes = got;
+    return LS_OK;
+}
+
+ls_status ls_posix_read_data(const char *path, unsigned char **data, size_t *bytes)
+{
+    unsigned char *raw = NULL;
+    size_t n = 0;
+    ls_status st = ls_posix_read_file(path, &raw, &n);
+    if (st != LS_OK || n < 2 || raw[0] != 0x1f || raw[1] != 0x8b) {
+        *data = raw;
+        *bytes = n;
+        return st;
+    }
+    st = ls_posix_gunzip(raw, n, data, bytes);
+    free(raw);
+    return st;
+}
+
 ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag)
 {
     unsigned char *data = NULL;
     size_t bytes = 0;
-    ls_status st = ls_posix_read_file(path, &data, &bytes);
+    ls_status st = ls_posix_read_data(path, &data, &bytes);
     if (st == LS_OK) st = ls_mesh_read(data, bytes, LS_MESH_FORMAT_AUTO, arena, mesh, diag);
     free(data);
     return st;

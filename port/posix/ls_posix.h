@@ -14,12 +14,31 @@ uint64_t ls_posix_clock_ns(void *user);
  * LS_ERR_IO when it cannot be opened or read, LS_ERR_TOO_LARGE past SIZE_MAX. */
 ls_status ls_posix_read_file(const char *path, unsigned char **data, size_t *bytes);
 
+/* The deflate stream of a gzip member (RFC 1952) in g[0..n): its offset in
+ * *start and length in *len, and the trailer's CRC-32 and ISIZE (the
+ * uncompressed length mod 2^32). One member only; 0 when the header or the
+ * framing is malformed or the method is not deflate. */
+int ls_posix_gzip_member(const unsigned char *g, size_t n, size_t *start, size_t *len, uint32_t *crc,
+                         uint32_t *isize);
+
+/* Decompresses the gzip member g[0..n) into a malloc'd buffer with the
+ * library's ls_inflate, its length and CRC-32 checked against the trailer:
+ * LS_ERR_PARSE when malformed or corrupt, LS_ERR_TOO_LARGE when the memory
+ * is not there, ls_inflate's errors. */
+ls_status ls_posix_gunzip(const unsigned char *g, size_t n, unsigned char **data, size_t *bytes);
+
+/* ls_posix_read_file, and a gzip file (told by its first two bytes, 1f 8b)
+ * decompressed by ls_posix_gunzip. */
+ls_status ls_posix_read_data(const char *path, unsigned char **data, size_t *bytes);
+
 /* A write callback target: appends to a FILE * passed as `user`; returns 0 on
  * success, non-zero on a write error. */
 int32_t ls_posix_write_file(void *user, const void *data, size_t bytes);
 
-/* Reads an OBJ, PLY or OFF file (format from its first bytes) into *mesh
- * from the arena: LS_ERR_IO when unreadable, else ls_mesh_read's errors. */
+/* Reads an OBJ, PLY or OFF file (format from its first bytes; gzip-compressed
+ * too, ls_posix_read_data) into *mesh from the arena: LS_ERR_IO when
+ * unreadable, LS_ERR_PARSE for a corrupt gzip file, else ls_mesh_read's
+ * errors. */
 ls_status ls_posix_load_mesh(const char *path, ls_arena *arena, ls_mesh *mesh, ls_diag *diag);
 
 /* Creates a directory and its missing parents (like mkdir -p); 0 on success. */

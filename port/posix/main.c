@@ -87,7 +87,7 @@ static int cmd_info_mesh(const char *path)
     ls_real lo[3], hi[3];
     ls_status st;
     int problems = 0;
-    st = ls_posix_read_file(path, &data, &bytes);
+    st = ls_posix_read_data(path, &data, &bytes);
     if (st != LS_OK) {
         fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_status_str(st));
         return 1;

@@ -1,7 +1,7 @@
 /* tests/bench/bench_gradient.c - per-view cost of differentiable rendering:
  * forward (raster + SH shade), loss, shading backward (+ vertex normals),
  * silhouette pass, on the bunny (fixtures/meshes/bunny.obj) and the
- * armadillo (/work/shared/meshes/armadillo.obj, read at bench time), at
+ * armadillo (fixtures/meshes/armadillo.obj.gz, decompressed at bench time), at
  * 128^2 and 512^2, perspective. Times are process CPU time, the minimum over
  * repetitions (the machine is shared). Prints a table and writes it to
  * $BENCH_OUT (default build/bench/gradient.md).
@@ -45,7 +45,7 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
     ls_real *nrm, *img, *tgt, *gimg, *gp, *gn, *pimg, *gin;
     uint32_t i, k, ri;
     static const uint32_t res[2] = {128, 512};
-    if (ls_posix_read_file(path, &data, &bytes) != LS_OK && (alt == NULL || ls_posix_read_file(alt, &data, &bytes) != LS_OK)) {
+    if (ls_posix_read_data(path, &data, &bytes) != LS_OK && (alt == NULL || ls_posix_read_data(alt, &data, &bytes) != LS_OK)) {
         printf("bench_gradient: cannot read %s\n", path);
         return 0;
     }
@@ -176,7 +176,7 @@ int main(void)
     FILE *f;
     char line[512];
     ok &= bench_mesh("bunny", "fixtures/meshes/bunny.obj", "/work/shared/meshes/bunny.obj", rows, &n);
-    ok &= bench_mesh("armadillo", "/work/shared/meshes/armadillo.obj", NULL, rows, &n);
+    ok &= bench_mesh("armadillo", "fixtures/meshes/armadillo.obj.gz", "/work/shared/meshes/armadillo.obj", rows, &n);
     f = fopen(out, "w");
     snprintf(line, sizeof line,
              "| mesh | res | tris | sil. edges | forward ms | loss ms | shading bwd ms | silhouette SH ms | silhouette mask ms | pair fwd+bwd ms | bwd/fwd | sil/fwd |\n"
