@@ -488,7 +488,7 @@ ls_status ls_mesh_reorder_bytes(uint32_t vertex_count, uint32_t face_count, size
     ls_size s, perm, tris;
     if (bytes == NULL) return LS_ERR_INVALID;
     ls_size_init(&s);
-    ls_size_add(&s, face_count, sizeof(uint64_t)); /* keys */
+    ls_size_add(&s, face_count, sizeof(uint32_t)); /* keys (30-bit Morton codes) */
     ls_size_add(&s, face_count, sizeof(uint32_t)); /* order */
     ls_size_add(&s, face_count, sizeof(uint32_t)); /* the sort's scratch */
     ls_size_add(&s, vertex_count, sizeof(uint32_t)); /* new vertex indices */
@@ -525,8 +525,7 @@ ls_status ls_mesh_reorder(ls_mesh *mesh, ls_arena *arena, uint32_t *remap)
 {
     ls_arena_mark mark;
     ls_real lo[3], hi[3], inv[3];
-    uint64_t *keys;
-    uint32_t *order, *tmp, *vmap, nv, nf, f, v, next = 0;
+    uint32_t *keys, *order, *tmp, *vmap, nv, nf, f, v, next = 0;
     size_t nbuf, c;
     void *buf;
     int k;
@@ -541,7 +540,7 @@ ls_status ls_mesh_reorder(ls_mesh *mesh, ls_arena *arena, uint32_t *remap)
     nbuf = 3 * (size_t)nv * sizeof(ls_real) > 3 * (size_t)nf * sizeof(uint32_t) ? 3 * (size_t)nv * sizeof(ls_real)
                                                                                 : 3 * (size_t)nf * sizeof(uint32_t);
     mark = ls_arena_save(arena);
-    keys = (uint64_t *)ls_arena_scratch(arena, nf, sizeof(uint64_t));
+    keys = (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
     order = keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
     tmp = order == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
     vmap = tmp == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, nv, sizeof(uint32_t));
@@ -568,7 +567,7 @@ ls_status ls_mesh_reorder(ls_mesh *mesh, ls_arena *arena, uint32_t *remap)
         keys[f] = code;
         order[f] = f;
     }
-    (void)ls_sort_u64(keys, order, nf, tmp); /* stable: equal codes keep their order */
+    (void)ls_sort_u32(keys, order, nf, tmp); /* stable: equal codes keep their order */
     /* vertices by first use, the unused ones after them in their order */
     for (v = 0; v < nv; v++) vmap[v] = LS_MESH_NONE;
     for (f = 0; f < nf; f++)

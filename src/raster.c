@@ -663,8 +663,9 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
             v[1] = f[1];
             v[2] = f[2];
         } else {
-            for (v[0] = 0; v[0] < 3; v[0]++) /* validated before */
-                (void)transform_vertex(cx, cp->positions + 3 * (size_t)f[v[0]], &local, v[0]);
+            size_t k;
+            for (k = 0; k < 3; k++) /* validated before */
+                (void)transform_vertex(cx, cp->positions + 3 * (size_t)f[k], &local, k);
             v[0] = 0;
             v[1] = 1;
             v[2] = 2;

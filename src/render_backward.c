@@ -225,7 +225,8 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
             ls_real g[3];
             uint32_t i;
             if (skip != NULL && skip[p]) continue;
-            if (ss == 1u && vis->tri[p] == 0) continue; /* background: cheaper to test first */
+            if (ls_pixel_empty(vis->tri + (size_t)y * ss * vis->sw + (size_t)x * ss, ss, vis->sw, triangle_count))
+                continue; /* no sample to take a gradient: cheaper to test before it is read */
             g[0] = grad_image[4 * p] * inv_n;
             g[1] = grad_image[4 * p + 1] * inv_n;
             g[2] = grad_image[4 * p + 2] * inv_n;

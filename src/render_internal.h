@@ -94,4 +94,16 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
  * (render_backward.c) */
 void ls_shade_backward_sample(const ls_shade_bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3]);
 
+/* 1 when no sample of the pixel whose first sample is t0 sees a triangle
+ * (ids 0 or beyond the count). */
+static inline int ls_pixel_empty(const uint32_t *t0, uint32_t ss, size_t sw, uint32_t triangle_count)
+{
+    uint32_t i, j;
+    if (ss == 1) return t0[0] == 0 || t0[0] > triangle_count; /* the fit's case, without the loops */
+    for (j = 0; j < ss; j++, t0 += sw)
+        for (i = 0; i < ss; i++)
+            if (t0[i] != 0 && t0[i] <= triangle_count) return 0;
+    return 1;
+}
+
 #endif /* LS_RENDER_INTERNAL_H */

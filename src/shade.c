@@ -140,18 +140,6 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
-/* 1 when no sample of the pixel whose first sample is t0 sees a triangle
- * (ids 0 or beyond the count). */
-static int pixel_empty(const uint32_t *t0, uint32_t ss, size_t sw, uint32_t triangle_count)
-{
-    uint32_t i, j;
-    if (ss == 1) return t0[0] == 0 || t0[0] > triangle_count; /* the fit's case, without the loops */
-    for (j = 0; j < ss; j++, t0 += sw)
-        for (i = 0; i < ss; i++)
-            if (t0[i] != 0 && t0[i] <= triangle_count) return 0;
-    return 1;
-}
-
 ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
                    uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
 {
@@ -188,7 +176,7 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
             const ls_real *bg = opts->background_image != NULL ? opts->background_image + 3 * p : opts->background;
             ls_real acc[3] = {(ls_real)0, (ls_real)0, (ls_real)0};
             uint32_t covered = 0, i, j;
-            if (opts->background_image == NULL && pixel_empty(vis->tri + s0, ss, vis->sw, triangle_count)) {
+            if (opts->background_image == NULL && ls_pixel_empty(vis->tri + s0, ss, vis->sw, triangle_count)) {
                 memcpy(out + 4 * p, bg_pixel, sizeof bg_pixel);
                 continue;
             }
