@@ -15,22 +15,69 @@
 /* Everything one sample's backward needs (render_internal.h). */
 typedef ls_shade_bctx bctx;
 
-/* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi. */
-static void sh_grad(const ls_real *sh, const ls_real n[3], const ls_real g[3], ls_real dn[3])
+/* sh_grad's products of two constants per channel (k[5 c..]: c1 L8, c2 L3,
+ * c2 L1, c2 L2, c3 L6), formed once per call: the products sh_grad's
+ * expressions form first, so the same bits. */
+static void sh_grad_consts(const ls_real *sh, ls_real k[15])
 {
     const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2, c3 = (ls_real)LS_SH_C3;
+    int c;
+    for (c = 0; c < 3; c++) {
+        const ls_real *L = sh + 9 * (size_t)c;
+        k[5 * c] = c1 * L[8];
+        k[5 * c + 1] = c2 * L[3];
+        k[5 * c + 2] = c2 * L[1];
+        k[5 * c + 3] = c2 * L[2];
+        k[5 * c + 4] = c3 * L[6];
+    }
+}
+
+/* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi (k: sh_grad_consts). */
+static void sh_grad(const ls_real *sh, const ls_real *k, const ls_real n[3], const ls_real g[3], ls_real dn[3])
+{
+    const ls_real c1 = (ls_real)LS_SH_C1;
     ls_real x = n[0], y = n[1], z = n[2];
     int c;
     dn[0] = dn[1] = dn[2] = (ls_real)0;
-    for (c = 0; c < 3; c++) {
+    for (c = 0; c < 3; c++, k += 5) {
         const ls_real *L = sh + 9 * (size_t)c;
-        ls_real gx = c1 * L[8] * x + c1 * (L[4] * y + L[7] * z) + c2 * L[3];
-        ls_real gy = -(c1 * L[8] * y) + c1 * (L[4] * x + L[5] * z) + c2 * L[1];
-        ls_real gz = c3 * L[6] * z + c1 * (L[7] * x + L[5] * y) + c2 * L[2];
+        ls_real gx = k[0] * x + c1 * (L[4] * y + L[7] * z) + k[1];
+        ls_real gy = -(k[0] * y) + c1 * (L[4] * x + L[5] * z) + k[2];
+        ls_real gz = k[4] * z + c1 * (L[7] * x + L[5] * y) + k[3];
         ls_real s = (ls_real)2 * g[c] * R_INV_PI;
         dn[0] += s * gx;
         dn[1] += s * gy;
         dn[2] += s * gz;
+    }
+}
+
+/* shading_backward for plain SH shading (bc->sh_plain: unit albedo, no
+ * renormalization): the same arithmetic without the general path's
+ * per-sample branches and copies (g x 1 is g). */
+static void sh_plain_backward(const bctx *bc, const uint32_t *f, const ls_real b[3], const ls_real g[3],
+                              ls_real gb[3])
+{
+    const ls_real *N0 = bc->normals + 3 * (size_t)f[0], *N1 = bc->normals + 3 * (size_t)f[1];
+    const ls_real *N2 = bc->normals + 3 * (size_t)f[2];
+    ls_real n[3], dn[3];
+    int c;
+    for (c = 0; c < 3; c++) n[c] = b[0] * N0[c] + b[1] * N1[c] + b[2] * N2[c];
+    sh_grad(bc->o->sh, bc->shk, n, g, dn);
+    gb[0] = N0[0] * dn[0] + N0[1] * dn[1] + N0[2] * dn[2];
+    gb[1] = N1[0] * dn[0] + N1[1] * dn[1] + N1[2] * dn[2];
+    gb[2] = N2[0] * dn[0] + N2[1] * dn[1] + N2[2] * dn[2];
+    if (bc->gn != NULL) {
+        ls_real *d0 = bc->gn + 3 * (size_t)f[0], *d1 = bc->gn + 3 * (size_t)f[1], *d2 = bc->gn + 3 * (size_t)f[2];
+        ls_real b0 = b[0], b1 = b[1], b2 = b[2], e0 = dn[0], e1 = dn[1], e2 = dn[2];
+        d0[0] += b0 * e0;
+        d0[1] += b0 * e1;
+        d0[2] += b0 * e2;
+        d1[0] += b1 * e0;
+        d1[1] += b1 * e1;
+        d1[2] += b1 * e2;
+        d2[0] += b2 * e0;
+        d2[1] += b2 * e1;
+        d2[2] += b2 * e2;
     }
 }
 
@@ -81,7 +128,7 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
             else
                 s[0] = s[1] = s[2] = (ls_real)0;
             for (c = 0; c < 3; c++) ds[c] = g[c] * alb[c];
-            sh_grad(o->sh, nn, ds, dnn);
+            sh_grad(o->sh, bc->shk, nn, ds, dnn);
         } else { /* Lambert */
             uint32_t li;
             for (c = 0; c < 3; c++) {
@@ -144,7 +191,10 @@ static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_re
     int k, c;
     sum = ls_clip_barycentric(bc->vis->clip, f, px, py, u, v, b);
     if (sum == (ls_real)0) return; /* edge-on: no gradient */
-    shading_backward(bc, f, b, g, gb);
+    if (bc->sh_plain)
+        sh_plain_backward(bc, f, b, g, gb);
+    else
+        shading_backward(bc, f, b, g, gb);
     if (bc->gp == NULL) return;
     dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
     for (k = 0; k < 3; k++) ga[k] = (gb[k] - dot) / sum;
@@ -201,6 +251,9 @@ ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const ui
     bc->gc = grads->colors;
     bc->gt = opts->texture != NULL ? grads->texels : NULL;
     bc->guv = opts->texture != NULL ? grads->uvs : NULL;
+    bc->sh_plain = opts->mode == LS_SHADE_SH && opts->vertex_colors == NULL && opts->texture == NULL &&
+                   !opts->renormalize;
+    if (opts->mode == LS_SHADE_SH) sh_grad_consts(opts->sh, bc->shk);
     return LS_OK;
 }
 
