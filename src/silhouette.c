@@ -122,6 +122,21 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 
 #define SIL_TILE_LOG2 1u                        /* candidate bins: tiles of at least 2 x 2 pixels (choose_tiles) */
 #define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
+/* Inlined where called, so that a copy sees a constant corner count and
+ * its loops unroll (GCC wants the pragma; clang unrolls them unasked); not
+ * where code size counts (-Os: the MCU), which keeps one copy. */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
+#define SIL_INLINE __attribute__((always_inline)) inline
+#define SIL_SPECIALIZE 1
+#else
+#define SIL_INLINE inline
+#define SIL_SPECIALIZE 0
+#endif
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
+#define SIL_UNROLL _Pragma("GCC unroll 4")
+#else
+#define SIL_UNROLL
+#endif
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 
 struct spiece;
@@ -148,7 +163,7 @@ typedef struct sctx {
     ls_real *split;      /* [4 slots + 2] split parameters of the current piece */
     uint32_t triangle_count, tiles_x, tiles_y, flat;
     uint32_t tl;         /* tiles of 2^tl x 2^tl pixels (choose_tiles) */
-    ls_real tside_inv;   /* 2^-tl (tile_of) */
+    float tside_inv;     /* 2^-tl (tile_of) */
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
     const uint32_t *twin; /* the edge table's twins (walks across edges), or NULL */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
@@ -211,6 +226,7 @@ static int tri_point(const sctx *sc, const uint32_t *f, ls_real xw, ls_real yw, 
     ls_real u[3], v[3], cz = (ls_real)0, cw = (ls_real)0;
     int k;
     if (ls_clip_barycentric(sc->vis->clip, f, px, py, u, v, b) == (ls_real)0) return 0;
+    SIL_UNROLL
     for (k = 0; k < 3; k++) {
         const ls_real *cl = sc->vis->clip + 4 * (size_t)f[k];
         cz += b[k] * cl[2];
@@ -288,6 +304,7 @@ static inline int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_r
     int k;
     if (sc->vfront == NULL || (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) == 0)
         return tri_poly_cut(sc, f, x, y);
+    SIL_UNROLL
     for (k = 0; k < 3; k++) { /* every corner in front: its window position */
         x[k] = sc->win[2 * (size_t)f[k]];
         y[k] = sc->win[2 * (size_t)f[k] + 1];
@@ -341,22 +358,11 @@ static int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
     return tri_sign(sc, f);
 }
 
-/* -1, 0 or 1: the sign of a tri_sign value. */
-static int sign_of(int sg)
+/* Window box (x0, y0, x1, y1) of triangle f's visible polygon; 0 when it
+ * has none, is not finite or lies outside the image. */
+static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 {
-    return (sg > 0) - (sg < 0);
-}
-
-/* Window box (x0, y0, x1, y1) of triangle t's visible polygon; 0 when it
- * has none, is not finite, lies outside the image or is culled. */
-static int tri_box(const sctx *sc, uint32_t t, ls_real box[4])
-{
-    const uint32_t *f = sc->indices + 3 * (size_t)t;
     int k;
-    if (sc->cull != 0) {
-        int sg = sign_of(sc->sign != NULL ? sc->sign[t] : tri_sign(sc, f));
-        if (sg == 0 || sg == sc->cull) return 0;
-    }
     if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
         /* every corner in front (most triangles): the box of the window corners */
         const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1];
@@ -396,8 +402,9 @@ static uint32_t cell_of(ls_real c, uint32_t n)
  * without its branches: tri_fbox clamps v to at least -1 - margin and a
  * side is at least 2, so v / side > -1 and the truncation toward zero is
  * that floor clamped. inv = 1 / side, a power of two: the product is the
- * quotient exactly, without a division's latency. */
-static uint32_t tile_of(ls_real v, ls_real inv, uint32_t n)
+ * quotient exactly (in float too, the box's own type: no conversion),
+ * without a division's latency. */
+static uint32_t tile_of(float v, float inv, uint32_t n)
 {
     uint32_t i = (uint32_t)(int32_t)(v * inv);
     return i < n ? i : n - 1u;
@@ -405,11 +412,14 @@ static uint32_t tile_of(ls_real v, ls_real inv, uint32_t n)
 
 /* The box of triangle t's visible polygon for the bins: clamped to the
  * image and a pixel around it, grown by the margin, in float (rounding at
- * these magnitudes is far below the margin); 0 when t is not binned. */
+ * these magnitudes is far below the margin); 0 when t is not binned (no
+ * box, or culled: sign 0 or of the culled orientation). */
 static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 {
+    const uint32_t *f = sc->indices + 3 * (size_t)t;
     ls_real box[4], xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
-    if (!tri_box(sc, t, box)) return 0;
+    if (sc->cull != 0 && sc->cull * (sc->sign != NULL ? sc->sign[t] : tri_sign(sc, f)) >= 0) return 0;
+    if (!tri_box(sc, f, box)) return 0;
     /* tri_box's box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
     fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
     fb[1] = (float)((box[1] < (ls_real)-1 ? (ls_real)-1 : box[1]) - SIL_MARGIN);
@@ -421,10 +431,10 @@ static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
 static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 {
-    r[0] = tile_of((ls_real)fb[0], sc->tside_inv, sc->tiles_x);
-    r[1] = tile_of((ls_real)fb[1], sc->tside_inv, sc->tiles_y);
-    r[2] = tile_of((ls_real)fb[2], sc->tside_inv, sc->tiles_x);
-    r[3] = tile_of((ls_real)fb[3], sc->tside_inv, sc->tiles_y);
+    r[0] = tile_of(fb[0], sc->tside_inv, sc->tiles_x);
+    r[1] = tile_of(fb[1], sc->tside_inv, sc->tiles_y);
+    r[2] = tile_of(fb[2], sc->tside_inv, sc->tiles_x);
+    r[3] = tile_of(fb[3], sc->tside_inv, sc->tiles_y);
 }
 
 /* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
@@ -435,12 +445,13 @@ static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
 static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
 {
     uint32_t t, r[4], tx, ty;
+    float own[4], *fb = sc->tbox != NULL ? sc->tbox : own;
+    size_t step = sc->tbox != NULL ? 4u : 0u;
     count[0] = 0;
     count[1] = 0;
     *over = 0;
     if (offs != NULL) memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 1u) * sizeof(size_t));
-    for (t = 0; t < sc->triangle_count; t++) {
-        float own[4], *fb = sc->tbox != NULL ? sc->tbox + 4 * (size_t)t : own;
+    for (t = 0; t < sc->triangle_count; t++, fb += step) {
         size_t add;
         if (!tri_fbox(sc, t, fb)) {
             fb[0] = 1.0f;
@@ -546,6 +557,7 @@ static void span_own(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, aspan *s
     sp->f = sc->indices + 3 * (size_t)ed->ft;
     sp->lo = lo;
     sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
+    SIL_UNROLL
     for (k = 0; k < 3; k++) {
         sp->a0[k] = ed->fa[k] + s0 * ed->fa[3 + k];
         sp->da[k] = ds * ed->fa[3 + k];
@@ -558,10 +570,12 @@ static int span_bary(const sctx *sc, const aspan *sp, ls_real t, ls_real b[3])
 {
     ls_real s = (t - sp->lo) * sp->inv, a[3], sum, cw = (ls_real)0;
     int k;
+    SIL_UNROLL
     for (k = 0; k < 3; k++) a[k] = sp->a0[k] + s * sp->da[k];
     sum = (a[0] + a[1]) + a[2];
     if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
     sum = (ls_real)1 / sum;
+    SIL_UNROLL
     for (k = 0; k < 3; k++) {
         b[k] = a[k] * sum;
         cw += b[k] * sc->vis->clip[4 * (size_t)sp->f[k] + 3];
@@ -638,6 +652,7 @@ static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real
     int k, r;
     h0[3] = (sp->a0[0] + sp->a0[1]) + sp->a0[2];
     dh[3] = (sp->da[0] + sp->da[1]) + sp->da[2];
+    SIL_UNROLL
     for (r = 0; r < 3; r++) {
         h0[r] = (sp->a0[0] * n0[r] + sp->a0[1] * n1[r]) + sp->a0[2] * n2[r];
         dh[r] = (sp->da[0] * n0[r] + sp->da[1] * n1[r]) + sp->da[2] * n2[r];
@@ -649,6 +664,7 @@ static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real
     q[4] = dh[3];
     q[5] = (ls_real)0;
     q[6] = (ls_real)0;
+    SIL_UNROLL
     for (k = 0; k < 3; k++) {
         ls_real w = sc->vis->clip[4 * (size_t)sp->f[k] + 3];
         q[5] += sp->a0[k] * w;
@@ -735,7 +751,8 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     int n = 1;
     const ls_real *g = sc->gimg + 4 * p;
     spiece *pc = sc->piece;
-    memset(pc, 0, sizeof *pc); /* whole: the mask and background paths leave parts unused */
+    /* zeroed once a view (ls_silhouette_backward): the parts a path leaves unused keep
+     * an earlier sub-piece's values, which no path reads (each sets what it reads) */
     pc->beh = beh;
     pc->p = p;
     if (sc->flat) {
@@ -768,6 +785,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[2] = mid + half * x3;
         t[3] = mid - half * x2;
         t[4] = mid + half * x2;
+        SIL_UNROLL
         for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
@@ -792,9 +810,11 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
 /* Whether window point (xw, yw) passes the quick test of a convex polygon
  * (x, y, n corners): not strictly outside one edge while strictly inside
  * another (either orientation; a point on the boundary passes). */
-static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_real yw)
+static SIL_INLINE int poly_holds_n(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_real yw)
 {
     int q, pos = 0, neg = 0;
+    if (n > 4) return 0; /* never (tri_poly): tells the unrolled loop */
+    SIL_UNROLL
     for (q = 0; q < n; q++) {
         int q1 = q + 1 == n ? 0 : q + 1;
         ls_real cr = (x[q1] - x[q]) * (yw - y[q]) - (y[q1] - y[q]) * (xw - x[q]);
@@ -803,6 +823,15 @@ static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_
         if (pos && neg) return 0;
     }
     return 1;
+}
+
+/* poly_holds_n, with a copy for triangles (SIL_INLINE). */
+static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_real yw)
+{
+#if SIL_SPECIALIZE
+    if (n == 3) return poly_holds_n(x, y, 3, xw, yw);
+#endif
+    return poly_holds_n(x, y, n, xw, yw);
 }
 
 /* Whether the segment's point at t is seen (1) and, if so, the surface
@@ -921,19 +950,21 @@ static void sort_keyed(ls_real *key, uint32_t *pay, uint32_t n)
  * hold every parameter where the test passes, and leaving out the edges
  * that do not meet the line only widens them: the intervals decide which
  * candidates are tested, never the outcome. */
-static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0, ls_real t1,
-                         ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0,
+                                   ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
     /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
     ls_real l[2], h[2], rx[4], ry[4], sd[4], mc = (ls_real)0, tau, c0;
     int q, ok[2] = {1, 1}, s, side[4], above = 0, below = 0;
+    if (n > 4) return 0; /* never (tri_poly): tells the unrolled loops */
+    SIL_UNROLL
     for (q = 0; q < n; q++) {
         ls_real v = r_abs(x[q]) + r_abs(y[q]);
         if (v > mc) mc = v;
     }
     /* mc bounds every corner's |x| + |y|: tau and eta below bound their q's */
     tau = ed->tau + (ls_real)64 * LS_REAL_EPSILON * (mc + ed->ext) * ed->eabs;
-    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+    SIL_UNROLL
     for (q = 0; q < n; q++) {
         rx[q] = x[q] - ed->a[0];
         ry[q] = y[q] - ed->a[1];
@@ -943,8 +974,10 @@ static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, in
         below += side[q] < 0;
     }
     if (above == n || below == n) return 0;
+    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
     l[0] = l[1] = t0;
     h[0] = h[1] = t1;
+    SIL_UNROLL
     for (q = 0; q < n; q++) {
         int q1 = q + 1 == n ? 0 : q + 1;
         ls_real dx, dy, den, num, eta, r, blo, bhi;
@@ -994,6 +1027,16 @@ static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, in
     return 1;
 }
 
+/* cand_interval_n, with a copy for triangles (most polygons; SIL_INLINE). */
+static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0, ls_real t1,
+                         ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+{
+#if SIL_SPECIALIZE
+    if (n == 3) return cand_interval_n(ed, x, y, 3, t0, t1, sp, ns, lo, hi);
+#endif
+    return cand_interval_n(ed, x, y, n, t0, t1, sp, ns, lo, hi);
+}
+
 /* Whether triangle o can stand in front of the segment in a walk: not its
  * faces, every corner in front of the eye, binned (not culled, inside the
  * image). */
@@ -1016,6 +1059,7 @@ static int walk_front(const sedge *ed, const ls_real num[3], const ls_real den[3
 {
     ls_real c[3], sum, zc, ze = ed->za + t * (ed->zb - ed->za), tol, zt = (ls_real)256 * LS_REAL_EPSILON;
     int q;
+    SIL_UNROLL
     for (q = 0; q < 3; q++) {
         c[q] = num[q] - t * den[q];
         if (!(c[q] > (ls_real)0)) c[q] = (ls_real)0;
@@ -1049,6 +1093,7 @@ static int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3
     const uint32_t *f = sc->indices + 3 * (size_t)o;
     ls_real x[3], y[3], sg, mc = (ls_real)0, c0;
     uint32_t q;
+    SIL_UNROLL
     for (q = 0; q < 3u; q++) {
         ls_real v;
         x[q] = sc->win[2 * (size_t)f[q]];
@@ -1060,6 +1105,7 @@ static int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3
     sg = sg > (ls_real)0 ? (ls_real)1 : (sg < (ls_real)0 ? (ls_real)-1 : (ls_real)0);
     if (sg == (ls_real)0) return 0;
     c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+    SIL_UNROLL
     for (q = 0; q < 3u; q++) {
         uint32_t q1 = q == 2u ? 0u : q + 1u;
         ls_real dx = x[q1] - x[q], dy = y[q1] - y[q];
@@ -1082,6 +1128,7 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
         ls_real worst = (ls_real)0;
         uint32_t q, qw = 3u, tw;
         if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return LS_EDGE_NONE;
+        SIL_UNROLL
         for (q = 0; q < 3u; q++) {
             ls_real c = (num[q] - t * den[q]) / m[q];
             if (c < (ls_real)1 && (qw == 3u || c < worst)) {
@@ -1122,6 +1169,7 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         } else if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, own, own + 3, own + 6)) {
             return ts;
         }
+        SIL_UNROLL
         for (q = 0; q < 3u; q++) {
             if (q != in && num[q] - ts * den[q] < m[q]) return ts; /* ts not inside by the margin */
             /* c_q falls along the walk: it leaves through q where c_q = 0 */
@@ -1133,8 +1181,10 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
                 }
             }
         }
+        SIL_UNROLL
         for (q = 0; q < 3u; q++)
             if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
+        SIL_UNROLL
         for (q = 0; q < 3u; q++) {
             const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
             z[q] = cl[2] / cl[3];
@@ -1560,16 +1610,26 @@ static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char 
     size_t s, ns = (size_t)vis->sw * vis->sh, pos = 0, neg = 0;
     uint32_t v;
     sc->cull = 0;
-    if (table->boundary_edges != 0) return;
-    for (v = 0; v < vis->vertex_count; v++) {
+    if (table->boundary_edges != 0 || sc->behind != 0) return;
+    for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
         const ls_real *cl = vis->clip + 4 * (size_t)v;
         if (!(cl[2] + cl[3] >= (ls_real)0)) return;
     }
-    for (s = 0; s < ns; s++) {
+    if (sign != NULL) { /* the samples by sign + 2: one increment each */
+        const uint32_t *tri = vis->tri, tc = sc->triangle_count;
+        size_t by[5] = {0, 0, 0, 0, 0};
+        for (s = 0; s < ns; s++) {
+            uint32_t id = tri[s];
+            if (id != 0 && id <= tc) by[sign[id - 1u] + 2]++; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+        }
+        neg = by[0] + by[1];
+        pos = by[3] + by[4];
+    }
+    for (s = 0; sign == NULL && s < ns; s++) {
         uint32_t id = vis->tri[s];
         int sg;
         if (id == 0 || id > sc->triangle_count) continue;
-        sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
+        sg = tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
         pos += sg > 0;
         neg += sg < 0;
     }
@@ -1635,7 +1695,7 @@ static void choose_tiles(sctx *sc)
     sc->tl = 4u * cov < ts ? SIL_TILE_LOG2 : (cov < 4u * ts ? SIL_TILE_LOG2 + 1u : SIL_TILE_LOG2 + 2u);
     sc->tiles_x = (vis->width + (1u << sc->tl) - 1u) >> sc->tl;
     sc->tiles_y = (vis->height + (1u << sc->tl) - 1u) >> sc->tl;
-    sc->tside_inv = (ls_real)1 / (ls_real)(1u << sc->tl);
+    sc->tside_inv = 1.0f / (float)(1u << sc->tl);
 }
 
 static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count)
@@ -1649,7 +1709,7 @@ static void sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint
     sc->tl = SIL_TILE_LOG2;
     sc->tiles_x = (vis->width + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
     sc->tiles_y = (vis->height + (1u << SIL_TILE_LOG2) - 1u) >> SIL_TILE_LOG2;
-    sc->tside_inv = (ls_real)1 / (ls_real)(1u << SIL_TILE_LOG2);
+    sc->tside_inv = 1.0f / (float)(1u << SIL_TILE_LOG2);
 }
 
 ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
@@ -1719,8 +1779,8 @@ static uint32_t next_edge(const sctx *sc, const uint32_t *twin, uint32_t h)
     for (; h < n; h++) {
         uint32_t tw = twin[h];
         int s1, s2;
+        if (tw < h) continue; /* LS_EDGE_NONE is above every h */
         if (tw == LS_EDGE_NONE) return h;
-        if (tw < h) continue;
         s1 = sign[h / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
         s2 = sign[tw / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): as s1 */
         if (s1 + s2 != 4 && s1 + s2 != -4 && folds(sc, h, tw)) return h;
@@ -1838,6 +1898,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
+    memset(sc.piece, 0, sizeof *sc.piece); /* once: integrate sets, per sub-piece, what it reads */
     bin_pass(&sc, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
