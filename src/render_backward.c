@@ -33,7 +33,7 @@ static void sh_grad_consts(const ls_real *sh, ls_real k[15])
 }
 
 /* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi (k: sh_grad_consts). */
-static void sh_grad(const ls_real *sh, const ls_real *k, const ls_real n[3], const ls_real g[3], ls_real dn[3])
+static inline void sh_grad(const ls_real *sh, const ls_real *k, const ls_real n[3], const ls_real g[3], ls_real dn[3])
 {
     const ls_real c1 = (ls_real)LS_SH_C1;
     ls_real x = n[0], y = n[1], z = n[2];
