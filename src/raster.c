@@ -136,11 +136,23 @@ static int transform_vertex(const rctx *cx, const ls_real p[3], const vbuf *vb, 
     c[1] = mrow(cx->m + 4, p);
     c[2] = mrow(cx->m + 8, p);
     c[3] = mrow(cx->m + 12, p);
-    if (!finite_r(c[0]) || !finite_r(c[1]) || !finite_r(c[2]) || !finite_r(c[3])) return 0;
-    flags = (uint32_t)(plane_dist(cx, c, 0) < (ls_real)0) | (uint32_t)(plane_dist(cx, c, 1) < (ls_real)0) << 1 |
-            (uint32_t)(plane_dist(cx, c, 2) < (ls_real)0) << 2 | (uint32_t)(plane_dist(cx, c, 3) < (ls_real)0) << 3 |
-            (uint32_t)(plane_dist(cx, c, 4) < (ls_real)0) << 4;
-    if (flags == 0 && !(c[3] > (ls_real)0)) flags = FLAG_BAD_W;
+    /* one test for the four: a sum of x - x is +0 when all are finite, NaN otherwise */
+    if (!((c[0] - c[0]) + (c[1] - c[1]) + (c[2] - c[2]) + (c[3] - c[3]) == (ls_real)0)) return 0;
+    {
+        /* the common case first, one test: the least of the five plane
+         * values (finite or infinite, never NaN, for finite c) is >= 0 */
+        const ls_real d0 = plane_dist(cx, c, 0), d1 = plane_dist(cx, c, 1), d2 = plane_dist(cx, c, 2);
+        const ls_real d3 = plane_dist(cx, c, 3), d4 = plane_dist(cx, c, 4);
+        ls_real lo = d0 < d1 ? d0 : d1;
+        lo = lo < d2 ? lo : d2;
+        lo = lo < d3 ? lo : d3;
+        lo = lo < d4 ? lo : d4;
+        if (lo >= (ls_real)0)
+            flags = c[3] > (ls_real)0 ? 0u : FLAG_BAD_W;
+        else
+            flags = (uint32_t)(d0 < (ls_real)0) | (uint32_t)(d1 < (ls_real)0) << 1 | (uint32_t)(d2 < (ls_real)0) << 2 |
+                    (uint32_t)(d3 < (ls_real)0) << 3 | (uint32_t)(d4 < (ls_real)0) << 4;
+    }
     vb->flags[n] = flags;
     if (flags == 0) {
         snap_point(cx, c, &vb->snap[2 * n], &vb->snap[2 * n + 1], &vb->zi[2 * n], &vb->zi[2 * n + 1]);
@@ -456,6 +468,10 @@ static inline int unclipped_box(const rctx *cx, const int32_t *snap, const size_
     if (a == 0 || !snap_box(cx->sw, cx->sh, x, y, u)) return 0;
     if (!box_small(u)) return 1;
     orient(x, y, a);
+    if (u->x0 == u->x1 && u->y0 == u->y1) { /* the common case, here: no call, no stores of x and y */
+        int64_t e[3];
+        return sample_edges(x, y, a > 0 ? a : -a, u->x0, u->y0, e);
+    }
     return box_covered(x, y, a > 0 ? a : -a, u);
 }
 
@@ -882,7 +898,7 @@ LS_NOINLINE static void draw_unclipped(ls_vis *vis, const vbuf *vb, const size_t
     stri st;
     dconst k;
     size_t o[3];
-    int64_t i, j, e[3], a = unclipped_load(vb->snap, v, st.x, st.y);
+    int64_t e[3], a = unclipped_load(vb->snap, v, st.x, st.y);
     if (a == 0) return;
     orient(st.x, st.y, a);
     o[0] = v[0];
@@ -906,10 +922,34 @@ LS_NOINLINE static void draw_unclipped(ls_vis *vis, const vbuf *vb, const size_t
             draw_sample(vis->tri, vis->depth, vis->bary, (size_t)b->y0 * vis->sw + (size_t)b->x0, &k, e[0], e[1], e[2]);
         return;
     }
-    for (j = b->y0; j <= b->y1; j++)
-        for (i = b->x0; i <= b->x1; i++)
-            if (sample_edges(st.x, st.y, st.area, i, j, e))
-                draw_sample(vis->tri, vis->depth, vis->bary, (size_t)j * vis->sw + (size_t)i, &k, e[0], e[1], e[2]);
+    {
+        /* sample_edges' values stepped along the box (exact integers: the
+         * same values), and its test of them */
+        const int64_t px0 = b->x0 * SUB_ONE + SUB_HALF, py0 = b->y0 * SUB_ONE + SUB_HALF;
+        const int64_t ax1 = (int64_t)st.x[0] - st.x[2], ay1 = (int64_t)st.y[0] - st.y[2];
+        const int64_t ax2 = (int64_t)st.x[1] - st.x[0], ay2 = (int64_t)st.y[1] - st.y[0];
+        const int64_t sx1 = ay1 * SUB_ONE, sx2 = ay2 * SUB_ONE, sy1 = ax1 * SUB_ONE, sy2 = ax2 * SUB_ONE;
+        const size_t sw = vis->sw;
+        int64_t r1 = ax1 * (py0 - st.y[2]) - ay1 * (px0 - st.x[2]);
+        int64_t r2 = ax2 * (py0 - st.y[0]) - ay2 * (px0 - st.x[0]);
+        size_t row = (size_t)b->y0 * sw + (size_t)b->x0;
+        int64_t i, j;
+        for (j = b->y0; j <= b->y1; j++, r1 += sy1, r2 += sy2, row += sw) {
+            int64_t e1 = r1, e2 = r2;
+            size_t s = row;
+            for (i = b->x0; i <= b->x1; i++, e1 -= sx1, e2 -= sx2, s++) {
+                const int64_t e0 = st.area - e1 - e2;
+                if ((e0 | e1 | e2) < 0) continue;
+                if (e0 == 0 || e1 == 0 || e2 == 0) {
+                    e[0] = e0;
+                    e[1] = e1;
+                    e[2] = e2;
+                    if (!on_edge_inside(st.x, st.y, e)) continue;
+                }
+                draw_sample(vis->tri, vis->depth, vis->bary, s, &k, e0, e1, e2);
+            }
+        }
+    }
 }
 
 /* b = b intersected with r; 0 when empty. */

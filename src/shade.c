@@ -123,6 +123,92 @@ void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *no
     for (c = 0; c < 3; c++) rgb[c] *= alb[c];
 }
 
+/* The factors of ls_shade_sh_eval that do not depend on the normal, per
+ * channel, computed as it computes them (the same bits): ls_shade's SH loop
+ * takes them out of its per-pixel work. */
+typedef struct sh_pre {
+    ls_real k8[3], k6[3], k0[3];
+} sh_pre;
+
+static void sh_pre_init(sh_pre *p, const ls_real sh[27])
+{
+    const ls_real c1 = (ls_real)LS_SH_C1, c3 = (ls_real)LS_SH_C3, c4 = (ls_real)LS_SH_C4, c5 = (ls_real)LS_SH_C5;
+    int c;
+    for (c = 0; c < 3; c++) {
+        const ls_real *L = sh + 9 * (size_t)c;
+        p->k8[c] = c1 * L[8];
+        p->k6[c] = c3 * L[6];
+        p->k0[c] = c4 * L[0] - c5 * L[6];
+    }
+}
+
+/* ls_shade_sh_eval with the factors of p (same operations, same order). */
+static inline void sh_eval_pre(const sh_pre *p, const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
+{
+    const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2;
+    ls_real x = n[0], y = n[1], z = n[2];
+    int c;
+    for (c = 0; c < 3; c++) {
+        const ls_real *L = sh + 9 * (size_t)c;
+        ls_real e = p->k8[c] * (x * x - y * y);
+        e += p->k6[c] * z * z;
+        e += p->k0[c];
+        e += (ls_real)2 * c1 * (L[4] * x * y + L[7] * x * z + L[5] * y * z);
+        e += (ls_real)2 * c2 * (L[3] * x + L[1] * y + L[2] * z);
+        rgb[c] = e * R_INV_PI;
+    }
+}
+
+/* ls_shade's common case (the fit's): SH, no vertex colours, texture or
+ * background image, one sample per pixel. The operations of the general
+ * loop and ls_shade_point, without their per-sample tests; their products by
+ * the albedo 1 and by 1 / S^2 = 1 are left out (x * 1 is x for any value
+ * arithmetic gives: no signalling NaN). */
+LS_NOINLINE static void shade_sh1(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                                  const ls_real *normals, const ls_shade_opts *o, const ls_real bg_pixel[4], ls_real *out)
+{
+    const uint32_t *tri = vis->tri;
+    const ls_real *bary = vis->bary, *sh = o->sh;
+    const size_t count = (size_t)vis->width * vis->height;
+    const int renormalize = o->renormalize != 0;
+    sh_pre pre;
+    size_t p;
+    sh_pre_init(&pre, sh);
+    for (p = 0; p < count; p++) {
+        const uint32_t id = tri[p];
+        ls_real *px = out + 4 * p;
+        if (id == 0 || id > triangle_count) {
+            memcpy(px, bg_pixel, 4 * sizeof *bg_pixel);
+            continue;
+        }
+        {
+            const uint32_t *f = indices + 3 * (size_t)(id - 1u);
+            const ls_real *n0 = normals + 3 * (size_t)f[0], *n1 = normals + 3 * (size_t)f[1];
+            const ls_real *n2 = normals + 3 * (size_t)f[2];
+            const ls_real b0 = bary[2 * p], b1 = bary[2 * p + 1], b2 = (ls_real)1 - b0 - b1;
+            ls_real n[3], rgb[3];
+            n[0] = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
+            n[1] = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
+            n[2] = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
+            if (renormalize) {
+                ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+                if (l2 > (ls_real)0) {
+                    ls_real l = R_SQRT(l2);
+                    n[0] /= l;
+                    n[1] /= l;
+                    n[2] /= l;
+                }
+            }
+            sh_eval_pre(&pre, sh, n, rgb);
+            /* the general loop's sums from +0 (a -0 becomes +0) */
+            px[0] = (ls_real)0 + rgb[0];
+            px[1] = (ls_real)0 + rgb[1];
+            px[2] = (ls_real)0 + rgb[2];
+            px[3] = (ls_real)1;
+        }
+    }
+}
+
 ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const uint32_t *indices,
                               const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag)
 {
@@ -168,6 +254,11 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
         bg_pixel[1] *= inv_n;
         bg_pixel[2] *= inv_n;
         bg_pixel[3] = (ls_real)0 * inv_n;
+    }
+    if (ss == 1 && opts->mode == LS_SHADE_SH && opts->vertex_colors == NULL && opts->texture == NULL &&
+        opts->background_image == NULL) {
+        shade_sh1(vis, indices, triangle_count, normals, opts, bg_pixel, out);
+        return LS_OK;
     }
     for (y = 0; y < vis->height; y++) {
         /* the pixel's first sample, stepped along (no index products per pixel) */
