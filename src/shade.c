@@ -56,6 +56,20 @@ void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
     }
 }
 
+/* n / |n| and 1, or 0 with n as it was when |n|^2 is not positive (zero
+ * or NaN). */
+static int normalize_nonzero(ls_real n[3])
+{
+    ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    ls_real l;
+    if (!(l2 > (ls_real)0)) return 0;
+    l = R_SQRT(l2);
+    n[0] /= l;
+    n[1] /= l;
+    n[2] /= l;
+    return 1;
+}
+
 void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_real uv[2])
 {
     const ls_real *a0 = uvs + 2 * (size_t)f[0], *a1 = uvs + 2 * (size_t)f[1], *a2 = uvs + 2 * (size_t)f[2];
@@ -97,15 +111,7 @@ void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *no
         const ls_real *n2 = normals + 3 * (size_t)f[2];
         for (c = 0; c < 3; c++) n[c] = b0 * n0[c] + b1 * n1[c] + b2 * n2[c];
     }
-    if (o->renormalize) {
-        ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        if (l2 > (ls_real)0) {
-            ls_real l = R_SQRT(l2);
-            n[0] /= l;
-            n[1] /= l;
-            n[2] /= l;
-        }
-    }
+    if (o->renormalize) (void)normalize_nonzero(n);
     if (o->mode == LS_SHADE_SH) {
         ls_shade_sh_eval(o->sh, n, rgb);
     } else { /* Lambert */
@@ -190,15 +196,7 @@ LS_NOINLINE static void shade_sh1(const ls_vis *vis, const uint32_t *indices, ui
             n[0] = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
             n[1] = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
             n[2] = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
-            if (renormalize) {
-                ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-                if (l2 > (ls_real)0) {
-                    ls_real l = R_SQRT(l2);
-                    n[0] /= l;
-                    n[1] /= l;
-                    n[2] /= l;
-                }
-            }
+            if (renormalize) (void)normalize_nonzero(n);
             sh_eval_pre(&pre, sh, n, rgb);
             /* the general loop's sums from +0 (a -0 becomes +0) */
             px[0] = (ls_real)0 + rgb[0];
@@ -361,15 +359,7 @@ ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_coun
     ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, out);
     for (v = 0; v < vertex_count; v++) {
         ls_real *n = out + 3 * (size_t)v;
-        ls_real l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        if (l2 > (ls_real)0) {
-            ls_real l = R_SQRT(l2);
-            n[0] /= l;
-            n[1] /= l;
-            n[2] /= l;
-        } else {
-            n[0] = n[1] = n[2] = (ls_real)0;
-        }
+        if (!normalize_nonzero(n)) n[0] = n[1] = n[2] = (ls_real)0;
     }
     return LS_OK;
 }
