@@ -51,6 +51,7 @@ static inline void sh_grad(const ls_real *sh, const ls_real *k, const ls_real n[
     }
 }
 
+#if LS_FAST_PATHS
 /* shading_backward for plain SH shading (bc->sh_plain: unit albedo, no
  * renormalization): the same arithmetic without the general path's
  * per-sample branches and copies (g x 1 is g). */
@@ -80,6 +81,8 @@ static void sh_plain_backward(const bctx *bc, const uint32_t *f, const ls_real b
         d2[2] += b2 * e2;
     }
 }
+
+#endif
 
 /* dL/db of one covered sample of triangle f with barycentrics b, given
  * g = dL/d(sample rgb); adds to the normal and colour gradients. */
@@ -191,9 +194,11 @@ static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_re
     int k, c;
     sum = ls_clip_barycentric(bc->vis->clip, f, px, py, u, v, b);
     if (sum == (ls_real)0) return; /* edge-on: no gradient */
+#if LS_FAST_PATHS
     if (bc->sh_plain)
         sh_plain_backward(bc, f, b, g, gb);
     else
+#endif
         shading_backward(bc, f, b, g, gb);
     if (bc->gp == NULL) return;
     dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
@@ -251,8 +256,8 @@ ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const ui
     bc->gc = grads->colors;
     bc->gt = opts->texture != NULL ? grads->texels : NULL;
     bc->guv = opts->texture != NULL ? grads->uvs : NULL;
-    bc->sh_plain = opts->mode == LS_SHADE_SH && opts->vertex_colors == NULL && opts->texture == NULL &&
-                   !opts->renormalize;
+    bc->sh_plain = LS_FAST_PATHS && opts->mode == LS_SHADE_SH && opts->vertex_colors == NULL &&
+                   opts->texture == NULL && !opts->renormalize;
     if (opts->mode == LS_SHADE_SH) sh_grad_consts(opts->sh, bc->shk);
     return LS_OK;
 }

@@ -11,6 +11,16 @@
 #define LS_NOINLINE
 #endif
 
+/* The same-bits fast paths that duplicate a general path for the fit's
+ * common case (plain SH shading at one sample per pixel): left out where code
+ * size counts more than speed (-Os: the Cortex-M4 build), where the general
+ * path gives the same bits. */
+#if defined(__OPTIMIZE_SIZE__)
+#define LS_FAST_PATHS 0
+#else
+#define LS_FAST_PATHS 1
+#endif
+
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
 #include <largesteps/render_backward.h>

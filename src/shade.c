@@ -38,24 +38,6 @@ ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes)
     return ls_grid_values_bytes(width, height, 4, bytes);
 }
 
-void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
-{
-    const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2, c3 = (ls_real)LS_SH_C3;
-    const ls_real c4 = (ls_real)LS_SH_C4, c5 = (ls_real)LS_SH_C5;
-    ls_real x = n[0], y = n[1], z = n[2];
-    int c;
-    for (c = 0; c < 3; c++) {
-        const ls_real *L = sh + 9 * (size_t)c;
-        /* n_h^T M n_h with M as in the header, expanded in a fixed order */
-        ls_real e = c1 * L[8] * (x * x - y * y);
-        e += c3 * L[6] * z * z;
-        e += c4 * L[0] - c5 * L[6];
-        e += (ls_real)2 * c1 * (L[4] * x * y + L[7] * x * z + L[5] * y * z);
-        e += (ls_real)2 * c2 * (L[3] * x + L[1] * y + L[2] * z);
-        rgb[c] = e * R_INV_PI;
-    }
-}
-
 /* n / |n| and 1, or 0 with n as it was when |n|^2 is not positive (zero
  * or NaN). */
 static int normalize_nonzero(ls_real n[3])
@@ -129,9 +111,9 @@ void ls_shade_point(const ls_shade_opts *o, const uint32_t *f, const ls_real *no
     for (c = 0; c < 3; c++) rgb[c] *= alb[c];
 }
 
-/* The factors of ls_shade_sh_eval that do not depend on the normal, per
- * channel, computed as it computes them (the same bits): ls_shade's SH loop
- * takes them out of its per-pixel work. */
+/* The factors of the SH irradiance that do not depend on the normal, per
+ * channel: ls_shade_sh_eval forms them on each call, ls_shade's SH loop once
+ * for all its pixels (the same bits). */
 typedef struct sh_pre {
     ls_real k8[3], k6[3], k0[3];
 } sh_pre;
@@ -165,6 +147,14 @@ static inline void sh_eval_pre(const sh_pre *p, const ls_real sh[27], const ls_r
     }
 }
 
+void ls_shade_sh_eval(const ls_real sh[27], const ls_real n[3], ls_real rgb[3])
+{
+    sh_pre pre;
+    sh_pre_init(&pre, sh);
+    sh_eval_pre(&pre, sh, n, rgb);
+}
+
+#if LS_FAST_PATHS
 /* ls_shade's common case (the fit's): SH, no vertex colours, texture or
  * background image, one sample per pixel. The operations of the general
  * loop and ls_shade_point, without their per-sample tests; their products by
@@ -206,6 +196,8 @@ LS_NOINLINE static void shade_sh1(const ls_vis *vis, const uint32_t *indices, ui
         }
     }
 }
+
+#endif
 
 ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const uint32_t *indices,
                               const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag)
@@ -253,11 +245,13 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
         bg_pixel[2] *= inv_n;
         bg_pixel[3] = (ls_real)0 * inv_n;
     }
+#if LS_FAST_PATHS
     if (ss == 1 && opts->mode == LS_SHADE_SH && opts->vertex_colors == NULL && opts->texture == NULL &&
         opts->background_image == NULL) {
         shade_sh1(vis, indices, triangle_count, normals, opts, bg_pixel, out);
         return LS_OK;
     }
+#endif
     for (y = 0; y < vis->height; y++) {
         /* the pixel's first sample, stepped along (no index products per pixel) */
         size_t s0 = (size_t)y * ss * vis->sw, p = (size_t)y * vis->width;
