@@ -380,9 +380,6 @@ static inline void edges_init(edgef g[3], const int32_t x[3], const int32_t y[3]
     edge_init(&g[2], x, y, 0, 1, px0, py0);
 }
 
-/* Boxes of at most SMALL_BOX x SMALL_BOX samples are tested before binning. */
-#define SMALL_BOX 2
-
 /* 1 when the edge from vertex a to vertex b of a positively oriented
  * screen triangle is a top or left one (samples on it are inside). */
 static inline int top_left(const int32_t x[3], const int32_t y[3], int a, int b)
@@ -416,24 +413,20 @@ static inline int sample_edges(const int32_t x[3], const int32_t y[3], int64_t a
     return on_edge_inside(x, y, e);
 }
 
-/* 1 when box b has at most SMALL_BOX x SMALL_BOX samples. */
-static inline int box_small(const sbox *b)
-{
-    return b->x1 - b->x0 < SMALL_BOX && b->y1 - b->y0 < SMALL_BOX;
-}
+/* Boxes of at most this many samples are drawn sample by sample, larger
+ * ones by rows (fewer instructions either way, measured: 8 gave 1.5 % more
+ * on the armadillo at 512^2, 16 the same). */
+#define DRAW_SMALL 12
 
-/* 0 when the positively oriented snapped triangle (x, y) of twice-area a
- * covers no sample of its box b, which is small: it would draw nothing, so
- * it is not binned. 1 otherwise. Out of line: inlined, the count pass runs
- * short of registers (5 % more instructions measured). */
-LS_NOINLINE static int box_covered(const int32_t x[3], const int32_t y[3], int64_t a, const sbox *b)
+#define RECT_DIRECT 0x8000u /* in a rect's x0 (samples are < LS_RASTER_MAX_DIM <= 2^15) */
+
+/* Unclipped triangles of at most DRAW_SMALL samples (most of them at 128^2)
+ * skip the bins and are drawn straight after the count pass: the depth test
+ * does not depend on the drawing order, and binning them costs more than
+ * drawing them. Their boxes are narrower than a tile (mark_tiles). */
+static inline int box_direct(const sbox *b)
 {
-    int64_t i, j, e[3];
-    if (b->x0 == b->x1 && b->y0 == b->y1) return sample_edges(x, y, a, b->x0, b->y0, e); /* the common case */
-    for (j = b->y0; j <= b->y1; j++)
-        for (i = b->x0; i <= b->x1; i++)
-            if (sample_edges(x, y, a, i, j, e)) return 1;
-    return 0;
+    return (b->x1 - b->x0 + 1) * (b->y1 - b->y0 + 1) <= DRAW_SMALL;
 }
 
 /* The sample range of a triangle that needs clipping (union of its screen
@@ -458,21 +451,13 @@ LS_NOINLINE static int clipped_box(const rctx *cx, const vbuf *vb, const size_t 
     return any;
 }
 
-/* The sample range of an unclipped triangle v (in vb); 0 if empty or known
- * to cover no sample. It is its own screen triangle, whose box and area do
- * not depend on the vertex order: no screen triangle is built. */
+/* The sample range of an unclipped triangle v (in vb); 0 if empty. It is
+ * its own screen triangle, whose box and area do not depend on the vertex
+ * order: no screen triangle is built. */
 static inline int unclipped_box(const rctx *cx, const int32_t *snap, const size_t v[3], sbox *u)
 {
     int32_t x[3], y[3];
-    int64_t a = unclipped_load(snap, v, x, y);
-    if (a == 0 || !snap_box(cx->sw, cx->sh, x, y, u)) return 0;
-    if (!box_small(u)) return 1;
-    orient(x, y, a);
-    if (u->x0 == u->x1 && u->y0 == u->y1) { /* the common case, here: no call, no stores of x and y */
-        int64_t e[3];
-        return sample_edges(x, y, a > 0 ? a : -a, u->x0, u->y0, e);
-    }
-    return box_covered(x, y, a > 0 ? a : -a, u);
+    return unclipped_load(snap, v, x, y) != 0 && snap_box(cx->sw, cx->sh, x, y, u);
 }
 
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
@@ -647,7 +632,8 @@ typedef struct cpass {
     uint32_t clipped;         /* out: triangles that needed clipping */
     size_t *counts;           /* out, optional: tile counts (added to) */
     uint16_t *rects;          /* out, optional: each triangle's sample range x0, y0, x1, y1
-                                 (< LS_RASTER_MAX_DIM; x0 > x1 when it covers nothing) */
+                                 (< LS_RASTER_MAX_DIM; x0 > x1 when it covers nothing;
+                                 RECT_DIRECT set in x0 when it is drawn unbinned) */
     size_t entries;           /* out: total tile-list entries */
 } cpass;
 
@@ -659,7 +645,7 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
     size_t total = 0;
     ls_real lclip[12], lzi[6];
     int32_t lsnap[6];
-    uint32_t lflags[3];
+    uint32_t lflags[3] = {0, 0, 0}; /* set by transform_vertex (the analyzer cannot tell) */
     vbuf local;
     const vbuf *vb;
     local.clip = lclip;
@@ -673,7 +659,7 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
         size_t v[3];
         sbox sb, tb;
         size_t n;
-        int ok;
+        int ok, direct;
         if (cp->vb != NULL) {
             v[0] = f[0];
             v[1] = f[1];
@@ -686,11 +672,13 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
             v[1] = 1;
             v[2] = 2;
         }
+        direct = 0;
         if (vb->flags[v[0]] | vb->flags[v[1]] | vb->flags[v[2]]) {
             cp->clipped++;
             ok = clipped_box(cx, vb, v, cb, &sb);
         } else {
             ok = unclipped_box(cx, vb->snap, v, &sb);
+            direct = ok && box_direct(&sb);
         }
         if (!ok) {
             if (cp->rects != NULL) { /* an empty range, every field set (valgrind) */
@@ -702,11 +690,12 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
             continue;
         }
         if (cp->rects != NULL) {
-            cp->rects[4 * (size_t)t] = (uint16_t)sb.x0;
+            cp->rects[4 * (size_t)t] = (uint16_t)((uint32_t)sb.x0 | (direct ? RECT_DIRECT : 0u));
             cp->rects[4 * (size_t)t + 1] = (uint16_t)sb.y0;
             cp->rects[4 * (size_t)t + 2] = (uint16_t)sb.x1;
             cp->rects[4 * (size_t)t + 3] = (uint16_t)sb.y1;
         }
+        if (direct) continue;
         tb.x0 = sb.x0 >> LS_RASTER_TILE_LOG2; /* non-negative after clamping */
         tb.y0 = sb.y0 >> LS_RASTER_TILE_LOG2;
         tb.x1 = sb.x1 >> LS_RASTER_TILE_LOG2;
@@ -886,19 +875,113 @@ LS_NOINLINE static void draw_stri(ls_vis *vis, const stri *t, const sbox *b, uin
     }
 }
 
-/* Boxes of at most this many samples are drawn sample by sample, larger
- * ones by rows (fewer instructions either way, measured: 8 gave 1.5 % more
- * on the armadillo at 512^2, 16 the same). */
-#define DRAW_SMALL 12
+/* The drawing constants of unclipped triangle v (in vb) of signed twice-area
+ * a (!= 0) and id, as positively oriented. */
+static inline void unclipped_dconst(dconst *k, const vbuf *vb, const size_t v[3], int64_t a, uint32_t id)
+{
+    const size_t o1 = a > 0 ? v[1] : v[2], o2 = a > 0 ? v[2] : v[1];
+    ls_real zw[3], iw[3];
+    zw[0] = vb->zi[2 * v[0]];
+    iw[0] = vb->zi[2 * v[0] + 1];
+    zw[1] = vb->zi[2 * o1];
+    iw[1] = vb->zi[2 * o1 + 1];
+    zw[2] = vb->zi[2 * o2];
+    iw[2] = vb->zi[2 * o2 + 1];
+    dconst_init(k, zw, iw, unit_b[a < 0], a > 0 ? a : -a, id);
+}
+
+/* Marks the tiles of box b (at most a tile wide and high: those of its
+ * corners) dirty. */
+static inline void mark_tiles(ls_vis *vis, const sbox *b)
+{
+    const size_t tiles_x = ((size_t)vis->sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+    const size_t r0 = (size_t)(b->y0 >> LS_RASTER_TILE_LOG2) * tiles_x;
+    const size_t r1 = (size_t)(b->y1 >> LS_RASTER_TILE_LOG2) * tiles_x;
+    const size_t c0 = (size_t)(b->x0 >> LS_RASTER_TILE_LOG2), c1 = (size_t)(b->x1 >> LS_RASTER_TILE_LOG2);
+    uint8_t *d = vis->tile_dirty;
+    d[r0 + c0] = 1;
+    d[r0 + c1] = 1;
+    d[r1 + c0] = 1;
+    d[r1 + c1] = 1;
+}
+
+/* Draws the one sample of box b, covered by unclipped triangle v (in vb) of
+ * signed twice-area a with edge values e. */
+LS_NOINLINE static void draw_one(ls_vis *vis, const vbuf *vb, const size_t v[3], int64_t a, const sbox *b,
+                                 const int64_t e[3], uint32_t id)
+{
+    dconst k;
+    unclipped_dconst(&k, vb, v, a, id);
+    draw_sample(vis->tri, vis->depth, vis->bary, (size_t)b->y0 * vis->sw + (size_t)b->x0, &k, e[0], e[1], e[2]);
+    mark_tiles(vis, b);
+}
+
+/* Draws unclipped triangle v (in vb) into the samples of box b (inclusive,
+ * inside the grid and the triangle's own box) of at most DRAW_SMALL samples,
+ * sample by sample. */
+LS_NOINLINE static void draw_small(ls_vis *vis, const vbuf *vb, const size_t v[3], const sbox *b, uint32_t id)
+{
+    int32_t x[3], y[3];
+    dconst k;
+    int64_t e[3], area, a = unclipped_load(vb->snap, v, x, y);
+    if (a == 0) return;
+    orient(x, y, a);
+    area = a > 0 ? a : -a;
+    if (b->x0 == b->x1 && b->y0 == b->y1) { /* one sample: no loop set-up */
+        if (sample_edges(x, y, area, b->x0, b->y0, e)) draw_one(vis, vb, v, a, b, e, id);
+        return;
+    }
+    {
+        /* sample_edges' values stepped along the box (exact integers: the
+         * same values), and its test of them */
+        const int64_t px0 = b->x0 * SUB_ONE + SUB_HALF, py0 = b->y0 * SUB_ONE + SUB_HALF;
+        const int64_t ax1 = (int64_t)x[0] - x[2], ay1 = (int64_t)y[0] - y[2];
+        const int64_t ax2 = (int64_t)x[1] - x[0], ay2 = (int64_t)y[1] - y[0];
+        const int64_t sx1 = ay1 * SUB_ONE, sx2 = ay2 * SUB_ONE, sy1 = ax1 * SUB_ONE, sy2 = ax2 * SUB_ONE;
+        const size_t sw = vis->sw;
+        int64_t r1 = ax1 * (py0 - y[2]) - ay1 * (px0 - x[2]);
+        int64_t r2 = ax2 * (py0 - y[0]) - ay2 * (px0 - x[0]);
+        size_t row = (size_t)b->y0 * sw + (size_t)b->x0, cs[DRAW_SMALL];
+        int64_t i, j, c1[DRAW_SMALL], c2[DRAW_SMALL];
+        int n = 0, q;
+        /* the covered samples first: k is not needed when there is none */
+        for (j = b->y0; j <= b->y1; j++, r1 += sy1, r2 += sy2, row += sw) {
+            int64_t e1 = r1, e2 = r2;
+            size_t s = row;
+            for (i = b->x0; i <= b->x1; i++, e1 -= sx1, e2 -= sx2, s++) {
+                const int64_t e0 = area - e1 - e2;
+                if ((e0 | e1 | e2) < 0) continue;
+                if (e0 == 0 || e1 == 0 || e2 == 0) {
+                    e[0] = e0;
+                    e[1] = e1;
+                    e[2] = e2;
+                    if (!on_edge_inside(x, y, e)) continue;
+                }
+                cs[n] = s;
+                c1[n] = e1;
+                c2[n] = e2;
+                n++;
+            }
+        }
+        if (n == 0) return;
+        mark_tiles(vis, b);
+        unclipped_dconst(&k, vb, v, a, id);
+        for (q = 0; q < n; q++) draw_sample(vis->tri, vis->depth, vis->bary, cs[q], &k, area - c1[q] - c2[q], c1[q], c2[q]);
+    }
+}
 
 /* Draws unclipped triangle v (in vb) into the samples of box b (inclusive,
  * inside the grid and the triangle's own box). */
 LS_NOINLINE static void draw_unclipped(ls_vis *vis, const vbuf *vb, const size_t v[3], const sbox *b, uint32_t id)
 {
     stri st;
-    dconst k;
     size_t o[3];
-    int64_t e[3], a = unclipped_load(vb->snap, v, st.x, st.y);
+    int64_t a;
+    if ((b->x1 - b->x0 + 1) * (b->y1 - b->y0 + 1) <= DRAW_SMALL) {
+        draw_small(vis, vb, v, b, id);
+        return;
+    }
+    a = unclipped_load(vb->snap, v, st.x, st.y);
     if (a == 0) return;
     orient(st.x, st.y, a);
     o[0] = v[0];
@@ -911,45 +994,8 @@ LS_NOINLINE static void draw_unclipped(ls_vis *vis, const vbuf *vb, const size_t
     st.iw[1] = vb->zi[2 * o[1] + 1];
     st.zw[2] = vb->zi[2 * o[2]];
     st.iw[2] = vb->zi[2 * o[2] + 1];
-    if ((b->x1 - b->x0 + 1) * (b->y1 - b->y0 + 1) > DRAW_SMALL) {
-        memcpy(st.b, unit_b[a < 0], sizeof st.b);
-        draw_stri(vis, &st, b, id);
-        return;
-    }
-    dconst_init(&k, st.zw, st.iw, unit_b[a < 0], st.area, id);
-    if (b->x0 == b->x1 && b->y0 == b->y1) { /* one sample: no loop set-up */
-        if (sample_edges(st.x, st.y, st.area, b->x0, b->y0, e))
-            draw_sample(vis->tri, vis->depth, vis->bary, (size_t)b->y0 * vis->sw + (size_t)b->x0, &k, e[0], e[1], e[2]);
-        return;
-    }
-    {
-        /* sample_edges' values stepped along the box (exact integers: the
-         * same values), and its test of them */
-        const int64_t px0 = b->x0 * SUB_ONE + SUB_HALF, py0 = b->y0 * SUB_ONE + SUB_HALF;
-        const int64_t ax1 = (int64_t)st.x[0] - st.x[2], ay1 = (int64_t)st.y[0] - st.y[2];
-        const int64_t ax2 = (int64_t)st.x[1] - st.x[0], ay2 = (int64_t)st.y[1] - st.y[0];
-        const int64_t sx1 = ay1 * SUB_ONE, sx2 = ay2 * SUB_ONE, sy1 = ax1 * SUB_ONE, sy2 = ax2 * SUB_ONE;
-        const size_t sw = vis->sw;
-        int64_t r1 = ax1 * (py0 - st.y[2]) - ay1 * (px0 - st.x[2]);
-        int64_t r2 = ax2 * (py0 - st.y[0]) - ay2 * (px0 - st.x[0]);
-        size_t row = (size_t)b->y0 * sw + (size_t)b->x0;
-        int64_t i, j;
-        for (j = b->y0; j <= b->y1; j++, r1 += sy1, r2 += sy2, row += sw) {
-            int64_t e1 = r1, e2 = r2;
-            size_t s = row;
-            for (i = b->x0; i <= b->x1; i++, e1 -= sx1, e2 -= sx2, s++) {
-                const int64_t e0 = st.area - e1 - e2;
-                if ((e0 | e1 | e2) < 0) continue;
-                if (e0 == 0 || e1 == 0 || e2 == 0) {
-                    e[0] = e0;
-                    e[1] = e1;
-                    e[2] = e2;
-                    if (!on_edge_inside(st.x, st.y, e)) continue;
-                }
-                draw_sample(vis->tri, vis->depth, vis->bary, s, &k, e0, e1, e2);
-            }
-        }
-    }
+    memcpy(st.b, unit_b[a < 0], sizeof st.b);
+    draw_stri(vis, &st, b, id);
 }
 
 /* b = b intersected with r; 0 when empty. */
@@ -984,6 +1030,61 @@ LS_NOINLINE static void draw_clipped(const dpass *dp, uint32_t t, const size_t v
             draw_stri(dp->vis, &st, &b, t);
 }
 
+/* Clears the dirty tiles (a clean one is clear already) and marks them clean. */
+LS_NOINLINE static void clear_tiles(ls_vis *vis, const rctx *cx)
+{
+    uint32_t tx, ty;
+    for (ty = 0; ty < cx->tiles_y; ty++)
+        for (tx = 0; tx < cx->tiles_x; tx++) {
+            sbox r;
+            int64_t j;
+            if (!vis->tile_dirty[(size_t)ty * cx->tiles_x + tx]) continue;
+            vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = 0;
+            r.x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
+            r.y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
+            r.x1 = r.x0 + LS_RASTER_TILE - 1;
+            r.y1 = r.y0 + LS_RASTER_TILE - 1;
+            if (r.x1 > (int64_t)cx->sw - 1) r.x1 = (int64_t)cx->sw - 1;
+            if (r.y1 > (int64_t)cx->sh - 1) r.y1 = (int64_t)cx->sh - 1;
+            for (j = r.y0; j <= r.y1; j++) {
+                size_t s0 = (size_t)j * vis->sw + (size_t)r.x0, n = (size_t)(r.x1 - r.x0 + 1), i;
+                memset(vis->tri + s0, 0, n * sizeof *vis->tri);
+                memset(vis->bary + 2 * s0, 0, 2 * n * sizeof *vis->bary); /* all-zero bits are +0 in IEEE 754 */
+                for (i = 0; i < n; i++) vis->depth[s0 + i] = (ls_real)1;
+            }
+        }
+}
+
+/* Draws the triangles the count pass marked RECT_DIRECT; those of one sample
+ * are tested here, without a call. */
+LS_NOINLINE static void draw_direct(ls_vis *vis, const vbuf *vb, const uint32_t *indices, const uint16_t *rects,
+                                    uint32_t triangle_count)
+{
+    uint32_t t;
+    for (t = 0; t < triangle_count; t++) {
+        const uint16_t *rc = rects + 4 * (size_t)t;
+        const uint32_t *f = indices + 3 * (size_t)t;
+        size_t v[3];
+        sbox b;
+        if (!(rc[0] & RECT_DIRECT)) continue;
+        v[0] = f[0];
+        v[1] = f[1];
+        v[2] = f[2];
+        b.x0 = rc[0] & ~RECT_DIRECT;
+        b.y0 = rc[1];
+        b.x1 = rc[2];
+        b.y1 = rc[3];
+        if (b.x0 == b.x1 && b.y0 == b.y1) {
+            int32_t x[3], y[3];
+            int64_t e[3], a = unclipped_load(vb->snap, v, x, y);
+            orient(x, y, a);
+            if (sample_edges(x, y, a > 0 ? a : -a, b.x0, b.y0, e)) draw_one(vis, vb, v, a, &b, e, t);
+        } else {
+            draw_small(vis, vb, v, &b, t);
+        }
+    }
+}
+
 LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t count, uint32_t tx, uint32_t ty)
 {
     ls_vis *vis = dp->vis;
@@ -992,22 +1093,14 @@ LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t 
     const uint32_t *indices = dp->indices;
     sbox r, b;
     size_t e;
-    int64_t j;
     r.x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
     r.y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
     r.x1 = r.x0 + LS_RASTER_TILE - 1;
     r.y1 = r.y0 + LS_RASTER_TILE - 1;
     if (r.x1 > (int64_t)cx->sw - 1) r.x1 = (int64_t)cx->sw - 1;
     if (r.y1 > (int64_t)cx->sh - 1) r.y1 = (int64_t)cx->sh - 1;
-    /* a clean tile (cleared, nothing drawn since) with nothing to draw stays as it is */
-    if (count == 0 && !vis->tile_dirty[(size_t)ty * cx->tiles_x + tx]) return;
-    vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = count > 0;
-    for (j = r.y0; j <= r.y1; j++) {
-        size_t s0 = (size_t)j * vis->sw + (size_t)r.x0, n = (size_t)(r.x1 - r.x0 + 1), i;
-        memset(vis->tri + s0, 0, n * sizeof *vis->tri);
-        memset(vis->bary + 2 * s0, 0, 2 * n * sizeof *vis->bary); /* all-zero bits are +0 in IEEE 754 */
-        for (i = 0; i < n; i++) vis->depth[s0 + i] = (ls_real)1;
-    }
+    if (count == 0) return;
+    vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = 1; /* clear_tiles cleared it */
     for (e = 0; e < count; e++) {
         uint32_t t = list[e];
         const uint32_t *f = indices + 3 * (size_t)t;
@@ -1087,6 +1180,9 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
+    /* nothing fails from here on: vis may change */
+    clear_tiles(vis, &cx);
+    draw_direct(vis, &vb, indices, rects, triangle_count);
     /* prefix sum: offs[k + 1] = end of tile k's list */
     for (i = 0; i < tiles; i++) offs[i + 1] += offs[i];
     /* fill in reverse triangle order, moving each end down to its start, so
@@ -1094,7 +1190,7 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     for (t = triangle_count; t-- > 0;) {
         const uint16_t *rc = rects + 4 * (size_t)t;
         uint32_t tx, ty, tx0 = (uint32_t)rc[0] >> LS_RASTER_TILE_LOG2, tx1 = (uint32_t)rc[2] >> LS_RASTER_TILE_LOG2;
-        if (rc[0] > rc[2]) continue;
+        if (rc[0] > rc[2]) continue; /* also when RECT_DIRECT is set */
         for (ty = (uint32_t)rc[1] >> LS_RASTER_TILE_LOG2; ty <= (uint32_t)rc[3] >> LS_RASTER_TILE_LOG2; ty++)
             for (tx = tx0; tx <= tx1; tx++) {
                 size_t k = (size_t)ty * cx.tiles_x + tx + 1;
