@@ -24,11 +24,12 @@ static void sh_grad_consts(const ls_real *sh, ls_real k[15])
     int c;
     for (c = 0; c < 3; c++) {
         const ls_real *L = sh + 9 * (size_t)c;
-        k[5 * c] = c1 * L[8];
-        k[5 * c + 1] = c2 * L[3];
-        k[5 * c + 2] = c2 * L[1];
-        k[5 * c + 3] = c2 * L[2];
-        k[5 * c + 4] = c3 * L[6];
+        ls_real *kc = k + 5 * (size_t)c;
+        kc[0] = c1 * L[8];
+        kc[1] = c2 * L[3];
+        kc[2] = c2 * L[1];
+        kc[3] = c2 * L[2];
+        kc[4] = c3 * L[6];
     }
 }
 

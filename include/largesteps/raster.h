@@ -29,9 +29,10 @@
  *    therefore cover every sample on it exactly once (watertight);
  *  - binning in LS_RASTER_TILE x LS_RASTER_TILE sample tiles, two passes over
  *    the triangles (count, prefix sum, fill): each tile lists its triangles in
- *    input order, and the bin memory is known before anything is drawn; a
- *    triangle whose sample box (at most 2 x 2) holds no covered sample is not
- *    binned;
+ *    input order, and the bin memory is known before anything is drawn. An
+ *    unclipped triangle whose sample box holds at most 12 samples (most of a
+ *    fine mesh's) is not binned: it is drawn directly once that memory is
+ *    taken (the depth test below makes the order irrelevant);
  *  - depth test on the pair (depth, triangle index): the smaller depth wins and
  *    on equal depth the smaller index wins, so the result does not depend on
  *    drawing order. Samples with depth > 1 (beyond the far plane) are dropped.
