@@ -977,7 +977,7 @@ LS_NOINLINE static void draw_unclipped(ls_vis *vis, const vbuf *vb, const size_t
     stri st;
     size_t o[3];
     int64_t a;
-    if ((b->x1 - b->x0 + 1) * (b->y1 - b->y0 + 1) <= DRAW_SMALL) {
+    if (box_direct(b)) {
         draw_small(vis, vb, v, b, id);
         return;
     }
@@ -1030,6 +1030,17 @@ LS_NOINLINE static void draw_clipped(const dpass *dp, uint32_t t, const size_t v
             draw_stri(dp->vis, &st, &b, t);
 }
 
+/* The samples (inclusive) of tile (tx, ty), clipped to the grid. */
+static void tile_rect(const rctx *cx, uint32_t tx, uint32_t ty, sbox *r)
+{
+    r->x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
+    r->y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
+    r->x1 = r->x0 + LS_RASTER_TILE - 1;
+    r->y1 = r->y0 + LS_RASTER_TILE - 1;
+    if (r->x1 > (int64_t)cx->sw - 1) r->x1 = (int64_t)cx->sw - 1;
+    if (r->y1 > (int64_t)cx->sh - 1) r->y1 = (int64_t)cx->sh - 1;
+}
+
 /* Clears the dirty tiles (a clean one is clear already) and marks them clean. */
 LS_NOINLINE static void clear_tiles(ls_vis *vis, const rctx *cx)
 {
@@ -1040,12 +1051,7 @@ LS_NOINLINE static void clear_tiles(ls_vis *vis, const rctx *cx)
             int64_t j;
             if (!vis->tile_dirty[(size_t)ty * cx->tiles_x + tx]) continue;
             vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = 0;
-            r.x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
-            r.y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
-            r.x1 = r.x0 + LS_RASTER_TILE - 1;
-            r.y1 = r.y0 + LS_RASTER_TILE - 1;
-            if (r.x1 > (int64_t)cx->sw - 1) r.x1 = (int64_t)cx->sw - 1;
-            if (r.y1 > (int64_t)cx->sh - 1) r.y1 = (int64_t)cx->sh - 1;
+            tile_rect(cx, tx, ty, &r);
             for (j = r.y0; j <= r.y1; j++) {
                 size_t s0 = (size_t)j * vis->sw + (size_t)r.x0, n = (size_t)(r.x1 - r.x0 + 1), i;
                 memset(vis->tri + s0, 0, n * sizeof *vis->tri);
@@ -1093,13 +1099,8 @@ LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t 
     const uint32_t *indices = dp->indices;
     sbox r, b;
     size_t e;
-    r.x0 = (int64_t)tx << LS_RASTER_TILE_LOG2;
-    r.y0 = (int64_t)ty << LS_RASTER_TILE_LOG2;
-    r.x1 = r.x0 + LS_RASTER_TILE - 1;
-    r.y1 = r.y0 + LS_RASTER_TILE - 1;
-    if (r.x1 > (int64_t)cx->sw - 1) r.x1 = (int64_t)cx->sw - 1;
-    if (r.y1 > (int64_t)cx->sh - 1) r.y1 = (int64_t)cx->sh - 1;
     if (count == 0) return;
+    tile_rect(cx, tx, ty, &r);
     vis->tile_dirty[(size_t)ty * cx->tiles_x + tx] = 1; /* clear_tiles cleared it */
     for (e = 0; e < count; e++) {
         uint32_t t = list[e];

@@ -124,15 +124,15 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #define SIL_MARGIN ((ls_real)1 / (ls_real)64)  /* pixels by which bin and candidate boxes grow */
 /* Inlined where called, so that a copy sees a constant corner count and
  * its loops unroll (GCC wants the pragma; clang unrolls them unasked); not
- * where code size counts (-Os: the MCU), which keeps one copy. */
-#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
+ * where code size counts (LS_FAST_PATHS off: -Os, the MCU), which keeps one copy. */
+#if (defined(__GNUC__) || defined(__clang__)) && LS_FAST_PATHS
 #define SIL_INLINE __attribute__((always_inline)) inline
 #define SIL_SPECIALIZE 1
 #else
 #define SIL_INLINE inline
 #define SIL_SPECIALIZE 0
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
+#if defined(__GNUC__) && !defined(__clang__) && LS_FAST_PATHS
 #define SIL_UNROLL _Pragma("GCC unroll 4")
 #else
 #define SIL_UNROLL
