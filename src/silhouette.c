@@ -178,6 +178,7 @@ typedef struct sctx {
 /* One silhouette segment being integrated: window a + t e, t in [0, 1]. */
 typedef struct sedge {
     uint32_t ft, fu; /* the segment's face and its twin (or LS_EDGE_NONE) */
+    uint32_t va, vb; /* the vertices at a and at a + e (LS_EDGE_NONE: an end cut at the near plane) */
     ls_real a[2], e[2];
     ls_real ka, kb;  /* integral of (1 - t) g.df and of t g.df over the visible parts */
     ls_real eabs;    /* |e0| + |e1| */
@@ -1250,6 +1251,45 @@ LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
     return t1 <= reach;
 }
 
+/* Whether triangle g, every corner in front of the eye, with corner k at
+ * the segment's end at a (dir 1) or at a + e (dir -1), holds no other point
+ * of the segment: a triangle lies in the cone of its corner's two edges,
+ * so it holds none when the segment's direction from that end, d, is
+ * outside that cone by more than rounding (the cross products against
+ * the two edges beyond 8 eps times the sums of their products' magnitudes,
+ * above their rounding errors; the cone itself not degenerate). Most
+ * faces around a silhouette edge's ends are such (measured: 44 % of the
+ * faces whose box meets a run's on the fit's end mesh share a vertex
+ * with the segment's face), and cost no candidate test. */
+static int wedge_misses(const sctx *sc, const sedge *ed, const uint32_t *g, uint32_t k, ls_real dir)
+{
+    const ls_real *w = sc->win, *pa = w + 2 * (size_t)g[k];
+    const ls_real *pp = w + 2 * (size_t)g[k == 2u ? 0u : k + 1u], *pq = w + 2 * (size_t)g[k == 0u ? 2u : k - 1u];
+    ls_real px = pp[0] - pa[0], py = pp[1] - pa[1], qx = pq[0] - pa[0], qy = pq[1] - pa[1];
+    ls_real dx = dir * ed->e[0], dy = dir * ed->e[1], e8 = (ls_real)8 * LS_REAL_EPSILON;
+    ls_real o = px * qy - py * qx, c1 = px * dy - py * dx, c2 = dx * qy - dy * qx;
+    ls_real bo = e8 * (r_abs(px * qy) + r_abs(py * qx)) + (ls_real)64 * R_MIN_NORMAL;
+    ls_real b1 = e8 * (r_abs(px * dy) + r_abs(py * dx)) + (ls_real)64 * R_MIN_NORMAL;
+    ls_real b2 = e8 * (r_abs(dx * qy) + r_abs(dy * qx)) + (ls_real)64 * R_MIN_NORMAL;
+    if (o > bo) return c1 < -b1 || c2 < -b2;
+    if (o < -bo) return c1 > b1 || c2 > b2;
+    return 0;
+}
+
+/* Whether triangle id shares an end vertex with the segment and misses
+ * the rest of it (wedge_misses); 0 leaves it to the candidate tests. */
+static int end_face_misses(const sctx *sc, const sedge *ed, uint32_t id)
+{
+    const uint32_t *g = sc->indices + 3 * (size_t)id;
+    uint32_t k;
+    for (k = 0; k < 3u; k++) {
+        if (g[k] != ed->va && g[k] != ed->vb) continue;
+        if ((sc->vfront[g[0]] & sc->vfront[g[1]] & sc->vfront[g[2]]) == 0) return 0;
+        return wedge_misses(sc, ed, g, k, g[k] == ed->va ? (ls_real)1 : (ls_real)-1);
+    }
+    return 0;
+}
+
 /* The pieces of a run: the candidates of the tile's bin whose box meets
  * the run's box, the parameters where their polygon edges cross the
  * segment (visibility and the surface behind are constant between two of
@@ -1280,6 +1320,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         int n;
         if (bx[2] < fx0 || bx[0] > fx1 || bx[3] < fy0 || bx[1] > fy1) continue;
         if (id == ed->ft || id == ed->fu) continue;
+        if (end_face_misses(sc, ed, id)) continue;
         n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
         if (n < 3) continue;
         if (!cand_interval(ed, x, y, n, t0, t1, sp, &ns, &lo, &hi)) continue;
@@ -1485,6 +1526,8 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     run.tile = 0;
     ed.ft = ft;
     ed.fu = fu;
+    ed.va = ea->clipped ? LS_EDGE_NONE : ea->v;
+    ed.vb = eb->clipped ? LS_EDGE_NONE : eb->v;
     ed.wok = 0;
     ed.wtb = (ls_real)0;
     ed.wnext = LS_EDGE_NONE;
