@@ -1304,7 +1304,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     ls_real *sp = sc->split, t0 = run->t[0], t1 = run->t[run->n];
     ls_real xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
     ls_real ya = ed->a[1] + t0 * ed->e[1], yb = ed->a[1] + t1 * ed->e[1];
-    uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0;
+    uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
     /* the run's box, grown by the margin */
@@ -1313,12 +1313,26 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     fy0 = (float)((ya < yb ? ya : yb) - SIL_MARGIN);
     fy1 = (float)((ya < yb ? yb : ya) + SIL_MARGIN);
     if (run_hidden(sc, ed, run)) return;
-    for (k = sc->offs[run->tile]; k < sc->offs[run->tile + 1u]; k++) {
-        uint32_t id = sc->ent[k];
-        const float *bx = sc->tbox + 4 * (size_t)id;
+    /* the bin's triangles whose box meets the run's, gathered into cact
+     * (free until the sweep; a bin holds at most one entry per binned
+     * triangle, so it fits) without a branch per entry: about a third
+     * meet it, in no predictable order */
+    {
+        const uint32_t *ent = sc->ent;
+        const float *tbox = sc->tbox;
+        size_t kb = sc->offs[run->tile], ke = sc->offs[run->tile + 1u];
+        for (k = kb; k < ke; k++) {
+            uint32_t id = ent[k];
+            const float *bx = tbox + 4 * (size_t)id;
+            int miss = (bx[2] < fx0) | (bx[0] > fx1) | (bx[3] < fy0) | (bx[1] > fy1);
+            sc->cact[nhit] = id;
+            nhit += (uint32_t)(1 - miss);
+        }
+    }
+    for (k = 0; k < nhit; k++) {
+        uint32_t id = sc->cact[k];
         ls_real x[4], y[4], lo, hi;
         int n;
-        if (bx[2] < fx0 || bx[0] > fx1 || bx[3] < fy0 || bx[1] > fy1) continue;
         if (id == ed->ft || id == ed->fu) continue;
         if (end_face_misses(sc, ed, id)) continue;
         n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
@@ -1699,7 +1713,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
     ls_size_add(&s, tiles + 1u, sizeof(size_t));
-    ls_size_add(&s, (size_t)triangle_count, 1);
+    ls_size_add(&s, (size_t)triangle_count + 1u, 1); /* orientations and next_edge's sentinel */
     ls_size_add(&s, (size_t)vertex_count, 1);
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
     ls_size_add(&s, entries, sizeof(uint32_t));
@@ -1818,15 +1832,18 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
 static uint32_t next_edge(const sctx *sc, const uint32_t *twin, uint32_t h)
 {
     const signed char *sign = sc->sign;
-    uint32_t n = 3u * sc->triangle_count;
+    uint32_t n = 3u * sc->triangle_count, tc = sc->triangle_count;
     for (; h < n; h++) {
-        uint32_t tw = twin[h];
-        int s1, s2;
-        if (tw < h) continue; /* LS_EDGE_NONE is above every h */
-        if (tw == LS_EDGE_NONE) return h;
-        s1 = sign[h / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
-        s2 = sign[tw / 3u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): as s1 */
-        if (s1 + s2 != 4 && s1 + s2 != -4 && folds(sc, h, tw)) return h;
+        /* without a branch per half-edge (which half of an edge comes first is
+         * as good as random, and the mispredictions cost more than the tests):
+         * a boundary twin's face is clamped to the sentinel sign[tc] = 0, so
+         * its sum is never +-4 and it is a candidate, as it must be */
+        uint32_t tw = twin[h], fu = tw / 3u;
+        int s, cand;
+        fu = fu < tc ? fu : tc;
+        s = sign[h / 3u] + sign[fu]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
+        cand = (tw > h) & (s != 4) & (s != -4);
+        if (cand && (tw == LS_EDGE_NONE || folds(sc, h, tw))) return h;
     }
     return n;
 }
@@ -1889,7 +1906,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     mark = ls_arena_save(arena);
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
     offs = win ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
-    sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count, 1) : NULL;
+    sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
     sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
     if (sc.tbox == NULL) {
@@ -1920,6 +1937,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f, wkb)
                                                                                   : tri_sign(&sc, f));
     }
+    sign[triangle_count] = 0; /* next_edge's sentinel for boundary twins */
     sc.sign = sign;
     sc.twin = table->twin;
     choose_cull(&sc, table, sign);
