@@ -464,9 +464,21 @@ static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
         if (count[0] > SIZE_MAX - add) *over = 1;
         count[0] += add;
         count[1]++;
-        if (offs != NULL)
-            for (ty = r[1]; ty <= r[3]; ty++)
-                for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
+        if (offs == NULL) continue;
+        if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
+            /* at most 2 x 2 tiles (most triangles): the four counts without
+             * loops, whose trip counts mispredict; an absent tile adds 0 to
+             * one that is present */
+            size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0] + 1u;
+            size_t d = ny * sc->tiles_x;
+            offs[b]++;
+            offs[b + nx] += nx;
+            offs[b + d] += ny;
+            offs[b + d + nx] += nx & ny;
+            continue;
+        }
+        for (ty = r[1]; ty <= r[3]; ty++)
+            for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
     }
 }
 
@@ -476,12 +488,32 @@ static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
 static void bin_pass(const sctx *sc, size_t *offs, uint32_t *ent)
 {
     uint32_t t, tx, ty, r[4];
-    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k;
+    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k, spare;
     for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
+    spare = offs[tiles]; /* ent's extra last slot: where an absent tile's entry goes */
     for (t = 0; t < sc->triangle_count; t++) {
         const float *fb = sc->tbox + 4 * (size_t)t;
         if (fb[0] > fb[2]) continue;
         fbox_tiles(sc, fb, r);
+        if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
+            /* at most 2 x 2 tiles, as box_pass counted them: each present
+             * tile takes the next entry of its bin, an absent one writes
+             * the spare slot and advances nothing; no loops, whose trip
+             * counts mispredict */
+            size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0];
+            size_t d = ny * sc->tiles_x, both = nx & ny, m;
+            ent[offs[b]++] = t;
+            m = (size_t)0 - nx; /* all ones when present: a select by masks, not a branch */
+            ent[(offs[b + nx] & m) | (spare & ~m)] = t;
+            offs[b + nx] += nx;
+            m = (size_t)0 - ny;
+            ent[(offs[b + d] & m) | (spare & ~m)] = t;
+            offs[b + d] += ny;
+            m = (size_t)0 - both;
+            ent[(offs[b + d + nx] & m) | (spare & ~m)] = t;
+            offs[b + d + nx] += both;
+            continue;
+        }
         for (ty = r[1]; ty <= r[3]; ty++)
             for (tx = r[0]; tx <= r[2]; tx++) ent[offs[(size_t)ty * sc->tiles_x + tx]++] = t;
     }
@@ -970,9 +1002,10 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
         rx[q] = x[q] - ed->a[0];
         ry[q] = y[q] - ed->a[1];
         sd[q] = ed->e[0] * ry[q] - ed->e[1] * rx[q];
-        side[q] = sd[q] > tau ? 1 : (sd[q] < -tau ? -1 : 0);
-        above += side[q] > 0;
-        below += side[q] < 0;
+        /* without branches: which side a corner lies on is no pattern */
+        above += sd[q] > tau;
+        below += sd[q] < -tau;
+        side[q] = (sd[q] > tau) - (sd[q] < -tau);
     }
     if (above == n || below == n) return 0;
     c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
@@ -1709,14 +1742,14 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
                               size_t slots, size_t *bytes)
 {
     ls_size s;
-    if (tiles > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    if (tiles > SIZE_MAX - 1u || entries > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
     ls_size_add(&s, tiles + 1u, sizeof(size_t));
     ls_size_add(&s, (size_t)triangle_count + 1u, 1); /* orientations and next_edge's sentinel */
     ls_size_add(&s, (size_t)vertex_count, 1);
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
-    ls_size_add(&s, entries, sizeof(uint32_t));
+    ls_size_add(&s, entries + 1u, sizeof(uint32_t)); /* and bin_pass's spare slot */
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
     ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
     ls_size_add(&s, slots, sizeof(ls_real));  /* clo */
@@ -1943,11 +1976,11 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     choose_cull(&sc, table, sign);
     box_pass(&sc, offs, count, &over);
     slots = slot_count(count[1], count[0]);
-    if (over || slots > (SIZE_MAX - 2u) / 4u) {
+    if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
         return LS_ERR_TOO_LARGE;
     }
-    ent = (uint32_t *)ls_arena_scratch(arena, count[0], sizeof(uint32_t));
+    ent = (uint32_t *)ls_arena_scratch(arena, count[0] + 1u, sizeof(uint32_t)); /* bin_pass's spare slot */
     sc.cid = ent ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc.chi = sc.cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
     sc.clo = sc.chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
