@@ -348,8 +348,8 @@ static int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
     const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
     ls_real dx1 = p1[0] - p0[0], dy1 = p1[1] - p0[1], dx2 = p2[0] - p0[0], dy2 = p2[1] - p0[1];
     ls_real t1 = dx1 * dy2, t2 = dy1 * dx2, cr = t1 - t2, k = sc->wk, bound;
-    if (cr > wkb) return -2;
-    if (cr < -wkb) return 2;
+    int fast = 2 * ((cr < -wkb) - (cr > wkb)); /* no branch on the orientation: it has no pattern */
+    if (fast != 0) return fast;
     bound = (ls_real)16 * LS_REAL_EPSILON *
                 ((k * (((r_abs(dx1) + r_abs(dy1)) + (r_abs(dx2) + r_abs(dy2))) + LS_REAL_EPSILON * k) + r_abs(t1)) +
                  r_abs(t2)) +
