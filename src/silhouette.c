@@ -1705,15 +1705,16 @@ static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char 
         const ls_real *cl = vis->clip + 4 * (size_t)v;
         if (!(cl[2] + cl[3] >= (ls_real)0)) return;
     }
-    if (sign != NULL) { /* the samples by sign + 2: one increment each */
+    if (sign != NULL) { /* counts in registers: increments of a counter in memory chain through it */
         const uint32_t *tri = vis->tri, tc = sc->triangle_count;
-        size_t by[5] = {0, 0, 0, 0, 0};
         for (s = 0; s < ns; s++) {
             uint32_t id = tri[s];
-            if (id != 0 && id <= tc) by[sign[id - 1u] + 2]++; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+            if (id != 0 && id <= tc) {
+                int sg = sign[id - 1u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+                pos += (size_t)(sg > 0);
+                neg += (size_t)(sg < 0);
+            }
         }
-        neg = by[0] + by[1];
-        pos = by[3] + by[4];
     }
     for (s = 0; sign == NULL && s < ns; s++) {
         uint32_t id = vis->tri[s];
