@@ -374,6 +374,12 @@ $(BUILD)/bench/bench_refine: tests/bench/bench_refine.c $(PORT_LINK) $(LIB) $(CO
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
+# The image loss alone (tests/bench/bench_loss.c):
+# $(BUILD)/bench/bench_loss [RES [VIEWS [REPEAT]]].
+$(BUILD)/bench/bench_loss: tests/bench/bench_loss.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
 # Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
 $(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)
 	@mkdir -p $(@D)

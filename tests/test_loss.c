@@ -182,6 +182,286 @@ static void loss_errors(void)
     CHECK(g[1] == (ls_real)1 / (ls_real)16);
 }
 
+/* ---- Accuracy of the blocked sums (loss.h: relative error <= 20 u) ---- */
+
+#define AW 150 /* 150 x 100: 1875 blocks per view, rows not block-aligned */
+#define AH 100
+#define AV 3
+#define AN (4 * AW * AH)
+static ls_real big_r[AV][AN], big_t[AV][AN];
+
+/* The exact sum a + b as hi + lo (Knuth's TwoSum). */
+static void two_sum(double a, double b, double *hi, double *lo)
+{
+    double s = a + b, bb = s - a;
+    *hi = s;
+    *lo = (a - (s - bb)) + (b - bb);
+}
+
+/* The exact product a * a as hi + lo (Dekker, no FMA). */
+static void two_square(double a, double *hi, double *lo)
+{
+    double c = 134217729.0 * a, ah = c - (c - a), al = a - ah;
+    *hi = a * a;
+    *lo = ((ah * ah - *hi) + 2.0 * ah * al) + al * al;
+}
+
+/* The reference loss: every term exact as a double-double, summed in
+ * double-double (relative error of order 2^-100 before the last rounding),
+ * then one rounding to double and one division: within 2^-52 relative. */
+static double ref_loss_dd(unsigned kind, uint32_t w, uint32_t h, uint32_t nv, const ls_real *r, const ls_real *t,
+                          size_t stride)
+{
+    double sh = 0.0, sl = 0.0;
+    size_t n = (size_t)4 * w * h, i;
+    uint32_t v;
+    for (v = 0; v < nv; v++)
+        for (i = 0; i < n; i++) {
+            double dh, dl, p[3], e;
+            int k;
+            two_sum((double)r[v * stride + i], -(double)t[v * stride + i], &dh, &dl);
+            if (kind == LS_LOSS_L1) {
+                if (dh < 0.0) {
+                    dh = -dh;
+                    dl = -dl;
+                }
+                p[0] = dh;
+                p[1] = dl;
+                p[2] = 0.0;
+            } else {
+                two_square(dh, &p[0], &p[1]);
+                p[2] = 2.0 * dh * dl + dl * dl;
+            }
+            for (k = 0; k < 3; k++) {
+                two_sum(sh, p[k], &sh, &e);
+                sl += e;
+            }
+        }
+    return (sh + sl) / ((double)n * (double)nv);
+}
+
+typedef enum { FILL_UNIT, FILL_WIDE, FILL_EQUAL, FILL_SPIKES } fill_kind;
+
+static double wide_value(void) /* +-[0.5, 1) 2^e, e in [-30, 30] (float: [-20, 20]) */
+{
+    int e = (int)(rnd() * (sizeof(ls_real) == 4 ? 41.0 : 61.0)) - (sizeof(ls_real) == 4 ? 20 : 30);
+    double m = 0.5 + 0.5 * rnd();
+    return ldexp(rnd() < 0.5 ? -m : m, e);
+}
+
+static void fill_big(fill_kind how)
+{
+    int v, i;
+    for (v = 0; v < AV; v++)
+        for (i = 0; i < AN; i++) {
+            switch (how) {
+            case FILL_UNIT:
+                big_r[v][i] = (ls_real)rnd();
+                big_t[v][i] = (ls_real)rnd();
+                break;
+            case FILL_WIDE:
+                big_r[v][i] = (ls_real)wide_value();
+                big_t[v][i] = (ls_real)wide_value();
+                break;
+            case FILL_EQUAL: /* the same term everywhere: plain sums drift the most */
+                big_r[v][i] = (ls_real)0.1;
+                big_t[v][i] = 0;
+                break;
+            case FILL_SPIKES: /* a large value among small ones in every block */
+                big_r[v][i] = (ls_real)(i % 29 == 0 ? 1e4 * (1.0 + rnd()) : 1e-3 * rnd());
+                big_t[v][i] = (ls_real)(1e-3 * rnd());
+                break;
+            }
+        }
+}
+
+/* Relative error of the library's loss against ref_loss_dd in units of
+ * u = LS_REAL_EPSILON / 2, for a w x h x nv set taken from big_r / big_t. */
+static double loss_error_u(unsigned kind, uint32_t w, uint32_t h, uint32_t nv)
+{
+    const ls_real *pr[AV], *pt[AV];
+    ls_real loss = 0;
+    double want;
+    uint32_t v;
+    for (v = 0; v < nv; v++) {
+        pr[v] = big_r[v];
+        pt[v] = big_t[v];
+    }
+    if (ls_loss_views(kind, w, h, nv, pr, pt, NULL, &loss, NULL) != LS_OK) return 1e30;
+    want = ref_loss_dd(kind, w, h, nv, big_r[0], big_t[0], AN);
+    return fabs((double)loss - want) / (want * 0.5 * (double)LS_REAL_EPSILON);
+}
+
+static void loss_accuracy_bound(void)
+{
+    static const char *names[] = {"[0,1]", "wide", "equal", "spikes"};
+    /* loss.h: 20 u; the reference's own rounding (2^-52
+     * relative, 2 u in the double build) is granted on top */
+    const double bound_u = 20.0, ref_u = ldexp(1.0, -52) / (0.5 * (double)LS_REAL_EPSILON);
+    int how;
+    unsigned kind;
+    for (how = FILL_UNIT; how <= FILL_SPIKES; how++) {
+        fill_big((fill_kind)how);
+        for (kind = 0; kind < 2; kind++) {
+            /* 150 x 100 x 3 views; 37 x 29 (a 1-pixel last block); 1 x 1 */
+            double e0 = loss_error_u(kind, AW, AH, AV), e1 = loss_error_u(kind, 37, 29, 1);
+            double e2 = loss_error_u(kind, 1, 1, 1);
+            printf("     %s %-6s: relative error %.2f u (150x100x3), %.2f u (37x29), %.2f u (1x1); bound %.0f u\n",
+                   kind == LS_LOSS_L1 ? "L1" : "L2", names[how], e0, e1, e2, bound_u);
+            CHECK_MSG(e0 <= bound_u + ref_u && e1 <= bound_u + ref_u && e2 <= bound_u + ref_u, "%s %s: %g %g %g u",
+                      kind == LS_LOSS_L1 ? "L1" : "L2", names[how], e0, e1, e2);
+        }
+    }
+}
+
+/* ---- The gradient: the same bits as the per-value formulas ---- */
+
+#if LS_REAL_IS_FLOAT
+#define TL_REAL_MIN FLT_MIN
+#else
+#define TL_REAL_MIN DBL_MIN
+#endif
+
+static void loss_gradient_bits(void)
+{
+    static ls_real x[4 * 5 * 3], r[4 * 5 * 3], g1[4 * 5 * 3], g2[4 * 5 * 3];
+    const ls_real tiny = TL_REAL_MIN * LS_REAL_EPSILON; /* the smallest subnormal */
+    const ls_real special[][2] = {
+        {0, 0}, {-0.0, 0}, {0, -0.0}, {-0.0, -0.0}, {tiny, 0}, {0, tiny}, {-tiny, 0}, {tiny, tiny}, {2 * tiny, tiny},
+        {TL_REAL_MIN, 0}, {1, 1}, {1, (ls_real)0.5}, {(ls_real)0.5, 1}, {LS_REAL_MAX, LS_REAL_MAX},
+        {LS_REAL_MAX, -LS_REAL_MAX}, {-LS_REAL_MAX, LS_REAL_MAX}, {LS_REAL_MAX, 0}, {1, 1 + LS_REAL_EPSILON},
+    };
+    const uint32_t nspecial = (uint32_t)(sizeof special / sizeof special[0]);
+    ls_loss_acc acc;
+    uint32_t i, views;
+    unsigned kind;
+    for (views = 1; views <= 7; views += 3)
+        for (kind = 0; kind < 2; kind++) {
+            ls_real n = (ls_real)4 * (ls_real)views * (ls_real)5 * (ls_real)3, inv = (ls_real)1 / n;
+            for (i = 0; i < 60; i++) {
+                if (i < nspecial) {
+                    x[i] = special[i][0];
+                    r[i] = special[i][1];
+                } else {
+                    x[i] = (ls_real)wide_value();
+                    r[i] = i % 5 == 0 ? x[i] : (ls_real)wide_value();
+                }
+            }
+            CHECK_STATUS(ls_loss_begin(&acc, kind, 5, 3, views), LS_OK);
+            CHECK_STATUS(ls_loss_view(&acc, x, r, g1, NULL), LS_OK);
+            for (i = 0; i < 60; i++) {
+                ls_real d = x[i] - r[i];
+                g2[i] = kind == LS_LOSS_L1 ? inv * (ls_real)((d > 0) - (d < 0)) : d == 0 ? d : (d + d) / n;
+            }
+            for (i = 0; i < 60; i++)
+                CHECK_MSG(memcmp(&g1[i], &g2[i], sizeof g1[i]) == 0, "%s views %u value %u (%g - %g): %a, want %a",
+                          kind == LS_LOSS_L1 ? "L1" : "L2", (unsigned)views, (unsigned)i, (double)x[i], (double)r[i],
+                          (double)g1[i], (double)g2[i]);
+        }
+}
+
+/* ---- Errors: the first bad value, nothing written; overflow ---- */
+
+static void loss_nonfinite_first_and_untouched(void)
+{
+    static ls_real x[3][4 * 40 * 10], r[3][4 * 40 * 10], g[3][4 * 40 * 10];
+    const ls_real *px[3], *pr[3];
+    ls_real *pg[3], loss = 0;
+    volatile ls_real zero = 0;
+    const ls_real inf = (ls_real)1 / zero, nan = zero / zero;
+    ls_loss_acc acc, before;
+    ls_diag diag;
+    uint64_t hg;
+    int v, i;
+    for (v = 0; v < 3; v++) {
+        for (i = 0; i < 4 * 40 * 10; i++) {
+            x[v][i] = (ls_real)rnd();
+            r[v][i] = (ls_real)rnd();
+            g[v][i] = (ls_real)-7;
+        }
+        px[v] = x[v];
+        pr[v] = r[v];
+        pg[v] = g[v];
+    }
+    hg = test_hash(g, sizeof g, 1);
+    /* a view whose earlier views were added: acc must not move */
+    CHECK_STATUS(ls_loss_begin(&acc, LS_LOSS_L1, 40, 10, 3), LS_OK);
+    CHECK_STATUS(ls_loss_view(&acc, x[0], r[0], NULL, NULL), LS_OK);
+    before = acc;
+    /* target +inf at 300 comes before rendered NaN at 700 (later block) */
+    x[1][700] = nan;
+    r[1][300] = inf;
+    CHECK_STATUS(ls_loss_view(&acc, x[1], r[1], g[1], &diag), LS_ERR_NONFINITE);
+    CHECK_EQ(diag.index, 300);
+    CHECK(diag.value == inf);
+    CHECK(strcmp(diag.what, "non-finite target value") == 0);
+    CHECK(memcmp(&acc, &before, sizeof acc) == 0);
+    CHECK(test_hash(g, sizeof g, 1) == hg);
+    /* +inf - +inf: both infinite at the same index; the rendered one is named */
+    r[1][300] = (ls_real)0.5;
+    x[1][700] = (ls_real)0.5;
+    x[1][1599] = inf;
+    r[1][1599] = inf;
+    CHECK_STATUS(ls_loss_view(&acc, x[1], r[1], g[1], &diag), LS_ERR_NONFINITE);
+    CHECK_EQ(diag.index, 1599);
+    CHECK(strcmp(diag.what, "non-finite rendered value") == 0);
+    /* -inf rendered against a finite target, L2 */
+    x[1][1599] = -inf;
+    r[1][1599] = 0;
+    CHECK_STATUS(ls_loss_begin(&acc, LS_LOSS_L2, 40, 10, 3), LS_OK);
+    CHECK_STATUS(ls_loss_view(&acc, x[1], r[1], g[1], &diag), LS_ERR_NONFINITE);
+    CHECK_EQ(diag.index, 1599);
+    CHECK(diag.value == -inf);
+    CHECK_EQ(acc.views_done, 0);
+    CHECK(test_hash(g, sizeof g, 1) == hg);
+    /* all views at once: a NaN in the last view writes no gradient anywhere */
+    x[1][1599] = 0;
+    x[2][4] = nan;
+    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 40, 10, 3, px, pr, pg, &loss, &diag), LS_ERR_NONFINITE);
+    CHECK_EQ(diag.offset, 2);
+    CHECK_EQ(diag.index, 4);
+    CHECK(test_hash(g, sizeof g, 1) == hg);
+    x[2][4] = 0;
+    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 40, 10, 3, px, pr, pg, &loss, &diag), LS_OK);
+    CHECK(test_hash(g, sizeof g, 1) != hg);
+}
+
+/* Finite inputs whose loss exceeds the range: LS_OK, loss +inf (not NaN,
+ * also after more views), the gradient as for any finite input. */
+static void loss_overflow_is_inf(void)
+{
+    static ls_real x[4 * 8 * 8], r[4 * 8 * 8], g[4 * 8 * 8];
+    const ls_real big = LS_REAL_MAX * (ls_real)0.75;
+    ls_real loss = 0, inv = (ls_real)1 / (ls_real)(4 * 8 * 8 * 2);
+    ls_loss_acc acc;
+    unsigned kind;
+    int i;
+    for (kind = 0; kind < 2; kind++) {
+        /* one difference that overflows (L1: MAX - -MAX), then every term large */
+        for (i = 0; i < 4 * 8 * 8; i++) {
+            x[i] = (ls_real)0.25;
+            r[i] = 0;
+        }
+        x[9] = LS_REAL_MAX;
+        r[9] = -LS_REAL_MAX;
+        CHECK_STATUS(ls_loss_begin(&acc, kind, 8, 8, 2), LS_OK);
+        CHECK_STATUS(ls_loss_view(&acc, x, r, g, NULL), LS_OK);
+        if (kind == LS_LOSS_L1) {
+            CHECK(g[9] == inv);
+            CHECK(g[10] == inv);
+        }
+        for (i = 0; i < 4 * 8 * 8; i++) x[i] = big;
+        CHECK_STATUS(ls_loss_view(&acc, x, r, g, NULL), LS_OK);
+        CHECK_STATUS(ls_loss_finish(&acc, &loss), LS_OK);
+        CHECK_MSG(loss > LS_REAL_MAX, "%s: loss %g, want +inf", kind == LS_LOSS_L1 ? "L1" : "L2", (double)loss);
+        /* the sum alone overflows, in a single view */
+        CHECK_STATUS(ls_loss_begin(&acc, kind, 8, 8, 1), LS_OK);
+        CHECK_STATUS(ls_loss_view(&acc, x, r, g, NULL), LS_OK);
+        CHECK_STATUS(ls_loss_finish(&acc, &loss), LS_OK);
+        CHECK(loss > LS_REAL_MAX);
+    }
+}
+
 int main(void)
 {
     TEST_INIT("test_loss");
@@ -190,5 +470,9 @@ int main(void)
     TEST_RUN(loss_fixed_order);
     TEST_RUN(loss_compensated);
     TEST_RUN(loss_errors);
+    TEST_RUN(loss_accuracy_bound);
+    TEST_RUN(loss_gradient_bits);
+    TEST_RUN(loss_nonfinite_first_and_untouched);
+    TEST_RUN(loss_overflow_is_inf);
     return TEST_END();
 }

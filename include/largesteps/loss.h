@@ -12,13 +12,27 @@
  * ls_shade's output and of ls_image). A reference loaded as an ls_image
  * (float) is converted by the caller (value by value) to ls_real.
  *
- * Accumulation is in a fixed order: within a view, one compensated
- * (Neumaier) sum in ls_real per RGBA channel over the pixels in memory order,
- * the four combined in channel order; then the per-view sums in view order
- * (compensated), then one division by N. The result is therefore the
- * same bits on every platform and independent of how the views are passed
- * (all at once with ls_loss_views, or view by view with ls_loss_view followed
- * by ls_loss_finish). No memory is used.
+ * Accumulation is in a fixed order: within a view, blocks of 8 pixels in
+ * memory order (the last one shorter); in a block, one plain sum per RGBA
+ * channel, the four combined as (R + G) + (B + A); the block sums in a
+ * compensated (Neumaier) sum in ls_real; then the per-view sums in view
+ * order (compensated), then one division by N. The result is therefore the same bits on every platform
+ * and independent of how the views are passed (all at once with
+ * ls_loss_views, or view by view with ls_loss_view followed by
+ * ls_loss_finish). No memory is used.
+ *
+ * Accuracy: every summed term is non-negative, so each rounding is relative
+ * to the true sum, and the loss's relative error against the exact mean of
+ * the given values is at most 20 u (u = LS_REAL_EPSILON / 2: 1.2e-6 in the
+ * float build, 2.2e-15 in double): u for a term |d| (3 u for d^2), 9 u for a
+ * block (7 + 2 additions), 2 u for each of the two compensated sums, u for
+ * the division, and second-order terms below u while a view has fewer than
+ * 1 / (16 u) blocks (2^23 pixels in float). tests/test_loss.c checks the
+ * bound against a double-double reference on large images with values in
+ * [0, 1], over 2^-30..2^30, equal and spiky.
+ *
+ * Finite inputs whose loss exceeds the range of ls_real give a loss of +inf
+ * (LS_OK; the gradient is written as for any finite input).
  */
 #ifndef LARGESTEPS_LOSS_H
 #define LARGESTEPS_LOSS_H
@@ -51,8 +65,12 @@ ls_status ls_loss_begin(ls_loss_acc *acc, uint32_t kind, uint32_t width, uint32_
  * RGBA. grad (may be NULL; may alias neither input) receives dL/drendered of
  * the final mean loss (already divided by N). Errors: LS_ERR_INVALID (NULL,
  * more views than announced), LS_ERR_NONFINITE (a non-finite rendered or
- * target value; diag->index is the value's index in the view, *acc and grad
- * unchanged). O(width height); no memory. diag may be NULL. */
+ * target value; diag->index is the first such value's index in the view,
+ * *acc and grad unchanged). O(width height): two passes, the sum (a
+ * non-finite input makes it non-finite; only then are the values scanned one
+ * by one) and then the gradient; with gradient, about 11 instructions per
+ * value in the double build and 6 in float (x86-64 SSE2, gcc 12 -O2). No
+ * memory. diag may be NULL. */
 ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real *target, ls_real *grad,
                        ls_diag *diag);
 
