@@ -12,59 +12,70 @@
 #define R_INV_PI ((ls_real)0.31830988618379067154)
 #define MAX_SS 4 /* samples per pixel side: ls_vis_init takes 1, 2 or 4 */
 
+/* Inlined into the fast path's sample loop (LS_FAST_PATHS); one copy where
+ * code size counts. Inlining changes no bits. */
+#if (defined(__GNUC__) || defined(__clang__)) && LS_FAST_PATHS
+#define BWD_INLINE __attribute__((always_inline)) inline
+#else
+#define BWD_INLINE inline
+#endif
+
 /* Everything one sample's backward needs (render_internal.h). */
 typedef ls_shade_bctx bctx;
 
-/* sh_grad's products of two constants per channel (k[5 c..]: c1 L8, c2 L3,
- * c2 L1, c2 L2, c3 L6), formed once per call: the products sh_grad's
- * expressions form first, so the same bits. */
-static void sh_grad_consts(const ls_real *sh, ls_real k[15])
+/* The SH gradient's constants, formed once per call: per channel c the
+ * symmetric 3 x 3 matrix of dE_c/dn = 2 (M_c n_h)_xyz (its five distinct
+ * entries xx = c1 L8, xy = c1 L4, xz = c1 L7, yz = c1 L5, zz = c3 L6; yy is
+ * -xx) and its constant part (c2 L3, c2 L1, c2 L2), each times 2 / pi, stored
+ * entry-major: k[3 j + c] is entry j of channel c. */
+static void sh_grad_consts(const ls_real *sh, ls_real k[24])
 {
     const ls_real c1 = (ls_real)LS_SH_C1, c2 = (ls_real)LS_SH_C2, c3 = (ls_real)LS_SH_C3;
+    const ls_real s = (ls_real)2 * R_INV_PI;
     int c;
     for (c = 0; c < 3; c++) {
         const ls_real *L = sh + 9 * (size_t)c;
-        ls_real *kc = k + 5 * (size_t)c;
-        kc[0] = c1 * L[8];
-        kc[1] = c2 * L[3];
-        kc[2] = c2 * L[1];
-        kc[3] = c2 * L[2];
-        kc[4] = c3 * L[6];
+        k[c] = s * (c1 * L[8]);
+        k[3 + c] = s * (c1 * L[4]);
+        k[6 + c] = s * (c1 * L[7]);
+        k[9 + c] = s * (c1 * L[5]);
+        k[12 + c] = s * (c3 * L[6]);
+        k[15 + c] = s * (c2 * L[3]);
+        k[18 + c] = s * (c2 * L[1]);
+        k[21 + c] = s * (c2 * L[2]);
     }
 }
 
-/* dL/dn of the SH irradiance: sum_c g_c dE_c/dn / pi (k: sh_grad_consts). */
-static inline void sh_grad(const ls_real *sh, const ls_real *k, const ls_real n[3], const ls_real g[3], ls_real dn[3])
+/* dL/dn of the SH irradiance, sum_c g_c dE_c/dn / pi (k: sh_grad_consts):
+ * the channels' matrices are summed with the weights g first, then one
+ * matrix-vector product. */
+static BWD_INLINE void sh_grad(const ls_real *k, const ls_real n[3], const ls_real g[3], ls_real dn[3])
 {
-    const ls_real c1 = (ls_real)LS_SH_C1;
-    ls_real x = n[0], y = n[1], z = n[2];
-    int c;
-    dn[0] = dn[1] = dn[2] = (ls_real)0;
-    for (c = 0; c < 3; c++, k += 5) {
-        const ls_real *L = sh + 9 * (size_t)c;
-        ls_real gx = k[0] * x + c1 * (L[4] * y + L[7] * z) + k[1];
-        ls_real gy = -(k[0] * y) + c1 * (L[4] * x + L[5] * z) + k[2];
-        ls_real gz = k[4] * z + c1 * (L[7] * x + L[5] * y) + k[3];
-        ls_real s = (ls_real)2 * g[c] * R_INV_PI;
-        dn[0] += s * gx;
-        dn[1] += s * gy;
-        dn[2] += s * gz;
-    }
+    const ls_real g0 = g[0], g1 = g[1], g2 = g[2], x = n[0], y = n[1], z = n[2];
+    const ls_real xx = (g0 * k[0] + g1 * k[1]) + g2 * k[2], xy = (g0 * k[3] + g1 * k[4]) + g2 * k[5];
+    const ls_real xz = (g0 * k[6] + g1 * k[7]) + g2 * k[8], yz = (g0 * k[9] + g1 * k[10]) + g2 * k[11];
+    const ls_real zz = (g0 * k[12] + g1 * k[13]) + g2 * k[14];
+    const ls_real hx = (g0 * k[15] + g1 * k[16]) + g2 * k[17], hy = (g0 * k[18] + g1 * k[19]) + g2 * k[20];
+    const ls_real hz = (g0 * k[21] + g1 * k[22]) + g2 * k[23];
+    dn[0] = ((xx * x + xy * y) + xz * z) + hx;
+    dn[1] = ((xy * x - xx * y) + yz * z) + hy;
+    dn[2] = ((xz * x + yz * y) + zz * z) + hz;
 }
 
 #if LS_FAST_PATHS
 /* shading_backward for plain SH shading (bc->sh_plain: unit albedo, no
  * renormalization): the same arithmetic without the general path's
  * per-sample branches and copies (g x 1 is g). */
-static void sh_plain_backward(const bctx *bc, const uint32_t *f, const ls_real b[3], const ls_real g[3],
+static BWD_INLINE void sh_plain_backward(const bctx *bc, const uint32_t *f, const ls_real b[3], const ls_real g[3],
                               ls_real gb[3])
 {
     const ls_real *N0 = bc->normals + 3 * (size_t)f[0], *N1 = bc->normals + 3 * (size_t)f[1];
     const ls_real *N2 = bc->normals + 3 * (size_t)f[2];
     ls_real n[3], dn[3];
-    int c;
-    for (c = 0; c < 3; c++) n[c] = b[0] * N0[c] + b[1] * N1[c] + b[2] * N2[c];
-    sh_grad(bc->o->sh, bc->shk, n, g, dn);
+    n[0] = b[0] * N0[0] + b[1] * N1[0] + b[2] * N2[0];
+    n[1] = b[0] * N0[1] + b[1] * N1[1] + b[2] * N2[1];
+    n[2] = b[0] * N0[2] + b[1] * N1[2] + b[2] * N2[2];
+    sh_grad(bc->shk, n, g, dn);
     gb[0] = N0[0] * dn[0] + N0[1] * dn[1] + N0[2] * dn[2];
     gb[1] = N1[0] * dn[0] + N1[1] * dn[1] + N1[2] * dn[2];
     gb[2] = N2[0] * dn[0] + N2[1] * dn[1] + N2[2] * dn[2];
@@ -93,6 +104,12 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
     const ls_shade_opts *o = bc->o;
     ls_real alb[3], dalb[3], ds[3], s[3], vc[3], tx[3], uv[2];
     int c, k;
+#if LS_FAST_PATHS
+    if (bc->sh_plain) {
+        sh_plain_backward(bc, f, b, g, gb);
+        return;
+    }
+#endif
     gb[0] = gb[1] = gb[2] = (ls_real)0;
     if (o->mode == LS_SHADE_MASK) return;
     for (c = 0; c < 3; c++) alb[c] = vc[c] = (ls_real)1;
@@ -132,7 +149,7 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
             else
                 s[0] = s[1] = s[2] = (ls_real)0;
             for (c = 0; c < 3; c++) ds[c] = g[c] * alb[c];
-            sh_grad(o->sh, bc->shk, nn, ds, dnn);
+            sh_grad(bc->shk, nn, ds, dnn);
         } else { /* Lambert */
             uint32_t li;
             for (c = 0; c < 3; c++) {
@@ -187,37 +204,122 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
     }
 }
 
+/* The barycentrics b of the NDC point (px, py) in triangle f: those of
+ * ls_clip_barycentric (u_k = x_k - px w_k, v_k = y_k - py w_k, a = u x v,
+ * b = a / sum a) through one reciprocal *inv of the sum, which also scales
+ * dL/da. 0 when the triangle is edge-on there or the sum or its reciprocal
+ * is not finite (no gradient), else 1. */
+static BWD_INLINE int sample_bary(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
+                                  ls_real v[3], ls_real b[3], ls_real *inv)
+{
+    const ls_real *c0 = clip + 4 * (size_t)f[0], *c1 = clip + 4 * (size_t)f[1], *c2 = clip + 4 * (size_t)f[2];
+    ls_real sum, r;
+    u[0] = c0[0] - px * c0[3];
+    v[0] = c0[1] - py * c0[3];
+    u[1] = c1[0] - px * c1[3];
+    v[1] = c1[1] - py * c1[3];
+    u[2] = c2[0] - px * c2[3];
+    v[2] = c2[1] - py * c2[3];
+    b[0] = u[1] * v[2] - u[2] * v[1];
+    b[1] = u[2] * v[0] - u[0] * v[2];
+    b[2] = u[0] * v[1] - u[1] * v[0];
+    sum = (b[0] + b[1]) + b[2];
+    if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
+    r = (ls_real)1 / sum;
+    if (r - r != (ls_real)0) return 0; /* a sum too small for its reciprocal */
+    b[0] *= r;
+    b[1] *= r;
+    b[2] *= r;
+    *inv = r;
+    return 1;
+}
+
+/* out = r - t w for the first three entries of the transform's rows r and
+ * w: dL/d(clip x, y, w) of a vertex are gu, gv and -(px gu + py gv), which
+ * the rows X, Y, W take to gu mx + gv my, mx = X - px W, my = Y - py W. */
+static BWD_INLINE void sample_row(const ls_real *r, const ls_real *w, ls_real t, ls_real out[3])
+{
+    out[0] = r[0] - t * w[0];
+    out[1] = r[1] - t * w[1];
+    out[2] = r[2] - t * w[2];
+}
+
+/* dL/d(vertex positions) of one sample from gb = dL/db (sample_bary's u, v,
+ * b, inv; sample_row's mx, my): dL/da = (gb - b . gb) / sum a, then through
+ * a = u x v to the clip coordinates. */
+static BWD_INLINE void sample_positions(ls_real *gp, const uint32_t *f, const ls_real u[3], const ls_real v[3],
+                                        const ls_real b[3], const ls_real gb[3], ls_real inv, const ls_real mx[3],
+                                        const ls_real my[3])
+{
+    const ls_real dot = (b[0] * gb[0] + b[1] * gb[1]) + b[2] * gb[2];
+    const ls_real ga0 = (gb[0] - dot) * inv, ga1 = (gb[1] - dot) * inv, ga2 = (gb[2] - dot) * inv;
+    /* gu_k = (v x ga)_k, gv_k = (ga x u)_k */
+    const ls_real gu0 = v[1] * ga2 - v[2] * ga1, gv0 = ga1 * u[2] - ga2 * u[1];
+    const ls_real gu1 = v[2] * ga0 - v[0] * ga2, gv1 = ga2 * u[0] - ga0 * u[2];
+    const ls_real gu2 = v[0] * ga1 - v[1] * ga0, gv2 = ga0 * u[1] - ga1 * u[0];
+    ls_real *d0 = gp + 3 * (size_t)f[0], *d1 = gp + 3 * (size_t)f[1], *d2 = gp + 3 * (size_t)f[2];
+    const ls_real x0 = mx[0], x1 = mx[1], x2 = mx[2], y0 = my[0], y1 = my[1], y2 = my[2];
+    d0[0] += x0 * gu0 + y0 * gv0;
+    d0[1] += x1 * gu0 + y1 * gv0;
+    d0[2] += x2 * gu0 + y2 * gv0;
+    d1[0] += x0 * gu1 + y0 * gv1;
+    d1[1] += x1 * gu1 + y1 * gv1;
+    d1[2] += x2 * gu1 + y2 * gv1;
+    d2[0] += x0 * gu2 + y0 * gv2;
+    d2[1] += x1 * gu2 + y1 * gv2;
+    d2[2] += x2 * gu2 + y2 * gv2;
+}
+
 /* One covered sample at NDC (px, py) of triangle f, g = dL/d(sample rgb). */
 static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
 {
-    static const int next[3] = {1, 2, 0}, prev[3] = {2, 0, 1}; /* (k + 1) % 3, (k + 2) % 3 */
-    ls_real u[3], v[3], b[3], gb[3], ga[3], m[9], sum, dot;
-    int k, c;
-    sum = ls_clip_barycentric(bc->vis->clip, f, px, py, u, v, b);
-    if (sum == (ls_real)0) return; /* edge-on: no gradient */
-#if LS_FAST_PATHS
-    if (bc->sh_plain)
-        sh_plain_backward(bc, f, b, g, gb);
-    else
-#endif
-        shading_backward(bc, f, b, g, gb);
+    ls_real u[3], v[3], b[3], gb[3], mx[3], my[3], inv;
+    if (!sample_bary(bc->vis->clip, f, px, py, u, v, b, &inv)) return; /* no gradient */
+    shading_backward(bc, f, b, g, gb);
     if (bc->gp == NULL) return;
-    dot = b[0] * gb[0] + b[1] * gb[1] + b[2] * gb[2];
-    for (k = 0; k < 3; k++) ga[k] = (gb[k] - dot) / sum;
-    for (c = 0; c < 3; c++) { /* rows X, Y, W of the transform: not reloaded after each store */
-        m[c] = bc->m[c];
-        m[3 + c] = bc->m[4 + c];
-        m[6 + c] = bc->m[12 + c];
-    }
-    for (k = 0; k < 3; k++) {
-        int k1 = next[k], k2 = prev[k];
-        ls_real gu = v[k1] * ga[k2] - v[k2] * ga[k1]; /* (v x ga)_k */
-        ls_real gv = ga[k1] * u[k2] - ga[k2] * u[k1]; /* (ga x u)_k */
-        ls_real gw = -(px * gu + py * gv);
-        ls_real *dp = bc->gp + 3 * (size_t)f[k];
-        for (c = 0; c < 3; c++) dp[c] += m[c] * gu + m[3 + c] * gv + m[6 + c] * gw;
+    sample_row(bc->m, bc->m + 12, px, mx);
+    sample_row(bc->m + 4, bc->m + 12, py, my);
+    sample_positions(bc->gp, f, u, v, b, gb, inv, mx, my);
+}
+
+#if LS_FAST_PATHS
+/* ls_shade_backward_pixels for plain SH shading (bc->sh_plain) at one
+ * sample per pixel, the fit's case: sample_backward's arithmetic inlined
+ * into the pixel loop, the row's my once per row. */
+LS_NOINLINE static void pixels_sh_plain(const bctx *bc, uint32_t triangle_count, const ls_real *grad_image,
+                                        const uint8_t *skip)
+{
+    const ls_vis *vis = bc->vis;
+    const ls_real *clip = vis->clip, *m = bc->m;
+    const ls_real inv_sw = (ls_real)1 / (ls_real)vis->sw;
+    ls_real *gp = bc->gp;
+    uint32_t x, y;
+    for (y = 0; y < vis->height; y++) {
+        const uint32_t *row = vis->tri + (size_t)y * vis->sw;
+        const ls_real py = (ls_real)1 - (ls_real)(2u * y + 1u) / (ls_real)vis->sh;
+        ls_real my[3];
+        sample_row(m + 4, m + 12, py, my);
+        for (x = 0; x < vis->width; x++) {
+            size_t p = (size_t)y * vis->width + x;
+            uint32_t id = row[x];
+            const uint32_t *f;
+            ls_real g[3], px, u[3], v[3], b[3], gb[3], mx[3], inv;
+            if (id == 0 || id > triangle_count || (skip != NULL && skip[p])) continue;
+            g[0] = grad_image[4 * p];
+            g[1] = grad_image[4 * p + 1];
+            g[2] = grad_image[4 * p + 2];
+            if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
+            px = (ls_real)(2u * x + 1u) * inv_sw - (ls_real)1;
+            f = bc->indices + 3 * (size_t)(id - 1u);
+            if (!sample_bary(clip, f, px, py, u, v, b, &inv)) continue;
+            sh_plain_backward(bc, f, b, g, gb);
+            if (gp == NULL) continue;
+            sample_row(m, m + 12, px, mx);
+            sample_positions(gp, f, u, v, b, gb, inv, mx, my);
+        }
     }
 }
+#endif
 
 ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
                             const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
@@ -274,9 +376,14 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
     const ls_vis *vis = bc->vis;
     uint32_t x, y, ss = vis->ss;
     ls_real inv_n = (ls_real)1 / (ls_real)(ss * ss);
+    const ls_real inv_sw = (ls_real)1 / (ls_real)vis->sw; /* NDC x of column sx: (2 sx + 1) / sw - 1 */
     if (ss > MAX_SS) return; /* not a vis of ls_vis_init */
 #if LS_FAST_PATHS
-    if (ss == 1) { /* the fit's case: the loop below without its sample loops (the same calls in order) */
+    if (ss == 1 && bc->sh_plain) {
+        pixels_sh_plain(bc, triangle_count, grad_image, skip);
+        return;
+    }
+    if (ss == 1) { /* the loop below without its sample loops (the same calls in order) */
         for (y = 0; y < vis->height; y++) {
             const uint32_t *row = vis->tri + (size_t)y * vis->sw;
             const ls_real py = (ls_real)1 - (ls_real)(2u * y + 1u) / (ls_real)vis->sh;
@@ -289,7 +396,7 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
                 g[1] = grad_image[4 * p + 1] * inv_n;
                 g[2] = grad_image[4 * p + 2] * inv_n;
                 if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
-                px = (ls_real)(2u * x + 1u) / (ls_real)vis->sw - (ls_real)1;
+                px = (ls_real)(2u * x + 1u) * inv_sw - (ls_real)1;
                 sample_backward(bc, bc->indices + 3 * (size_t)(id - 1u), px, py, g);
             }
         }
@@ -320,7 +427,7 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
                     uint32_t id = vis->tri[s];
                     ls_real px;
                     if (id == 0 || id > triangle_count) continue;
-                    px = (ls_real)(2u * sx + 1u) / (ls_real)vis->sw - (ls_real)1;
+                    px = (ls_real)(2u * sx + 1u) * inv_sw - (ls_real)1;
                     sample_backward(bc, bc->indices + 3 * (size_t)(id - 1u), px, py, g);
                 }
             }

@@ -82,8 +82,8 @@ typedef struct ls_shade_bctx {
     const ls_shade_opts *o;
     const ls_real *m; /* mvp */
     ls_real *gp, *gn, *gc, *gt, *guv;
-    int sh_plain;      /* SH, no colours, no texture, no renormalization: sample_sh's path */
-    ls_real shk[15];   /* per channel c1 L8, c2 L3, c2 L1, c2 L2, c3 L6 (sh_grad's products) */
+    int sh_plain;      /* SH, no colours, no texture, no renormalization: sh_plain_backward's path */
+    ls_real shk[24];   /* SH gradient matrices and constants x 2 / pi, entry-major (sh_grad_consts) */
 } ls_shade_bctx;
 
 /* ls_shade_backward_begin: the argument checks of ls_shade_backward_grads
