@@ -985,30 +985,43 @@ LS_NOINLINE static void draw_small(ls_vis *vis, const vbuf *vb, const size_t v[3
         const size_t sw = vis->sw;
         int64_t r1 = ax1 * (py0 - y[2]) - ay1 * (px0 - x[2]);
         int64_t r2 = ax2 * (py0 - y[0]) - ay2 * (px0 - x[0]);
-        size_t row = (size_t)b->y0 * sw + (size_t)b->x0;
-        int64_t i, j;
-        const dconst *kp = NULL;
-        /* k is set at the first covered sample: not at all when there is none */
-        for (j = b->y0; j <= b->y1; j++, r1 += sy1, r2 += sy2, row += sw) {
-            int64_t e1 = r1, e2 = r2;
-            size_t s = row;
-            for (i = b->x0; i <= b->x1; i++, e1 -= sx1, e2 -= sx2, s++) {
-                const int64_t e0 = area - e1 - e2;
-                if ((e0 | e1 | e2) < 0) continue;
-                if (e0 == 0 || e1 == 0 || e2 == 0) {
-                    e[0] = e0;
-                    e[1] = e1;
-                    e[2] = e2;
-                    if (!on_edge_inside(x, y, e)) continue;
-                }
-                if (kp == NULL) {
-                    mark_tiles(vis, b);
-                    unclipped_dconst(&k, vb, v, a, id);
-                    kp = &k;
-                }
-                draw_sample(vis->tri, vis->depth, vis->bary, s, kp, e0, e1, e2);
+        int64_t e1 = r1, e2 = r2, ce0[DRAW_SMALL], ce1[DRAW_SMALL], ce2[DRAW_SMALL];
+        size_t s = (size_t)b->y0 * sw + (size_t)b->x0, cs[DRAW_SMALL];
+        const int64_t w = b->x1 - b->x0 + 1, n = w * (b->y1 - b->y0 + 1);
+        int64_t q, col = 0, m = 0;
+        /* One pass over the box's samples in row order, without a branch per
+         * sample (coverage of such small triangles has no pattern, and its
+         * tests mispredicted): the covered ones are gathered (each sample is
+         * written at slot m, which advances when it is covered; the
+         * top-left rule's test, for a sample on an edge, is rare), then
+         * drawn in the same order. */
+        for (q = 0; q < n; q++) {
+            const int64_t e0 = area - e1 - e2;
+            int64_t in = (e0 | e1 | e2) >= 0, wrap;
+            if (in & ((e0 == 0) | (e1 == 0) | (e2 == 0))) {
+                e[0] = e0;
+                e[1] = e1;
+                e[2] = e2;
+                in = on_edge_inside(x, y, e);
             }
+            cs[m] = s;
+            ce0[m] = e0;
+            ce1[m] = e1;
+            ce2[m] = e2;
+            m += in;
+            /* the next sample: along the row, or the first of the next row */
+            wrap = col + 1 == w;
+            col = wrap ? 0 : col + 1;
+            r1 = wrap ? r1 + sy1 : r1;
+            r2 = wrap ? r2 + sy2 : r2;
+            e1 = wrap ? r1 : e1 - sx1;
+            e2 = wrap ? r2 : e2 - sx2;
+            s = wrap ? s + sw - (size_t)(w - 1) : s + 1u;
         }
+        if (m == 0) return;
+        mark_tiles(vis, b);
+        unclipped_dconst(&k, vb, v, a, id);
+        for (q = 0; q < m; q++) draw_sample(vis->tri, vis->depth, vis->bary, cs[q], &k, ce0[q], ce1[q], ce2[q]);
     }
 }
 
