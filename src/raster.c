@@ -683,9 +683,11 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
 {
     uint32_t t;
     size_t total = 0;
-    ls_real lclip[12], lzi[6];
-    int32_t lsnap[6];
-    uint32_t lflags[3] = {0, 0, 0}; /* set by transform_all (the analyzer cannot tell) */
+    /* set by transform_all for validated vertices; zeroed, as the analyzer
+     * cannot tell (once a call, not once a triangle) */
+    ls_real lclip[12] = {0}, lzi[6] = {0};
+    int32_t lsnap[6] = {0};
+    uint32_t lflags[3] = {0, 0, 0};
     vbuf local;
     const vbuf *vb;
     local.clip = lclip;
@@ -985,16 +987,18 @@ LS_NOINLINE static void draw_small(ls_vis *vis, const vbuf *vb, const size_t v[3
         const size_t sw = vis->sw;
         int64_t r1 = ax1 * (py0 - y[2]) - ay1 * (px0 - x[2]);
         int64_t r2 = ax2 * (py0 - y[0]) - ay2 * (px0 - x[0]);
-        int64_t e1 = r1, e2 = r2, ce0[DRAW_SMALL], ce1[DRAW_SMALL], ce2[DRAW_SMALL];
-        size_t s = (size_t)b->y0 * sw + (size_t)b->x0, cs[DRAW_SMALL];
-        const int64_t w = b->x1 - b->x0 + 1, n = w * (b->y1 - b->y0 + 1);
-        int64_t q, col = 0, m = 0;
+        const int64_t w = b->x1 - b->x0 + 1, n = w * (b->y1 - b->y0 + 1), r10 = r1, r20 = r2;
+        int64_t e1 = r1, e2 = r2, q, col = 0, row = 0, m = 0;
+        /* the covered samples' row and column in the box; zeroed (24 bytes)
+         * because the analyzer cannot tell that those read were written */
+        unsigned char crow[DRAW_SMALL] = {0}, ccol[DRAW_SMALL] = {0};
         /* One pass over the box's samples in row order, without a branch per
          * sample (coverage of such small triangles has no pattern, and its
          * tests mispredicted): the covered ones are gathered (each sample is
          * written at slot m, which advances when it is covered; the
          * top-left rule's test, for a sample on an edge, is rare), then
-         * drawn in the same order. */
+         * drawn in the same order with their edge values formed again
+         * (exact integers: the same values). */
         for (q = 0; q < n; q++) {
             const int64_t e0 = area - e1 - e2;
             int64_t in = (e0 | e1 | e2) >= 0, wrap;
@@ -1004,24 +1008,26 @@ LS_NOINLINE static void draw_small(ls_vis *vis, const vbuf *vb, const size_t v[3
                 e[2] = e2;
                 in = on_edge_inside(x, y, e);
             }
-            cs[m] = s;
-            ce0[m] = e0;
-            ce1[m] = e1;
-            ce2[m] = e2;
+            crow[m] = (unsigned char)row;
+            ccol[m] = (unsigned char)col;
             m += in;
             /* the next sample: along the row, or the first of the next row */
             wrap = col + 1 == w;
             col = wrap ? 0 : col + 1;
+            row = wrap ? row + 1 : row;
             r1 = wrap ? r1 + sy1 : r1;
             r2 = wrap ? r2 + sy2 : r2;
             e1 = wrap ? r1 : e1 - sx1;
             e2 = wrap ? r2 : e2 - sx2;
-            s = wrap ? s + sw - (size_t)(w - 1) : s + 1u;
         }
         if (m == 0) return;
         mark_tiles(vis, b);
         unclipped_dconst(&k, vb, v, a, id);
-        for (q = 0; q < m; q++) draw_sample(vis->tri, vis->depth, vis->bary, cs[q], &k, ce0[q], ce1[q], ce2[q]);
+        for (q = 0; q < m; q++) {
+            const int64_t c1 = r10 + crow[q] * sy1 - ccol[q] * sx1, c2 = r20 + crow[q] * sy2 - ccol[q] * sx2;
+            draw_sample(vis->tri, vis->depth, vis->bary, (size_t)(b->y0 + crow[q]) * sw + (size_t)(b->x0 + ccol[q]), &k,
+                        area - c1 - c2, c1, c2);
+        }
     }
 }
 

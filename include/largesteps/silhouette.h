@@ -35,7 +35,12 @@
  *     the pixels it crosses in one bin tile form a run. The candidates of
  *     a run are the triangles of the tile's bin whose box meets the run's
  *     box, less those whose corners all lie on one side of the segment's
- *     line (by a margin far above rounding). Every pixel piece is split
+ *     line (by a margin far above rounding), and less the faces that have
+ *     an end vertex of the segment as a corner and whose cone at that
+ *     corner misses the segment's direction (beyond rounding: a triangle
+ *     lies in the cone of its corner's edges, so it holds no other point of
+ *     the segment; on the fit's end mesh this halves the candidates).
+ *     Every pixel piece is split
  *     where a candidate's polygon edges cross it, so between two splits the
  *     surface in front of the segment and the one behind it do not change.
  *     Each sub-piece's visibility is decided at its midpoint (exact
@@ -109,13 +114,19 @@
  * pixels with A x A sub-samples (forward and interior gradient), which
  * brings the two together as A grows (the fit's knob `aa`, off by default).
  *
+ * The hot loops avoid branches whose outcome has no pattern (which half of
+ * an edge comes first, which bin entries meet a run, a tile range of one or
+ * two tiles): mispredictions were a quarter of the pass's time on the fit's
+ * meshes (callgrind's branch simulation), and selects gave the same bits.
+ *
  * Left to do (issue 9):
  *  - a one-call view forward + backward (render.h) for the fit;
- *  - speed: the armadillo (52k faces) at 512^2 costs ~0.63 x the forward's
- *    instructions, 0.8-0.95 x its CPU time (target 0.5 x; README), at
- *    128^2 ~1.4 x and ~2 x; a quarter of it at 512^2 is O(triangles)
+ *  - speed: the armadillo (52k faces) at 512^2 costs about the forward's
+ *    time (target 0.5 x; README); about a fifth of it is O(triangles)
  *    (orientations, boxes, bins, the edge scan), the rest the visible runs'
- *    candidate sweep, the walks and the quadrature;
+ *    candidate sweep, the walks and the quadrature, each a few to 15 %:
+ *    what is left needs a structure shared by the views (contour edges
+ *    and boxes from a hierarchy refitted once an iteration), not trimming;
  *  - interpenetrating triangles (intersection curves are not mesh edges)
  *    are not handled; depth ties within 64 eps are neither hiding nor behind.
  */
