@@ -358,9 +358,8 @@ static int clipped_sub(const rctx *cx, const clipbuf *cb, int k, stri *out)
  * triangle's vertices: as given, and with vertices 1 and 2 swapped. */
 static const ls_real unit_b[2][3][2] = {{{1, 0}, {0, 1}, {0, 0}}, {{1, 0}, {0, 0}, {0, 1}}};
 
-/* Loads the snapped vertices (x, y) of unclipped triangle v (in vb) and
- * returns twice their signed area. */
-static inline int64_t unclipped_load(const int32_t *snap, const size_t v[3], int32_t x[3], int32_t y[3])
+/* Loads the snapped vertices (x, y) of unclipped triangle v (in vb). */
+static inline void snap_load(const int32_t *snap, const size_t v[3], int32_t x[3], int32_t y[3])
 {
     /* unrolled by hand: gcc -O2 keeps small loops over arrays in memory */
     x[0] = snap[2 * v[0]];
@@ -369,6 +368,12 @@ static inline int64_t unclipped_load(const int32_t *snap, const size_t v[3], int
     y[1] = snap[2 * v[1] + 1];
     x[2] = snap[2 * v[2]];
     y[2] = snap[2 * v[2] + 1];
+}
+
+/* snap_load, returning twice the triangle's signed area. */
+static inline int64_t unclipped_load(const int32_t *snap, const size_t v[3], int32_t x[3], int32_t y[3])
+{
+    snap_load(snap, v, x, y);
     return snap_area2(x, y);
 }
 
@@ -491,12 +496,7 @@ static inline int unclipped_box(const rctx *cx, const int32_t *snap, const size_
     int32_t x[3], y[3];
     /* the box first: a third of the fit's triangles at 10k vertices have
      * none, and their area is not needed */
-    x[0] = snap[2 * v[0]];
-    y[0] = snap[2 * v[0] + 1];
-    x[1] = snap[2 * v[1]];
-    y[1] = snap[2 * v[1] + 1];
-    x[2] = snap[2 * v[2]];
-    y[2] = snap[2 * v[2] + 1];
+    snap_load(snap, v, x, y);
     return snap_box(cx->sw, cx->sh, x, y, u) && snap_area2(x, y) != 0;
 }
 
