@@ -105,15 +105,19 @@ static inline ls_real plane_dist(const rctx *cx, const ls_real c[4], int k)
     }
 }
 
+static inline void snap_xyzw(ls_real sw_half, ls_real sh_half, ls_real c0, ls_real c1, ls_real c2, ls_real c3,
+                             int32_t *x, int32_t *y, ls_real *zw, ls_real *iw)
+{
+    const ls_real inv = (ls_real)1 / c3;
+    *x = snap_round((c0 * inv + (ls_real)1) * sw_half);
+    *y = snap_round(((ls_real)1 - c1 * inv) * sh_half);
+    *zw = c2 * inv;
+    *iw = inv;
+}
+
 static void snap_point(const rctx *cx, const ls_real c[4], int32_t *x, int32_t *y, ls_real *zw, ls_real *iw)
 {
-    ls_real inv = (ls_real)1 / c[3];
-    ls_real xs = (c[0] * inv + (ls_real)1) * cx->sw_half;
-    ls_real ys = ((ls_real)1 - c[1] * inv) * cx->sh_half;
-    *x = snap_round(xs);
-    *y = snap_round(ys);
-    *zw = c[2] * inv;
-    *iw = inv;
+    snap_xyzw(cx->sw_half, cx->sh_half, c[0], c[1], c[2], c[3], x, y, zw, iw);
 }
 
 /* Row r of the transform times (x, y, z, 1), summed left to right. */
@@ -158,7 +162,8 @@ NO_SLP LS_NOINLINE static uint32_t transform_all(const rctx *cx, const ls_real *
         if (!((c0 - c0) + (c1 - c1) + (c2 - c2) + (c3 - c3) == (ls_real)0)) break;
         {
             /* the common case first, one test: the least of the five plane
-             * values (plane_dist's; finite or infinite, never NaN, for
+             * values (plane_dist's, from locals: cx's fields would be
+             * reloaded after each store; finite or infinite, never NaN, for
              * finite c) is >= 0 */
             const ls_real gxw = gx * c3, gyw = gy * c3;
             const ls_real d0 = c2 + c3, d1 = c0 + gxw, d2 = gxw - c0, d3 = gyw - c1, d4 = c1 + gyw;
@@ -179,14 +184,8 @@ NO_SLP LS_NOINLINE static uint32_t transform_all(const rctx *cx, const ls_real *
         c[3] = c3;
         vflags[i] = flags;
         if (flags == 0) {
-            /* snap_point's arithmetic on the locals */
-            const ls_real inv = (ls_real)1 / c3;
-            const ls_real xs = (c0 * inv + (ls_real)1) * sw_half;
-            const ls_real ys = ((ls_real)1 - c1 * inv) * sh_half;
-            snap[2 * (size_t)i] = snap_round(xs);
-            snap[2 * (size_t)i + 1] = snap_round(ys);
-            zi[2 * (size_t)i] = c2 * inv;
-            zi[2 * (size_t)i + 1] = inv;
+            snap_xyzw(sw_half, sh_half, c0, c1, c2, c3, &snap[2 * (size_t)i], &snap[2 * (size_t)i + 1], &zi[2 * (size_t)i],
+                      &zi[2 * (size_t)i + 1]);
         } else {
             snap[2 * (size_t)i] = snap[2 * (size_t)i + 1] = 0;
             zi[2 * (size_t)i] = zi[2 * (size_t)i + 1] = (ls_real)0;
@@ -934,11 +933,17 @@ static inline void unclipped_dconst(dconst *k, const vbuf *vb, const size_t v[3]
     dconst_init(k, zw, iw, unit_b[a < 0], a > 0 ? a : -a, id);
 }
 
+/* Tiles per row of the vis's sample grid. */
+static inline size_t tiles_across(const ls_vis *vis)
+{
+    return ((size_t)vis->sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+}
+
 /* Marks the tiles of box b (at most a tile wide and high: those of its
  * corners) dirty. */
 static inline void mark_tiles(ls_vis *vis, const sbox *b)
 {
-    const size_t tiles_x = ((size_t)vis->sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
+    const size_t tiles_x = tiles_across(vis);
     const size_t r0 = (size_t)(b->y0 >> LS_RASTER_TILE_LOG2) * tiles_x;
     const size_t r1 = (size_t)(b->y1 >> LS_RASTER_TILE_LOG2) * tiles_x;
     const size_t c0 = (size_t)(b->x0 >> LS_RASTER_TILE_LOG2), c1 = (size_t)(b->x1 >> LS_RASTER_TILE_LOG2);
@@ -958,8 +963,7 @@ LS_NOINLINE static void draw_one(ls_vis *vis, const vbuf *vb, const size_t v[3],
     unclipped_dconst(&k, vb, v, a, id);
     draw_sample(vis->tri, vis->depth, vis->bary, (size_t)b->y0 * vis->sw + (size_t)b->x0, &k, e[0], e[1], e[2]);
     /* mark_tiles of a one-sample box: its one tile */
-    vis->tile_dirty[(size_t)(b->y0 >> LS_RASTER_TILE_LOG2) * (((size_t)vis->sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2) +
-                    (size_t)(b->x0 >> LS_RASTER_TILE_LOG2)] = 1;
+    vis->tile_dirty[(size_t)(b->y0 >> LS_RASTER_TILE_LOG2) * tiles_across(vis) + (size_t)(b->x0 >> LS_RASTER_TILE_LOG2)] = 1;
 }
 
 /* Draws unclipped triangle v (in vb) into the samples of box b (inclusive,

@@ -383,25 +383,6 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
         pixels_sh_plain(bc, triangle_count, grad_image, skip);
         return;
     }
-    if (ss == 1) { /* the loop below without its sample loops (the same calls in order) */
-        for (y = 0; y < vis->height; y++) {
-            const uint32_t *row = vis->tri + (size_t)y * vis->sw;
-            const ls_real py = (ls_real)1 - (ls_real)(2u * y + 1u) / (ls_real)vis->sh;
-            for (x = 0; x < vis->width; x++) {
-                size_t p = (size_t)y * vis->width + x;
-                uint32_t id = row[x];
-                ls_real g[3], px;
-                if (id == 0 || id > triangle_count || (skip != NULL && skip[p])) continue;
-                g[0] = grad_image[4 * p] * inv_n;
-                g[1] = grad_image[4 * p + 1] * inv_n;
-                g[2] = grad_image[4 * p + 2] * inv_n;
-                if (g[0] == (ls_real)0 && g[1] == (ls_real)0 && g[2] == (ls_real)0) continue;
-                px = (ls_real)(2u * x + 1u) * inv_sw - (ls_real)1;
-                sample_backward(bc, bc->indices + 3 * (size_t)(id - 1u), px, py, g);
-            }
-        }
-        return;
-    }
 #endif
     for (y = 0; y < vis->height; y++) {
         ls_real pys[MAX_SS]; /* the NDC y of the row's samples, once per row */
