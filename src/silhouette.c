@@ -150,6 +150,7 @@ typedef struct sctx {
     const ls_real *gimg;
     const ls_real *win;  /* [2 V] window position of the vertices in front of the near plane, or NULL */
     const unsigned char *vfront; /* [V] 1 for those vertices (Z + W >= 0, W > 0), or NULL */
+    const ls_real *zv;   /* [V] NDC depth Z / W of those vertices (walk_reach) */
     uint32_t behind;     /* vertices behind the near plane (Z + W < 0) */
     const size_t *offs;  /* [tiles + 1] bin starts */
     const uint32_t *ent; /* bin entries: triangle indices, increasing within a bin */
@@ -438,21 +439,23 @@ static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
     r[3] = tile_of(fb[3], sc->tside_inv, sc->tiles_y);
 }
 
-/* Boxes every triangle (tri_fbox) into sc->tbox [4 T] (x0 > x1: not
+/* Boxes the triangles list[0..n) (list NULL: every triangle, n of them)
+ * with tri_fbox into sc->tbox [4 T] (x0 > x1: not
  * binned; sc->tbox NULL: the boxes are not kept), counts the bin entries
  * and the binned triangles into count[0] and count[1] (*over set on
  * overflow of size_t) and, when offs [tiles + 1] is not NULL, the entries
  * of each tile into offs[tile + 1] (offs[0] = 0), for bin_pass. */
-static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
+static void box_pass(sctx *sc, const uint32_t *list, uint32_t n, size_t *offs, size_t count[2], int *over)
 {
-    uint32_t t, r[4], tx, ty;
-    float own[4], *fb = sc->tbox != NULL ? sc->tbox : own;
-    size_t step = sc->tbox != NULL ? 4u : 0u;
+    uint32_t i, r[4], tx, ty;
+    float own[4];
     count[0] = 0;
     count[1] = 0;
     *over = 0;
     if (offs != NULL) memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 1u) * sizeof(size_t));
-    for (t = 0; t < sc->triangle_count; t++, fb += step) {
+    for (i = 0; i < n; i++) {
+        uint32_t t = list != NULL ? list[i] : i;
+        float *fb = sc->tbox != NULL ? sc->tbox + 4 * (size_t)t : own;
         size_t add;
         if (!tri_fbox(sc, t, fb)) {
             fb[0] = 1.0f;
@@ -482,16 +485,18 @@ static void box_pass(sctx *sc, size_t *offs, size_t count[2], int *over)
     }
 }
 
-/* Bins every boxed triangle (box_pass, which counted the entries per tile
- * into offs) into the tiles its box overlaps: offs [tiles + 1] becomes the
- * bin starts, ent the bins (triangles in index order in each). */
-static void bin_pass(const sctx *sc, size_t *offs, uint32_t *ent)
+/* Bins every boxed triangle of list[0..n) (box_pass's list, in increasing
+ * order; it counted the entries per tile into offs) into the tiles its box
+ * overlaps: offs [tiles + 1] becomes the bin starts, ent the bins
+ * (triangles in index order in each). */
+static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *offs, uint32_t *ent)
 {
-    uint32_t t, tx, ty, r[4];
+    uint32_t i, tx, ty, r[4];
     size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k, spare;
     for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
     spare = offs[tiles]; /* ent's extra last slot: where an absent tile's entry goes */
-    for (t = 0; t < sc->triangle_count; t++) {
+    for (i = 0; i < n; i++) {
+        uint32_t t = list[i];
         const float *fb = sc->tbox + 4 * (size_t)t;
         if (fb[0] > fb[2]) continue;
         fbox_tiles(sc, fb, r);
@@ -1219,10 +1224,7 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         for (q = 0; q < 3u; q++)
             if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
         SIL_UNROLL
-        for (q = 0; q < 3u; q++) {
-            const ls_real *cl = sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)o + q];
-            z[q] = cl[2] / cl[3];
-        }
+        for (q = 0; q < 3u; q++) z[q] = sc->zv[sc->indices[3 * (size_t)o + q]];
         if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return ts;
         if (qx == 3u) return tx; /* tg reached */
         tw = sc->twin[3 * (size_t)o + qx];
@@ -1695,37 +1697,33 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
  * behind one, and are left out of the bins. Seen from outside means: the
  * samples showing the other orientation are fewer than 1/64 of those
  * showing this one (the snapped forward shows a few back faces at the rim;
- * an eye inside the mesh sees almost only back faces). sign: per-triangle
+ * an eye inside the mesh sees almost only back faces), counted on every 4th
+ * sample row, as choose_tiles counts (the choice never changes what is
+ * integrated, only which triangles are tested). sign: per-triangle
  * orientations (tri_sign), or NULL (the sizing query: slower, no memory). */
 static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
-    size_t s, ns = (size_t)vis->sw * vis->sh, pos = 0, neg = 0;
-    uint32_t v;
+    const uint32_t *tri = vis->tri, tc = sc->triangle_count;
+    size_t pos = 0, neg = 0;
+    uint32_t v, x, y;
     sc->cull = 0;
     if (table->boundary_edges != 0 || sc->behind != 0) return;
     for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
         const ls_real *cl = vis->clip + 4 * (size_t)v;
         if (!(cl[2] + cl[3] >= (ls_real)0)) return;
     }
-    if (sign != NULL) { /* counts in registers: increments of a counter in memory chain through it */
-        const uint32_t *tri = vis->tri, tc = sc->triangle_count;
-        for (s = 0; s < ns; s++) {
-            uint32_t id = tri[s];
-            if (id != 0 && id <= tc) {
-                int sg = sign[id - 1u]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
-                pos += (size_t)(sg > 0);
-                neg += (size_t)(sg < 0);
-            }
+    for (y = 0; y < vis->sh; y += 4u) {
+        const uint32_t *row = tri + (size_t)y * vis->sw;
+        for (x = 0; x < vis->sw; x++) { /* counts in registers: increments of a counter in memory chain through it */
+            uint32_t id = row[x];
+            int sg;
+            if (id == 0 || id > tc) continue;
+            /* NOLINTNEXTLINE(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+            sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
+            pos += (size_t)(sg > 0);
+            neg += (size_t)(sg < 0);
         }
-    }
-    for (s = 0; sign == NULL && s < ns; s++) {
-        uint32_t id = vis->tri[s];
-        int sg;
-        if (id == 0 || id > sc->triangle_count) continue;
-        sg = tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
-        pos += sg > 0;
-        neg += sg < 0;
     }
     if (neg < pos / 64u) sc->cull = -1;
     if (pos < neg / 64u) sc->cull = 1;
@@ -1739,8 +1737,9 @@ static size_t slot_count(size_t binned, size_t entries)
     return n > 0 ? n : 1u;
 }
 
-/* Everything the pass needs, in the order it takes it: window positions,
- * bin starts, orientations, vertex flags, triangle boxes, bin entries, the candidate
+/* Everything the pass needs, in the order it takes it: window positions
+ * and depths, bin starts, orientations, vertex flags, triangle boxes, the
+ * triangles binned, bin entries, the candidate
  * slots and the split parameters (4 per slot and the piece's ends). */
 static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t triangle_count, size_t entries,
                               size_t slots, size_t *bytes)
@@ -1749,10 +1748,12 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     if (tiles > SIZE_MAX - 1u || entries > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
+    ls_size_add(&s, (size_t)vertex_count, sizeof(ls_real));
     ls_size_add(&s, tiles + 1u, sizeof(size_t));
     ls_size_add(&s, (size_t)triangle_count + 1u, 1); /* orientations and next_edge's sentinel */
     ls_size_add(&s, (size_t)vertex_count, 1);
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
+    ls_size_add(&s, (size_t)triangle_count, sizeof(uint32_t));
     ls_size_add(&s, entries + 1u, sizeof(uint32_t)); /* and bin_pass's spare slot */
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
     ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
@@ -1821,7 +1822,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     sctx_init(&sc, vis, indices, triangle_count);
     choose_tiles(&sc);
     choose_cull(&sc, table, NULL);
-    box_pass(&sc, NULL, count, &over);
+    box_pass(&sc, NULL, triangle_count, NULL, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
                         slot_count(count[1], count[0]), bytes);
@@ -1910,13 +1911,13 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
                                  ls_diag *diag)
 {
     sctx sc;
-    uint32_t t, h, counts[2];
+    uint32_t t, h, counts[2], *keep, nkeep = 0;
     ls_arena_mark mark;
     size_t count[2] = {0, 0}, slots;
     int over = 0;
     signed char *sign;
     unsigned char *vfront;
-    ls_real *win, wkb;
+    ls_real *win, *zv, wkb;
     size_t *offs;
     uint32_t *ent;
     ls_status st;
@@ -1942,11 +1943,13 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
 #endif
     mark = ls_arena_save(arena);
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
-    offs = win ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
+    zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
+    offs = zv ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
     sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
     sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
-    if (sc.tbox == NULL) {
+    keep = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
+    if (keep == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -1954,11 +1957,13 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         const ls_real *cl = vis->clip + 4 * (size_t)h;
         win[2 * (size_t)h] = (ls_real)0;
         win[2 * (size_t)h + 1] = (ls_real)0;
+        zv[h] = (ls_real)0;
         vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
         sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
         if (vfront[h]) {
             ls_real m;
             window_of(&sc, cl, win + 2 * (size_t)h);
+            zv[h] = cl[2] / cl[3];
             m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
             if (m > sc.wk) sc.wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
         }
@@ -1968,6 +1973,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
      * tri_sign_front's bound is below 16 eps (20 wk^2 / 9 + eps wk) + 64 min, far below this */
     wkb = (ls_real)64 * LS_REAL_EPSILON * sc.wk * (sc.wk + (ls_real)1) + (ls_real)128 * R_MIN_NORMAL;
     sc.win = win;
+    sc.zv = zv;
     sc.vfront = vfront;
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
@@ -1978,7 +1984,16 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.sign = sign;
     sc.twin = table->twin;
     choose_cull(&sc, table, sign);
-    box_pass(&sc, offs, count, &over);
+    for (t = 0; t < triangle_count; t++) {
+        /* the triangles not culled, listed without a branch (orientations
+         * have no pattern); the others stay unbinned (x0 > x1) */
+        float *fb = sc.tbox + 4 * (size_t)t;
+        fb[0] = 1.0f;
+        fb[2] = 0.0f;
+        keep[nkeep] = t;
+        nkeep += (uint32_t)((sc.cull * sign[t] < 0) | (sc.cull == 0));
+    }
+    box_pass(&sc, keep, nkeep, offs, count, &over);
     slots = slot_count(count[1], count[0]);
     if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
@@ -1997,7 +2012,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         return LS_ERR_NOMEM;
     }
     memset(sc.piece, 0, sizeof *sc.piece); /* once: integrate sets, per sub-piece, what it reads */
-    bin_pass(&sc, offs, ent);
+    bin_pass(&sc, keep, nkeep, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
     edges_pass(&sc, table);
