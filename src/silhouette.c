@@ -1465,11 +1465,22 @@ static void lines_next(lines *l, ls_real t_end)
 
 static void lines_init(lines *l, ls_real a, ls_real e, ls_real t0, ls_real t1)
 {
-    ls_real s = a + t0 * e, f = a + t1 * e, lo = s < f ? s : f, hi = s < f ? f : s;
-    ls_real first = LS_RFLOOR(lo) + (ls_real)1, last = -LS_RFLOOR(-hi) - (ls_real)1;
+    ls_real s = a + t0 * e, f = a + t1 * e, lo = s < f ? s : f, hi = s < f ? f : s, first, last;
     l->a = a;
     l->e = e;
     l->left = 0;
+    if (lo > (ls_real)-1073741824 && hi < (ls_real)1073741824) {
+        /* the part in the image (clip_rect), ends within rounding of it:
+         * floor(lo) and ceil(hi) by truncation, without ls_floor's calls */
+        int32_t fl = (int32_t)lo, ce = (int32_t)hi;
+        fl -= (int32_t)((ls_real)fl > lo);
+        ce += (int32_t)((ls_real)ce < hi);
+        first = (ls_real)fl + (ls_real)1;
+        last = (ls_real)ce - (ls_real)1;
+    } else {
+        first = LS_RFLOOR(lo) + (ls_real)1;
+        last = -LS_RFLOOR(-hi) - (ls_real)1;
+    }
     if (e != (ls_real)0 && !(last < first)) {
         l->left = LS_RTO_I32(last - first) + 1;
         l->step = e > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
@@ -1586,12 +1597,25 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.wnin = 3u;
     ed.ka = (ls_real)0;
     ed.kb = (ls_real)0;
-    window_of(sc, ea->c, ed.a);
-    window_of(sc, eb->c, b);
+    /* an end at a vertex: its window position and depth (the same bits) */
+    if (ea->clipped) {
+        window_of(sc, ea->c, ed.a);
+        ed.za = ea->c[2] / ea->c[3];
+    } else {
+        ed.a[0] = sc->win[2 * (size_t)ea->v];
+        ed.a[1] = sc->win[2 * (size_t)ea->v + 1];
+        ed.za = sc->zv[ea->v];
+    }
+    if (eb->clipped) {
+        window_of(sc, eb->c, b);
+        ed.zb = eb->c[2] / eb->c[3];
+    } else {
+        b[0] = sc->win[2 * (size_t)eb->v];
+        b[1] = sc->win[2 * (size_t)eb->v + 1];
+        ed.zb = sc->zv[eb->v];
+    }
     ed.e[0] = b[0] - ed.a[0];
     ed.e[1] = b[1] - ed.a[1];
-    ed.za = ea->c[2] / ea->c[3];
-    ed.zb = eb->c[2] / eb->c[3];
     ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
     ed.ext = (r_abs(ed.a[0]) + r_abs(ed.a[1])) + ed.eabs;
     ed.tau = SIL_MARGIN * (r_abs(ed.e[0]) > r_abs(ed.e[1]) ? r_abs(ed.e[0]) : r_abs(ed.e[1]));
