@@ -1345,12 +1345,12 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
+    if (run_hidden(sc, ed, run)) return;
     /* the run's box, grown by the margin */
     fx0 = (float)((xa < xb ? xa : xb) - SIL_MARGIN);
     fx1 = (float)((xa < xb ? xb : xa) + SIL_MARGIN);
     fy0 = (float)((ya < yb ? ya : yb) - SIL_MARGIN);
     fy1 = (float)((ya < yb ? yb : ya) + SIL_MARGIN);
-    if (run_hidden(sc, ed, run)) return;
     /* the bin's triangles whose box meets the run's, gathered into cact
      * (free until the sweep; a bin holds at most one entry per binned
      * triangle, so it fits) without a branch per entry: about a third
