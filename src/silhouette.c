@@ -1635,6 +1635,14 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.tend = t1;
     ed.tinv = (ls_real)1 / (t1 - t0);
     ed.fok = 0;
+    /* most silhouette segments are hidden (two thirds of the armadillo's):
+     * a walk over the whole segment first (run_hidden of one run spanning
+     * it), before its pixels are walked; the gradient of a hidden one is 0 */
+    run.n = 1;
+    run.t[0] = t0;
+    run.t[1] = t1;
+    if (run_hidden(sc, &ed, &run)) return;
+    run.n = 0;
     lines_init(&lx, ed.a[0], ed.e[0], t0, t1);
     lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
     tcur = t0;

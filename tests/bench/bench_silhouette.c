@@ -14,7 +14,9 @@
  *   make build/bench/bench_silhouette
  *   build/bench/bench_silhouette MESH [TARGET [RES [VIEWS [REPS]]]]
  *
- * TARGET defaults to MESH; RES 128, VIEWS 16, REPS 5.
+ * TARGET defaults to MESH; RES 128, VIEWS 16, REPS 5. With BENCH_DUMP=FILE
+ * set, the summed gradient of the first repetition is written to FILE (raw
+ * ls_real values), to measure how far two builds' gradients differ.
  */
 #define _POSIX_C_SOURCE 200112L
 #include <stdio.h>
@@ -158,6 +160,12 @@ int main(int argc, char **argv)
         if (ts < sil) sil = ts;
         if (tf < fwd) fwd = tf;
         if (r == 0) hash = fnv(hash, gp, 3u * (size_t)m.vertex_count * sizeof(ls_real));
+        if (r == 0 && getenv("BENCH_DUMP") != NULL) { /* the summed gradient's raw values, to compare two builds */
+            FILE *df = fopen(getenv("BENCH_DUMP"), "wb");
+            if (df == NULL || fwrite(gp, sizeof(ls_real), 3u * (size_t)m.vertex_count, df) != 3u * (size_t)m.vertex_count)
+                fprintf(stderr, "bench_silhouette: cannot write %s\n", getenv("BENCH_DUMP"));
+            if (df != NULL) fclose(df);
+        }
     }
     printf("mesh %s: %u vertices, %u faces, %u views at %u^2: silhouette %.3f ms/view (%.2f ms/iteration), "
            "forward %.3f ms/view, ratio %.2f, scratch %zu bytes, gradient hash %016llx (%s)\n",
