@@ -549,12 +549,20 @@ typedef struct spiece {
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
 } spiece;
 
+/* ls_clip_barycentric's u, v and a = u x v, the same arithmetic, without
+ * its call and the divisions of b, which are not used. */
 static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_real t, ls_real a[3])
 {
     ls_real px = (ls_real)2 * (ed->a[0] + t * ed->e[0]) / sc->width - (ls_real)1;
     ls_real py = (ls_real)1 - (ls_real)2 * (ed->a[1] + t * ed->e[1]) / sc->height;
-    ls_real u[3], v[3], b[3];
-    (void)ls_clip_barycentric(sc->vis->clip, f, px, py, u, v, b);
+    ls_real u[3], v[3];
+    int k;
+    SIL_UNROLL
+    for (k = 0; k < 3; k++) {
+        const ls_real *cl = sc->vis->clip + 4 * (size_t)f[k];
+        u[k] = cl[0] - px * cl[3];
+        v[k] = cl[1] - py * cl[3];
+    }
     a[0] = u[1] * v[2] - u[2] * v[1];
     a[1] = u[2] * v[0] - u[0] * v[2];
     a[2] = u[0] * v[1] - u[1] * v[0];
