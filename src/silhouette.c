@@ -529,10 +529,10 @@ static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *o
 /* The areas a of triangle f (ls_clip_barycentric's, b = a / sum a) along
  * a sub-piece [lo, hi] of the segment: affine in window position, so
  * a(t) = a0 + (t - lo) inv da from their values at the two ends (one point
- * when lo = hi). */
+ * when lo = hi). ad[k] = (a0_k, da_k): quad_side loads them as pairs. */
 typedef struct aspan {
     const uint32_t *f;
-    ls_real lo, inv, a0[3], da[3];
+    ls_real lo, inv, ad[3][2];
 } aspan;
 
 /* One sub-piece being integrated: the spans of the segment's face and of
@@ -542,9 +542,10 @@ typedef struct spiece {
     uint32_t beh;
     size_t p;
     /* the SH fast path (sc->shq): per side (0 inside, 1 behind), g.E along the
-     * sub-piece is (q0 + s q1 + s^2 q2) / S(s)^2 with S = s0 + s ds the sum
-     * of the areas, and the sign of sum a_k W_k = w0 + s dw tells the eye's side */
-    ls_real q[2][7];
+     * sub-piece is (c0 + s c1 + s^2 c2) / S(s)^2 with S = s0 + s ds the sum
+     * of the areas, and the sign of sum a_k W_k = w0 + s dw tells the eye's side;
+     * q = (c0, c2, s0, ds, w0, dw, c1, 0), the pairs as quad_side makes them */
+    ls_real q[2][8];
     ls_real gbg;     /* g . background (beh = 0) */
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
 } spiece;
@@ -570,17 +571,20 @@ static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_re
 
 static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, ls_real hi, aspan *sp)
 {
-    ls_real ah[3];
+    ls_real al[3], ah[3];
     int k;
     sp->f = sc->indices + 3 * (size_t)t;
     sp->lo = lo;
     sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
-    span_areas(sc, ed, sp->f, lo, sp->a0);
+    span_areas(sc, ed, sp->f, lo, al);
     if (hi > lo)
         span_areas(sc, ed, sp->f, hi, ah);
     else
-        for (k = 0; k < 3; k++) ah[k] = sp->a0[k];
-    for (k = 0; k < 3; k++) sp->da[k] = ah[k] - sp->a0[k];
+        for (k = 0; k < 3; k++) ah[k] = al[k];
+    for (k = 0; k < 3; k++) {
+        sp->ad[k][0] = al[k];
+        sp->ad[k][1] = ah[k] - al[k];
+    }
 }
 
 /* span_init for the segment's own face: its areas along the segment's
@@ -605,8 +609,8 @@ static void span_own(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, aspan *s
     sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
     SIL_UNROLL
     for (k = 0; k < 3; k++) {
-        sp->a0[k] = ed->fa[k] + s0 * ed->fa[3 + k];
-        sp->da[k] = ds * ed->fa[3 + k];
+        sp->ad[k][0] = ed->fa[k] + s0 * ed->fa[3 + k];
+        sp->ad[k][1] = ds * ed->fa[3 + k];
     }
 }
 
@@ -617,7 +621,7 @@ static int span_bary(const sctx *sc, const aspan *sp, ls_real t, ls_real b[3])
     ls_real s = (t - sp->lo) * sp->inv, a[3], sum, cw = (ls_real)0;
     int k;
     SIL_UNROLL
-    for (k = 0; k < 3; k++) a[k] = sp->a0[k] + s * sp->da[k];
+    for (k = 0; k < 3; k++) a[k] = sp->ad[k][0] + s * sp->ad[k][1];
     sum = (a[0] + a[1]) + a[2];
     if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
     sum = (ls_real)1 / sum;
@@ -680,51 +684,55 @@ static void sh_quad_init(sctx *sc)
     }
 }
 
-/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m. */
+/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m with each
+ * entry twice (G[2 i] = G[2 i + 1]), u and v in every other entry (u[2 r]):
+ * quad_side's pairs. */
 static inline ls_real quad_form(const ls_real *G, const ls_real *u, const ls_real *v)
 {
-    return ((G[0] * u[0] * v[0] + G[4] * u[1] * v[1]) + (G[7] * u[2] * v[2] + G[9] * u[3] * v[3])) +
-           ((G[1] * (u[0] * v[1] + u[1] * v[0]) + G[2] * (u[0] * v[2] + u[2] * v[0])) +
-            (G[3] * (u[0] * v[3] + u[3] * v[0]) + G[5] * (u[1] * v[2] + u[2] * v[1]))) +
-           (G[6] * (u[1] * v[3] + u[3] * v[1]) + G[8] * (u[2] * v[3] + u[3] * v[2]));
+    return ((G[0] * u[0] * v[0] + G[8] * u[2] * v[2]) + (G[14] * u[4] * v[4] + G[18] * u[6] * v[6])) +
+           ((G[2] * (u[0] * v[2] + u[2] * v[0]) + G[4] * (u[0] * v[4] + u[4] * v[0])) +
+            (G[6] * (u[0] * v[6] + u[6] * v[0]) + G[10] * (u[2] * v[4] + u[4] * v[2]))) +
+           (G[12] * (u[2] * v[6] + u[6] * v[2]) + G[16] * (u[4] * v[6] + u[6] * v[4]));
 }
 
-/* The coefficients q (spiece.q) of one side's span for the form G. */
-static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real q[7])
+/* The coefficients q (spiece.q) of one side's span for the form G. The
+ * values at lo (j = 0) and their changes (j = 1) go through the same
+ * arithmetic side by side, which the compiler does in pairs (SLP); q is
+ * stored last, after the loads. */
+static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real q[8])
 {
-    ls_real h0[4], dh[4];
+    const ls_real(*a)[2] = sp->ad;
+    ls_real h[8], w[3], v[8]; /* h[2 r + j]: H's entry r */
     const ls_real *n0 = sc->normals + 3 * (size_t)sp->f[0], *n1 = sc->normals + 3 * (size_t)sp->f[1];
     const ls_real *n2 = sc->normals + 3 * (size_t)sp->f[2];
-    int k, r;
-    h0[3] = (sp->a0[0] + sp->a0[1]) + sp->a0[2];
-    dh[3] = (sp->da[0] + sp->da[1]) + sp->da[2];
+    int j, k, r;
     SIL_UNROLL
-    for (r = 0; r < 3; r++) {
-        h0[r] = (sp->a0[0] * n0[r] + sp->a0[1] * n1[r]) + sp->a0[2] * n2[r];
-        dh[r] = (sp->da[0] * n0[r] + sp->da[1] * n1[r]) + sp->da[2] * n2[r];
-    }
-    q[0] = quad_form(G, h0, h0);
-    q[1] = (ls_real)2 * quad_form(G, h0, dh);
-    q[2] = quad_form(G, dh, dh);
-    q[3] = h0[3];
-    q[4] = dh[3];
-    q[5] = (ls_real)0;
-    q[6] = (ls_real)0;
+    for (k = 0; k < 3; k++) w[k] = sc->vis->clip[4 * (size_t)sp->f[k] + 3];
     SIL_UNROLL
-    for (k = 0; k < 3; k++) {
-        ls_real w = sc->vis->clip[4 * (size_t)sp->f[k] + 3];
-        q[5] += sp->a0[k] * w;
-        q[6] += sp->da[k] * w;
+    for (j = 0; j < 2; j++) {
+        h[6 + j] = (a[0][j] + a[1][j]) + a[2][j];
+        SIL_UNROLL
+        for (r = 0; r < 3; r++) h[2 * r + j] = (a[0][j] * n0[r] + a[1][j] * n1[r]) + a[2][j] * n2[r];
+        v[4 + j] = (((ls_real)0 + a[0][j] * w[0]) + a[1][j] * w[1]) + a[2][j] * w[2];
     }
+    SIL_UNROLL
+    for (j = 0; j < 2; j++) {
+        v[j] = quad_form(G + j, h + j, h + j);
+        v[2 + j] = h[6 + j];
+    }
+    v[6] = (ls_real)2 * quad_form(G, h, h + 1);
+    v[7] = (ls_real)0;
+    SIL_UNROLL
+    for (k = 0; k < 8; k++) q[k] = v[k];
 }
 
 /* Whether quad_eval's tests pass all over [0, 1] for the side q: S and
  * sum a_k W_k are affine, so they keep their signs there when both ends
  * have them by far more than the rounding of their evaluation. */
-static int quad_sure(const ls_real q[7])
+static int quad_sure(const ls_real q[8])
 {
-    ls_real r = (ls_real)8 * LS_REAL_EPSILON, S0 = q[3], S1 = q[3] + q[4], w0 = q[5], w1 = q[5] + q[6];
-    ls_real ms = r * (r_abs(q[3]) + r_abs(q[4])), mw = r * (r_abs(q[5]) + r_abs(q[6]));
+    ls_real r = (ls_real)8 * LS_REAL_EPSILON, S0 = q[2], S1 = q[2] + q[3], w0 = q[4], w1 = q[4] + q[5];
+    ls_real ms = r * (r_abs(q[2]) + r_abs(q[3])), mw = r * (r_abs(q[4]) + r_abs(q[5]));
     if (!(ms - ms == (ls_real)0 && mw - mw == (ls_real)0)) return 0;
     if (S0 > ms && S1 > ms) return w0 > mw && w1 > mw;
     if (S0 < -ms && S1 < -ms) return w0 < -mw && w1 < -mw;
@@ -735,9 +743,10 @@ static int quad_sure(const ls_real q[7])
 static void quad_piece(const sctx *sc, spiece *pc)
 {
     const ls_real *g = sc->gimg + 4 * pc->p;
-    ls_real G[10];
+    ls_real G[20];
     int j;
-    for (j = 0; j < 10; j++) G[j] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
+    for (j = 0; j < 10; j++)
+        G[2 * j] = G[2 * j + 1] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
     pc->sure = quad_sure(pc->q[0]);
     if (pc->beh != 0) {
@@ -751,12 +760,12 @@ static void quad_piece(const sctx *sc, spiece *pc)
 
 /* g . E of one side at s; 0 (as span_bary's failure) when the areas sum to
  * zero or overflow, or the point is behind the eye. */
-static int quad_eval(const ls_real q[7], ls_real s, ls_real *val)
+static int quad_eval(const ls_real q[8], ls_real s, ls_real *val)
 {
-    ls_real S = q[3] + s * q[4], w = q[5] + s * q[6];
+    ls_real S = q[2] + s * q[3], w = q[4] + s * q[5];
     if (!(S != (ls_real)0) || S - S != (ls_real)0) return 0;
     if (!(S > (ls_real)0 ? w > (ls_real)0 : w < (ls_real)0)) return 0;
-    *val = (q[0] + s * (q[1] + s * q[2])) / (S * S);
+    *val = (q[0] + s * (q[6] + s * q[1])) / (S * S);
     return 1;
 }
 
@@ -767,11 +776,11 @@ static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
     const ls_real *g = sc->gimg + 4 * pc->p;
     if (pc->sure) {
         const ls_real *a = pc->q[0], *b = pc->q[1];
-        ls_real Sa = a[3] + s * a[4], Sb;
-        vin = (a[0] + s * (a[1] + s * a[2])) / (Sa * Sa);
+        ls_real Sa = a[2] + s * a[3], Sb;
+        vin = (a[0] + s * (a[6] + s * a[1])) / (Sa * Sa);
         if (pc->beh == 0) return (vin - pc->gbg) + g[3];
-        Sb = b[3] + s * b[4];
-        return vin - (b[0] + s * (b[1] + s * b[2])) / (Sb * Sb);
+        Sb = b[2] + s * b[3];
+        return vin - (b[0] + s * (b[6] + s * b[1])) / (Sb * Sb);
     }
     if (!quad_eval(pc->q[0], s, &vin)) return (ls_real)0;
     if (pc->beh == 0) return (vin - pc->gbg) + g[3];
