@@ -569,18 +569,20 @@ static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_re
     a[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, ls_real hi, aspan *sp)
+/* inv: 1 / (hi - lo), or 0 when lo = hi (the own face's span has it). */
+static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, ls_real hi, ls_real inv, aspan *sp)
 {
     ls_real al[3], ah[3];
     int k;
     sp->f = sc->indices + 3 * (size_t)t;
     sp->lo = lo;
-    sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
+    sp->inv = inv;
     span_areas(sc, ed, sp->f, lo, al);
     if (hi > lo)
         span_areas(sc, ed, sp->f, hi, ah);
     else
         for (k = 0; k < 3; k++) ah[k] = al[k];
+    SIL_UNROLL
     for (k = 0; k < 3; k++) {
         sp->ad[k][0] = al[k];
         sp->ad[k][1] = ah[k] - al[k];
@@ -769,23 +771,29 @@ static int quad_eval(const ls_real q[8], ls_real s, ls_real *val)
     return 1;
 }
 
-/* point_term through the fast path. */
-static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
+/* point_term through the fast path; sure = pc->sure and bh = (pc->beh != 0),
+ * constants in integrate's copies (SIL_INLINE). */
+static SIL_INLINE ls_real quad_term_n(const sctx *sc, const spiece *pc, ls_real t, int sure, int bh)
 {
     ls_real s = (t - pc->in.lo) * pc->in.inv, vin, vbh;
     const ls_real *g = sc->gimg + 4 * pc->p;
-    if (pc->sure) {
+    if (sure) {
         const ls_real *a = pc->q[0], *b = pc->q[1];
         ls_real Sa = a[2] + s * a[3], Sb;
         vin = (a[0] + s * (a[6] + s * a[1])) / (Sa * Sa);
-        if (pc->beh == 0) return (vin - pc->gbg) + g[3];
+        if (!bh) return (vin - pc->gbg) + g[3];
         Sb = b[2] + s * b[3];
         return vin - (b[0] + s * (b[6] + s * b[1])) / (Sb * Sb);
     }
     if (!quad_eval(pc->q[0], s, &vin)) return (ls_real)0;
-    if (pc->beh == 0) return (vin - pc->gbg) + g[3];
+    if (!bh) return (vin - pc->gbg) + g[3];
     if (!quad_eval(pc->q[1], s, &vbh)) return (ls_real)0;
     return vin - vbh;
+}
+
+static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
+{
+    return quad_term_n(sc, pc, t, pc->sure, pc->beh != 0);
 }
 
 /* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb
@@ -804,6 +812,9 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     ls_real slo[SIL_DEPTH_CAP + 1], shi[SIL_DEPTH_CAP + 1], gabs;
     unsigned char sd[SIL_DEPTH_CAP + 1];
     int n = 1;
+#if SIL_SPECIALIZE
+    int sure;
+#endif
     const ls_real *g = sc->gimg + 4 * p;
     spiece *pc = sc->piece;
     /* zeroed once a view (ls_silhouette_backward): the parts a path leaves unused keep
@@ -813,15 +824,18 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     if (sc->flat) {
         ls_real mid = (lo + hi) * (ls_real)0.5, term, len = hi - lo, mb = len * (hi + lo) * (ls_real)0.5;
         span_own(sc, ed, mid, mid, &pc->in);
-        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, &pc->bh);
+        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, pc->in.inv, &pc->bh);
         term = point_term(sc, pc, mid);
         ed->ka += term * (len - mb);
         ed->kb += term * mb;
         return;
     }
     span_own(sc, ed, lo, hi, &pc->in);
-    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, &pc->bh);
+    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, pc->in.inv, &pc->bh);
     if (sc->shq) quad_piece(sc, pc);
+#if SIL_SPECIALIZE
+    sure = sc->shq && pc->sure ? 1 + (beh != 0) : 0; /* 1, 2: quad_term_n's sure path without, with a surface behind */
+#endif
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
     slo[0] = lo;
     shi[0] = hi;
@@ -840,14 +854,26 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[2] = mid + half * x3;
         t[3] = mid - half * x2;
         t[4] = mid + half * x2;
-        SIL_UNROLL
-        for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
+#if SIL_SPECIALIZE
+        /* the usual cases with their tests out of the loop */
+        if (sure == 1) {
+            SIL_UNROLL
+            for (k = 0; k < 5; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 0) * half;
+        } else if (sure == 2) {
+            SIL_UNROLL
+            for (k = 0; k < 5; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 1) * half;
+        } else
+#endif
+        {
+            SIL_UNROLL
+            for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
+        }
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
         a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
         b2 = t[3] * f[3] + t[4] * f[4];
         err = r_abs(a3 - a2) + r_abs(b3 - b2);
-        if (d >= SIL_DEPTH_CAP || err <= sc->qtol * ((r_abs(a3) + r_abs(b3)) + (h - l) * gabs)) {
+        if ((d >= SIL_DEPTH_CAP) | (err <= sc->qtol * ((r_abs(a3) + r_abs(b3)) + (h - l) * gabs))) { /* one branch */
             ed->ka += a3;
             ed->kb += b3;
             continue;
