@@ -747,6 +747,7 @@ static void quad_piece(const sctx *sc, spiece *pc)
     const ls_real *g = sc->gimg + 4 * pc->p;
     ls_real G[20];
     int j;
+    SIL_UNROLL
     for (j = 0; j < 10; j++)
         G[2 * j] = G[2 * j + 1] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
