@@ -916,20 +916,46 @@ static int poly_holds(const ls_real *x, const ls_real *y, int n, ls_real xw, ls_
     return poly_holds_n(x, y, n, xw, yw);
 }
 
+/* Whether triangle f, every corner in front of the eye (window corners x,
+ * y), holds window point (xw, yw), and its NDC depth there: the edge
+ * functions c_q of the point (the quick test's cross products) are its
+ * barycentrics up to their sum, all of one sign inside (0 on an edge), and
+ * NDC depth is affine in window position on the triangle's plane, so it is
+ * the corners' weighted by the functions of their opposite edges. One test
+ * where the quick test and the clip barycentrics (tri_point) took two that
+ * could disagree within rounding of an edge (they did ~390 times a view of
+ * the armadillo at 512^2, at midpoints of sub-pieces one ulp long), with
+ * no divisions but one; 0 when it does not hold the point or is edge-on. */
+static int window_hold(const sctx *sc, const uint32_t *f, const ls_real *x, const ls_real *y, ls_real xw, ls_real yw,
+                       ls_real *depth)
+{
+    ls_real c[3], sum;
+    int q, pos = 0, neg = 0;
+    SIL_UNROLL
+    for (q = 0; q < 3; q++) {
+        int q1 = q == 2 ? 0 : q + 1;
+        c[q] = (x[q1] - x[q]) * (yw - y[q]) - (y[q1] - y[q]) * (xw - x[q]);
+        pos |= c[q] > (ls_real)0;
+        neg |= c[q] < (ls_real)0;
+    }
+    if (pos && neg) return 0;
+    sum = (c[0] + c[1]) + c[2];
+    if (sum == (ls_real)0) return 0;
+    *depth = ((c[0] * sc->zv[f[2]] + c[1] * sc->zv[f[0]]) + c[2] * sc->zv[f[1]]) / sum;
+    return 1;
+}
+
 /* Whether the segment's point at t is seen (1) and, if so, the surface
  * behind it: *beh = triangle + 1, or 0 for the background. The candidates
  * are the piece's active ones (sc->cact[0..*nact)): those whose interval
- * holds t are tested exactly (quick polygon test, then the barycentrics and
- * depth), those whose interval ended before t are dropped from the list
+ * holds t are tested exactly (window_hold for a triangle in front of the
+ * eye; else the quick polygon test, then the clip barycentrics and depth),
+ * those whose interval ended before t are dropped from the list
  * (the parameters tested increase); unsorted: the list holds candidates not
  * begun yet (sc->clo by candidate), skipped. The answer does not depend on the
  * order of the list (ties of the surface behind keep the smaller triangle),
  * so an occluder found is moved to the front, where the next point tests it
- * first. The quick and the exact tests disagree only within rounding of a
- * candidate's edge: on the armadillo at 512^2 ~390 times a view, every one
- * at the midpoint of a sub-piece one ulp long between the two crossings of
- * an edge shared by two candidates (computed from each face, corners in
- * opposite order), where either answer weighs nothing. */
+ * first. */
 static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, uint32_t *nact, uint32_t *beh)
 {
     ls_real b[3], zc, tol, best = (ls_real)0;
@@ -942,6 +968,7 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
     tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
     while (i < *nact) {
         uint32_t k = sc->cact[i], id = sc->cid[k];
+        const uint32_t *f;
         ls_real x[4], y[4];
         int n;
         if (sc->chi[k] < t) { /* its interval is behind: never needed again */
@@ -950,10 +977,15 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
         }
         i++;
         if (unsorted && sc->clo[k] > t) continue; /* not begun */
-        n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
-        if (!poly_holds(x, y, n, xw, yw)) continue;
-        if (!tri_point(sc, sc->indices + 3 * (size_t)id, xw, yw, b, &zc)) continue;
-        if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
+        f = sc->indices + 3 * (size_t)id;
+        n = tri_poly(sc, f, x, y);
+        if ((sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) { /* tri_poly's corners from sc->win */
+            if (!window_hold(sc, f, x, y, xw, yw, &zc)) continue;
+        } else {
+            if (!poly_holds(x, y, n, xw, yw)) continue;
+            if (!tri_point(sc, f, xw, yw, b, &zc)) continue;
+            if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
+        }
         if (zc < (ls_real)-1 || zc > (ls_real)1) continue; /* clipped away */
         if (zc < ze - tol) {                                /* hidden */
             sc->cact[i - 1u] = sc->cact[0];
