@@ -185,6 +185,7 @@ typedef struct sedge {
     ls_real eabs;    /* |e0| + |e1| */
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
+    ls_real tauv, c0v; /* cand_interval's tau and c0 for every polygon of window corners (sc->wk bounds them) */
     ls_real za, zb;  /* NDC depth at a and at a + e */
     ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
     int fok;         /* 1: fa holds the areas of ft at tbeg and their change to tend (span_own) */
@@ -1064,20 +1065,26 @@ static void sort_keyed(ls_real *key, uint32_t *pay, uint32_t n)
  * hold every parameter where the test passes, and leaving out the edges
  * that do not meet the line only widens them: the intervals decide which
  * candidates are tested, never the outcome. */
-static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0,
-                                   ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front,
+                                      ls_real t0, ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
     /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
-    ls_real l[2], h[2], rx[4], ry[4], sd[4], mc = (ls_real)0, tau, c0;
+    ls_real l[2], h[2], rx[4], ry[4], sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
     int q, ok[2] = {1, 1}, s, side[4], above = 0, below = 0;
     if (n > 4) return 0; /* never (tri_poly): tells the unrolled loops */
-    SIL_UNROLL
-    for (q = 0; q < n; q++) {
-        ls_real v = r_abs(x[q]) + r_abs(y[q]);
-        if (v > mc) mc = v;
+    if (!front) {
+        /* corners cut at the near plane: their own bound (window corners
+         * take the view's, sc->wk: larger, so the same tests and intervals,
+         * as the margins only have to exceed rounding) */
+        SIL_UNROLL
+        for (q = 0; q < n; q++) {
+            ls_real v = r_abs(x[q]) + r_abs(y[q]);
+            if (v > mc) mc = v;
+        }
+        /* mc bounds every corner's |x| + |y|: tau and eta below bound their q's */
+        tau = ed->tau + (ls_real)64 * LS_REAL_EPSILON * (mc + ed->ext) * ed->eabs;
+        c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
     }
-    /* mc bounds every corner's |x| + |y|: tau and eta below bound their q's */
-    tau = ed->tau + (ls_real)64 * LS_REAL_EPSILON * (mc + ed->ext) * ed->eabs;
     SIL_UNROLL
     for (q = 0; q < n; q++) {
         rx[q] = x[q] - ed->a[0];
@@ -1089,7 +1096,6 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
         side[q] = (sd[q] > tau) - (sd[q] < -tau);
     }
     if (above == n || below == n) return 0;
-    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
     l[0] = l[1] = t0;
     h[0] = h[1] = t1;
     SIL_UNROLL
@@ -1143,13 +1149,13 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
 }
 
 /* cand_interval_n, with a copy for triangles (most polygons; SIL_INLINE). */
-static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, ls_real t0, ls_real t1,
-                         ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front, ls_real t0,
+                         ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
 #if SIL_SPECIALIZE
-    if (n == 3) return cand_interval_n(ed, x, y, 3, t0, t1, sp, ns, lo, hi);
+    if (n == 3) return cand_interval_n(ed, x, y, 3, front, t0, t1, sp, ns, lo, hi);
 #endif
-    return cand_interval_n(ed, x, y, n, t0, t1, sp, ns, lo, hi);
+    return cand_interval_n(ed, x, y, n, front, t0, t1, sp, ns, lo, hi);
 }
 
 /* Whether triangle o can stand in front of the segment in a walk: not its
@@ -1445,13 +1451,17 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     }
     for (k = 0; k < nhit; k++) {
         uint32_t id = sc->cact[k];
+        const uint32_t *f;
         ls_real x[4], y[4], lo, hi;
         int n;
         if (id == ed->ft || id == ed->fu) continue;
         if (end_face_misses(sc, ed, id)) continue;
-        n = tri_poly(sc, sc->indices + 3 * (size_t)id, x, y);
+        f = sc->indices + 3 * (size_t)id;
+        n = tri_poly(sc, f, x, y);
         if (n < 3) continue;
-        if (!cand_interval(ed, x, y, n, t0, t1, sp, &ns, &lo, &hi)) continue;
+        if (!cand_interval(ed, x, y, n, (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0, t0, t1, sp, &ns,
+                           &lo, &hi))
+            continue;
         sc->cid[ncand] = id;
         sc->chi[ncand] = hi;
         sc->clo[ncand] = lo;
@@ -1695,6 +1705,9 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
     ed.ext = (r_abs(ed.a[0]) + r_abs(ed.a[1])) + ed.eabs;
     ed.tau = SIL_MARGIN * (r_abs(ed.e[0]) > r_abs(ed.e[1]) ? r_abs(ed.e[0]) : r_abs(ed.e[1]));
+    /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc */
+    ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
+    ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
     /* normal scaled by |e|, pointing away from the face's side: window y
      * runs down, so the window-space side is minus the homogeneous one */
     side = -hdet(ea->c, eb->c, C);
