@@ -1357,7 +1357,9 @@ LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
     sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
     sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
     id = vis->tri[(size_t)sy * vis->sw + sx];
-    if (id == 0) return 0;
+    if (id == 0 || id - 1u == ed->ft || id - 1u == ed->fu) return 0;
+    /* the surface drawn there behind the segment's depth: no walk in front starts there */
+    if (vis->depth[(size_t)sy * vis->sw + sx] > ed->za + tm * (ed->zb - ed->za)) return 0;
     id = walk_locate(sc, ed, id - 1u, tm, w);
     if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, w, &nx, &nin) != t0) return 0;
     reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, &nx, &nin);
