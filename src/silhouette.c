@@ -1862,7 +1862,7 @@ static size_t slot_count(size_t binned, size_t entries)
 
 /* Everything the pass needs, in the order it takes it: window positions
  * and depths, bin starts, orientations, vertex flags, triangle boxes, the
- * triangles binned, bin entries, the candidate
+ * triangles binned, edge marks, bin entries, the candidate
  * slots and the split parameters (4 per slot and the piece's ends). */
 static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t triangle_count, size_t entries,
                               size_t slots, size_t *bytes)
@@ -1877,6 +1877,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_add(&s, (size_t)vertex_count, 1);
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
     ls_size_add(&s, (size_t)triangle_count, sizeof(uint32_t));
+    ls_size_add(&s, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)); /* edge marks (next_edge) */
     ls_size_add(&s, entries + 1u, sizeof(uint32_t)); /* and bin_pass's spare slot */
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
     ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
@@ -1986,44 +1987,77 @@ ls_status ls_silhouette_scratch_bytes_bound(uint32_t width, uint32_t height, uin
     return scratch_for_entries(width, height, vertex_count, triangle_count, (size_t)tiles * triangle_count, bytes);
 }
 
-/* The first silhouette half-edge from h on (3 triangle_count: none): a
- * boundary edge, or an interior edge, seen from its larger half (each edge
- * once), whose faces fold (one front-, one back-facing). Most edges lie
- * between two faces certain of one orientation: the loop tells them at once. */
-static uint32_t next_edge(const sctx *sc, const uint32_t *twin, uint32_t h)
+/* The index of the lowest set bit of m != 0: a de Bruijn multiply (C99 has no builtin). */
+static uint32_t low_bit(uint64_t m)
 {
-    const signed char *sign = sc->sign;
-    uint32_t n = 3u * sc->triangle_count, tc = sc->triangle_count;
-    for (; h < n; h++) {
-        /* without a branch per half-edge (which half of an edge comes first is
-         * as good as random, and the mispredictions cost more than the tests):
-         * a boundary twin's face is clamped to the sentinel sign[tc] = 0, so
-         * its sum is never +-4 and it is a candidate, as it must be */
-        uint32_t tw = twin[h], fu = tw / 3u;
-        int s, cand;
-        fu = fu < tc ? fu : tc;
-        s = sign[h / 3u] + sign[fu]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
-        cand = (tw > h) & (s != 4) & (s != -4);
-        if (cand && (tw == LS_EDGE_NONE || folds(sc, h, tw))) return h;
-    }
-    return n;
+    static const unsigned char idx[64] = {0,  1,  48, 2,  57, 49, 28, 3,  61, 58, 50, 42, 38, 29, 17, 4,
+                                          62, 55, 59, 36, 53, 51, 43, 22, 45, 39, 33, 30, 24, 18, 12, 5,
+                                          63, 47, 56, 27, 60, 41, 37, 16, 54, 35, 52, 21, 44, 32, 23, 11,
+                                          46, 26, 40, 15, 34, 20, 31, 10, 25, 14, 19, 9,  13, 8,  7,  6};
+    return idx[((m & ((uint64_t)0 - m)) * 0x03f79d71b4cb0a89ull) >> 58];
 }
 
-/* Every silhouette edge, integrated; its own frame (the stack limit on
- * every target). */
-LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table)
+/* Marks in bits [3 T / 64 + 1] the candidate silhouette edges, each at its
+ * smaller half-edge (edges_pass takes them in that order): a boundary edge,
+ * or an interior edge whose faces are not both certain of one orientation.
+ * Only the faces of list[0..n) are visited: every candidate has one (the
+ * faces whose sign is not x, a certain orientation, and with boundary edges
+ * every face). No branch per half-edge (candidates have no pattern): a
+ * boundary twin's face is clamped to the sentinel sign[tc] = 0, so its sum
+ * is never +-4 and it is a candidate, as it must be. */
+static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits)
+{
+    const signed char *sign = sc->sign;
+    const uint32_t *twin = sc->twin;
+    uint32_t i, k, tc = sc->triangle_count;
+    memset(bits, 0, (3 * (size_t)tc / 64u + 1u) * sizeof(uint64_t));
+    for (i = 0; i < n; i++) {
+        uint32_t h = 3u * list[i];
+        int s = sign[list[i]]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
+        SIL_UNROLL
+        for (k = 0; k < 3u; k++, h++) {
+            uint32_t tw = twin[h], fu = tw / 3u, c = tw < h ? tw : h;
+            int sum;
+            fu = fu < tc ? fu : tc;
+            sum = s + sign[fu];                  /* NOLINT(bugprone-signed-char-misuse,cert-str34-c) */
+            bits[c >> 6] |= (uint64_t)(((sum + 4) & 7) != 0) << (c & 63u); /* sum in [-4, 4]: not +-4 */
+        }
+    }
+}
+
+/* Every silhouette edge, integrated in increasing order of its smaller
+ * half-edge (the summation order); list [T]: scratch for next_edge's faces.
+ * Its own frame (the stack limit on every target). */
+LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, uint32_t *list, uint64_t *bits)
 {
     const ls_real *clip = sc->vis->clip;
-    uint32_t h;
-    for (h = next_edge(sc, table->twin, 0); h < 3u * sc->triangle_count; h = next_edge(sc, table->twin, h + 1u)) {
-        uint32_t t = h / 3u, k = h - 3u * t, tw = table->twin[h], v[4];
-        const uint32_t *f = sc->indices + 3 * (size_t)t;
-        v[0] = v[3] = f[k];
-        v[1] = v[2] = f[k == 2u ? 0u : k + 1u];
-        if (clip[4 * (size_t)v[0] + 2] + clip[4 * (size_t)v[0] + 3] < (ls_real)0 &&
-            clip[4 * (size_t)v[1] + 2] + clip[4 * (size_t)v[1] + 3] < (ls_real)0)
-            continue; /* behind the near plane */
-        segment_pass(sc, t, tw == LS_EDGE_NONE ? LS_EDGE_NONE : tw / 3u, v, clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
+    const uint32_t tc = sc->triangle_count;
+    /* the faces certain of the culled orientation (the more numerous) are left out; all are kept with boundary edges */
+    const int x = table->boundary_edges != 0 ? 3 : (sc->cull != 0 ? 2 * sc->cull : -2);
+    uint32_t t, n = 0, w;
+    for (t = 0; t < tc; t++) { /* without a branch: orientations have no pattern */
+        list[n] = t;
+        n += (uint32_t)(sc->sign[t] != x); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+    }
+    next_edge(sc, list, n, bits);
+    for (w = 0; w <= 3 * (size_t)tc / 64u; w++) {
+        uint64_t m = bits[w];
+        while (m != 0) {
+            uint32_t h = 64u * w + low_bit(m), k, tw = table->twin[h], v[4];
+            const uint32_t *f;
+            m &= m - 1u;
+            if (tw != LS_EDGE_NONE && !folds(sc, h, tw)) continue;
+            t = h / 3u;
+            k = h - 3u * t;
+            f = sc->indices + 3 * (size_t)t;
+            v[0] = v[3] = f[k];
+            v[1] = v[2] = f[k == 2u ? 0u : k + 1u];
+            if (clip[4 * (size_t)v[0] + 2] + clip[4 * (size_t)v[0] + 3] < (ls_real)0 &&
+                clip[4 * (size_t)v[1] + 2] + clip[4 * (size_t)v[1] + 3] < (ls_real)0)
+                continue; /* behind the near plane */
+            segment_pass(sc, t, tw == LS_EDGE_NONE ? LS_EDGE_NONE : tw / 3u, v,
+                         clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
+        }
     }
 }
 
@@ -2043,6 +2077,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     ls_real *win, *zv, wkb;
     size_t *offs;
     uint32_t *ent;
+    uint64_t *bits;
     ls_status st;
     if (mvp == NULL || grad_image == NULL || grad_positions == NULL || arena == NULL) return LS_ERR_INVALID;
     counts[0] = triangle_count;
@@ -2072,7 +2107,8 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
     sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
     keep = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
-    if (keep == NULL) {
+    bits = keep ? (uint64_t *)ls_arena_scratch(arena, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)) : NULL;
+    if (bits == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -2138,7 +2174,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     bin_pass(&sc, keep, nkeep, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
-    edges_pass(&sc, table);
+    edges_pass(&sc, table, keep, bits); /* keep: free after bin_pass */
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
