@@ -167,6 +167,7 @@ typedef struct sctx {
     float tside_inv;     /* 2^-tl (tile_of) */
     const signed char *sign; /* [T] orientation of each triangle (tri_sign), or NULL */
     const uint32_t *twin; /* the edge table's twins (walks across edges), or NULL */
+    int allfront;        /* 1: every vertex is in front (vfront) */
     int cull;            /* +1 / -1: triangles of that orientation (hdet sign) are never seen; 0: keep all */
     ls_real width, height, qtol, boost;
     ls_real *gp;         /* [3 V] the gradient being added to */
@@ -361,20 +362,29 @@ static int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
     return tri_sign(sc, f);
 }
 
+/* Window box (x0, y0, x1, y1) of the window corners p0, p1, p2: the min
+ * and max of p0 and p1 on two comparisons (SSE2's minsd and maxsd; on one,
+ * gcc swaps them with a branch, which mispredicts); p0 - p0 keeps NaN as
+ * one comparison had it (a NaN or infinite p0 made the max not finite),
+ * else adds +0 (a max of -0 becomes +0: box_fbox does not tell them apart). */
+static inline void corner_box(const ls_real *p0, const ls_real *p1, const ls_real *p2, ls_real box[4])
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        ls_real lo = p0[k] < p1[k] ? p0[k] : p1[k], hi = (p0[k] > p1[k] ? p0[k] : p1[k]) + (p0[k] - p0[k]);
+        box[k] = p2[k] < lo ? p2[k] : lo;
+        box[k + 2] = p2[k] > hi ? p2[k] : hi;
+    }
+}
+
 /* Window box (x0, y0, x1, y1) of triangle f's visible polygon; 0 when it
- * has none, is not finite or lies outside the image. */
+ * has none. */
 static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 {
     int k;
     if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
         /* every corner in front (most triangles): the box of the window corners */
-        const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1];
-        const ls_real *p2 = sc->win + 2 * (size_t)f[2];
-        for (k = 0; k < 2; k++) {
-            ls_real lo = p0[k] < p1[k] ? p0[k] : p1[k], hi = p0[k] < p1[k] ? p1[k] : p0[k];
-            box[k] = p2[k] < lo ? p2[k] : lo;
-            box[k + 2] = p2[k] > hi ? p2[k] : hi;
-        }
+        corner_box(sc->win + 2 * (size_t)f[0], sc->win + 2 * (size_t)f[1], sc->win + 2 * (size_t)f[2], box);
     } else {
         ls_real x[4], y[4];
         int n = tri_poly(sc, f, x, y);
@@ -388,9 +398,26 @@ static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
             if (y[k] > box[3]) box[3] = y[k];
         }
     }
+    return 1;
+}
+
+/* The box for the bins of a window box of tri_box: clamped to the image
+ * and a pixel around it, grown by the margin, in float (rounding at these
+ * magnitudes is far below the margin); 0 (fb untouched) when the box is
+ * not finite or lies outside the image. */
+static inline int box_fbox(const sctx *sc, const ls_real box[4], float fb[4])
+{
+    ls_real xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
     if ((box[0] - box[0]) + (box[1] - box[1]) + (box[2] - box[2]) + (box[3] - box[3]) != (ls_real)0) return 0;
-    return !(box[2] < -SIL_MARGIN || box[0] > sc->width + SIL_MARGIN || box[3] < -SIL_MARGIN ||
-             box[1] > sc->height + SIL_MARGIN);
+    if (box[2] < -SIL_MARGIN || box[0] > sc->width + SIL_MARGIN || box[3] < -SIL_MARGIN ||
+        box[1] > sc->height + SIL_MARGIN)
+        return 0;
+    /* the box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
+    fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
+    fb[1] = (float)((box[1] < (ls_real)-1 ? (ls_real)-1 : box[1]) - SIL_MARGIN);
+    fb[2] = (float)((box[2] > xl ? xl : box[2]) + SIL_MARGIN);
+    fb[3] = (float)((box[3] > yl ? yl : box[3]) + SIL_MARGIN);
+    return 1;
 }
 
 /* floor(c) clamped to [0, n - 1] (0 for NaN); n < 2^24. */
@@ -413,22 +440,14 @@ static uint32_t tile_of(float v, float inv, uint32_t n)
     return i < n ? i : n - 1u;
 }
 
-/* The box of triangle t's visible polygon for the bins: clamped to the
- * image and a pixel around it, grown by the margin, in float (rounding at
- * these magnitudes is far below the margin); 0 when t is not binned (no
- * box, or culled: sign 0 or of the culled orientation). */
+/* The box of triangle t's visible polygon for the bins (box_fbox); 0 when
+ * t is not binned (no box, or culled: sign 0 or of the culled orientation). */
 static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
 {
     const uint32_t *f = sc->indices + 3 * (size_t)t;
-    ls_real box[4], xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
+    ls_real box[4];
     if (sc->cull != 0 && sc->cull * (sc->sign != NULL ? sc->sign[t] : tri_sign(sc, f)) >= 0) return 0;
-    if (!tri_box(sc, f, box)) return 0;
-    /* tri_box's box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
-    fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
-    fb[1] = (float)((box[1] < (ls_real)-1 ? (ls_real)-1 : box[1]) - SIL_MARGIN);
-    fb[2] = (float)((box[2] > xl ? xl : box[2]) + SIL_MARGIN);
-    fb[3] = (float)((box[3] > yl ? yl : box[3]) + SIL_MARGIN);
-    return 1;
+    return tri_box(sc, f, box) && box_fbox(sc, box, fb);
 }
 
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
@@ -440,69 +459,99 @@ static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
     r[3] = tile_of(fb[3], sc->tside_inv, sc->tiles_y);
 }
 
-/* Boxes the triangles list[0..n) (list NULL: every triangle, n of them)
- * with tri_fbox into sc->tbox [4 T] (x0 > x1: not
- * binned; sc->tbox NULL: the boxes are not kept), counts the bin entries
- * and the binned triangles into count[0] and count[1] (*over set on
- * overflow of size_t) and, when offs [tiles + 1] is not NULL, the entries
- * of each tile into offs[tile + 1] (offs[0] = 0), for bin_pass. */
-static void box_pass(sctx *sc, const uint32_t *list, uint32_t n, size_t *offs, size_t count[2], int *over)
+/* Adds the tiles r (fbox_tiles) of a binned triangle's box to the entries
+ * and binned triangles count[0], count[1] (*over set on overflow of size_t)
+ * and, when offs [tiles + 2] is not NULL, the entries of each tile to
+ * offs[tile + 2], for bin_pass. */
+static inline void tile_add(const sctx *sc, const uint32_t r[4], size_t *offs, size_t count[2], int *over)
 {
-    uint32_t i, r[4], tx, ty;
-    float own[4];
+    size_t add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
+    uint32_t tx, ty;
+    if (count[0] > SIZE_MAX - add) *over = 1;
+    count[0] += add;
+    count[1]++;
+    if (offs == NULL) return;
+    if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
+        /* at most 2 x 2 tiles (most triangles): the four counts without
+         * loops, whose trip counts mispredict; an absent tile adds 0 to
+         * one that is present */
+        size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0] + 2u;
+        size_t d = ny * sc->tiles_x;
+        offs[b]++;
+        offs[b + nx] += nx;
+        offs[b + d] += ny;
+        offs[b + d + nx] += nx & ny;
+        return;
+    }
+    for (ty = r[1]; ty <= r[3]; ty++)
+        for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 2u]++;
+}
+
+/* Boxes the triangles list[0..n) (not culled) into sc->tbox, counts their
+ * bin entries and binned triangles into count[0], count[1] (*over set on
+ * overflow) and the entries of each tile into offs [tiles + 2]; keeps in
+ * list, in order, the binned ones and returns their number (bin_pass's
+ * list). tri_fbox without its cull test and, when every vertex is in front,
+ * without the per-triangle test. */
+static uint32_t box_keep(const sctx *sc, uint32_t *list, uint32_t n, size_t *offs, size_t count[2], int *over)
+{
+    const uint32_t *ind = sc->indices;
+    const ls_real *win = sc->win;
+    float *tbox = sc->tbox;
+    const int allfront = sc->allfront;
+    uint32_t i, m = 0, r[4];
+    memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 2u) * sizeof(size_t));
+    for (i = 0; i < n; i++) {
+        uint32_t t = list[i];
+        const uint32_t *f = ind + 3 * (size_t)t;
+        float *fb = tbox + 4 * (size_t)t;
+        ls_real box[4];
+        if (allfront)
+            corner_box(win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], box);
+        else if (!tri_box(sc, f, box))
+            continue;
+        if (!box_fbox(sc, box, fb)) continue;
+        fbox_tiles(sc, fb, r);
+        tile_add(sc, r, offs, count, over);
+        list[m++] = t;
+    }
+    return m;
+}
+
+/* The sizing query's count of the bin entries and binned triangles of
+ * every triangle into count[0], count[1] (*over set on overflow). */
+static void box_pass(const sctx *sc, size_t count[2], int *over)
+{
+    uint32_t t, r[4];
+    float fb[4];
     count[0] = 0;
     count[1] = 0;
     *over = 0;
-    if (offs != NULL) memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 1u) * sizeof(size_t));
-    for (i = 0; i < n; i++) {
-        uint32_t t = list != NULL ? list[i] : i;
-        float *fb = sc->tbox != NULL ? sc->tbox + 4 * (size_t)t : own;
-        size_t add;
-        if (!tri_fbox(sc, t, fb)) {
-            fb[0] = 1.0f;
-            fb[2] = 0.0f;
-            continue;
-        }
+    for (t = 0; t < sc->triangle_count; t++) {
+        if (!tri_fbox(sc, t, fb)) continue;
         fbox_tiles(sc, fb, r);
-        add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
-        if (count[0] > SIZE_MAX - add) *over = 1;
-        count[0] += add;
-        count[1]++;
-        if (offs == NULL) continue;
-        if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
-            /* at most 2 x 2 tiles (most triangles): the four counts without
-             * loops, whose trip counts mispredict; an absent tile adds 0 to
-             * one that is present */
-            size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0] + 1u;
-            size_t d = ny * sc->tiles_x;
-            offs[b]++;
-            offs[b + nx] += nx;
-            offs[b + d] += ny;
-            offs[b + d + nx] += nx & ny;
-            continue;
-        }
-        for (ty = r[1]; ty <= r[3]; ty++)
-            for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 1u]++;
+        tile_add(sc, r, NULL, count, over);
     }
 }
 
-/* Bins every boxed triangle of list[0..n) (box_pass's list, in increasing
- * order; it counted the entries per tile into offs) into the tiles its box
- * overlaps: offs [tiles + 1] becomes the bin starts, ent the bins
- * (triangles in index order in each). */
+/* Bins the triangles of list[0..n) (in increasing order, each binned:
+ * their boxes sc->tbox counted into offs [tiles + 2] by tile_add) into the
+ * tiles their boxes overlap: offs becomes the bin starts (offs[tiles] the
+ * total), ent the bins (triangles in index order in each). */
 static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *offs, uint32_t *ent)
 {
     uint32_t i, tx, ty, r[4];
     size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k, spare;
-    for (k = 0; k < tiles; k++) offs[k + 1u] += offs[k];
-    spare = offs[tiles]; /* ent's extra last slot: where an absent tile's entry goes */
+    /* offs[tile + 1] becomes the tile's start and, as its cursor, its end:
+     * the next tile's start, with no shift afterwards */
+    for (k = 2; k <= tiles + 1u; k++) offs[k] += offs[k - 1u];
+    spare = offs[tiles + 1u]; /* ent's extra last slot: where an absent tile's entry goes */
+    offs++;
     for (i = 0; i < n; i++) {
         uint32_t t = list[i];
-        const float *fb = sc->tbox + 4 * (size_t)t;
-        if (fb[0] > fb[2]) continue;
-        fbox_tiles(sc, fb, r);
+        fbox_tiles(sc, sc->tbox + 4 * (size_t)t, r);
         if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
-            /* at most 2 x 2 tiles, as box_pass counted them: each present
+            /* at most 2 x 2 tiles, as tile_add counted them: each present
              * tile takes the next entry of its bin, an absent one writes
              * the spare slot and advances nothing; no loops, whose trip
              * counts mispredict */
@@ -523,8 +572,6 @@ static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *o
         for (ty = r[1]; ty <= r[3]; ty++)
             for (tx = r[0]; tx <= r[2]; tx++) ent[offs[(size_t)ty * sc->tiles_x + tx]++] = t;
     }
-    for (k = tiles; k > 0; k--) offs[k] = offs[k - 1u];
-    offs[0] = 0;
 }
 
 /* The areas a of triangle f (ls_clip_barycentric's, b = a / sum a) along
@@ -1868,11 +1915,11 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
                               size_t slots, size_t *bytes)
 {
     ls_size s;
-    if (tiles > SIZE_MAX - 1u || entries > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    if (tiles > SIZE_MAX - 2u || entries > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
     ls_size_add(&s, (size_t)vertex_count, sizeof(ls_real));
-    ls_size_add(&s, tiles + 1u, sizeof(size_t));
+    ls_size_add(&s, tiles + 2u, sizeof(size_t)); /* bin starts and bin_pass's extra cursor */
     ls_size_add(&s, (size_t)triangle_count + 1u, 1); /* orientations and next_edge's sentinel */
     ls_size_add(&s, (size_t)vertex_count, 1);
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
@@ -1946,7 +1993,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     sctx_init(&sc, vis, indices, triangle_count);
     choose_tiles(&sc);
     choose_cull(&sc, table, NULL);
-    box_pass(&sc, NULL, triangle_count, NULL, count, &over);
+    box_pass(&sc, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
                         slot_count(count[1], count[0]), bytes);
@@ -2068,7 +2115,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
                                  ls_diag *diag)
 {
     sctx sc;
-    uint32_t t, h, counts[2], *keep, nkeep = 0;
+    uint32_t t, h, counts[2], *keep, nkeep = 0, nfront = 0;
     ls_arena_mark mark;
     size_t count[2] = {0, 0}, slots;
     int over = 0;
@@ -2102,7 +2149,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     mark = ls_arena_save(arena);
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
     zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
-    offs = zv ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 1u, sizeof(size_t)) : NULL;
+    offs = zv ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 2u, sizeof(size_t)) : NULL;
     sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
     sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
@@ -2119,6 +2166,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         zv[h] = (ls_real)0;
         vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
         sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
+        nfront += vfront[h];
         if (vfront[h]) {
             ls_real m;
             window_of(&sc, cl, win + 2 * (size_t)h);
@@ -2128,6 +2176,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         }
     }
     sc.wk = ((ls_real)3 * sc.wk + sc.width) + sc.height;
+    sc.allfront = nfront == vertex_count;
     /* with M = max(|x| + |y|) <= wk / 3, each |d| sum is at most 4 M and |t1|, |t2| at most 4 M^2:
      * tri_sign_front's bound is below 16 eps (20 wk^2 / 9 + eps wk) + 64 min, far below this */
     wkb = (ls_real)64 * LS_REAL_EPSILON * sc.wk * (sc.wk + (ls_real)1) + (ls_real)128 * R_MIN_NORMAL;
@@ -2152,7 +2201,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         keep[nkeep] = t;
         nkeep += (uint32_t)((sc.cull * sign[t] < 0) | (sc.cull == 0));
     }
-    box_pass(&sc, keep, nkeep, offs, count, &over);
+    nkeep = box_keep(&sc, keep, nkeep, offs, count, &over);
     slots = slot_count(count[1], count[0]);
     if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) {
         ls_arena_restore(arena, mark);
