@@ -487,18 +487,19 @@ static inline void tile_add(const sctx *sc, const uint32_t r[4], size_t *offs, s
         for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 2u]++;
 }
 
-/* Boxes the triangles list[0..n) (not culled) into sc->tbox, counts their
+/* Boxes the triangles of list[0..n) not culled into sc->tbox, counts their
  * bin entries and binned triangles into count[0], count[1] (*over set on
  * overflow) and the entries of each tile into offs [tiles + 2]; keeps in
  * list, in order, the binned ones and returns their number (bin_pass's
- * list). tri_fbox without its cull test and, when every vertex is in front,
- * without the per-triangle test. */
+ * list). tri_fbox, without the per-triangle front test when every vertex
+ * is in front. */
 static uint32_t box_keep(const sctx *sc, uint32_t *list, uint32_t n, size_t *offs, size_t count[2], int *over)
 {
     const uint32_t *ind = sc->indices;
     const ls_real *win = sc->win;
     float *tbox = sc->tbox;
-    const int allfront = sc->allfront;
+    const signed char *sign = sc->sign;
+    const int allfront = sc->allfront, cull = sc->cull;
     uint32_t i, m = 0, r[4];
     memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 2u) * sizeof(size_t));
     for (i = 0; i < n; i++) {
@@ -506,6 +507,7 @@ static uint32_t box_keep(const sctx *sc, uint32_t *list, uint32_t n, size_t *off
         const uint32_t *f = ind + 3 * (size_t)t;
         float *fb = tbox + 4 * (size_t)t;
         ls_real box[4];
+        if (cull != 0 && cull * sign[t] >= 0) continue; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
         if (allfront)
             corner_box(win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], box);
         else if (!tri_box(sc, f, box))
@@ -2044,20 +2046,12 @@ static uint32_t low_bit(uint64_t m)
     return idx[((m & ((uint64_t)0 - m)) * 0x03f79d71b4cb0a89ull) >> 58];
 }
 
-/* Marks in bits [3 T / 64 + 1] the candidate silhouette edges, each at its
- * smaller half-edge (edges_pass takes them in that order): a boundary edge,
- * or an interior edge whose faces are not both certain of one orientation.
- * Only the faces of list[0..n) are visited: every candidate has one (the
- * faces whose sign is not x, a certain orientation, and with boundary edges
- * every face). No branch per half-edge (candidates have no pattern): a
- * boundary twin's face is clamped to the sentinel sign[tc] = 0, so its sum
- * is never +-4 and it is a candidate, as it must be. */
-static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits)
+/* next_edge's loop; open: the mesh has boundary edges (twins to clamp). */
+static SIL_INLINE void mark_faces(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits, int open)
 {
     const signed char *sign = sc->sign;
     const uint32_t *twin = sc->twin;
     uint32_t i, k, tc = sc->triangle_count;
-    memset(bits, 0, (3 * (size_t)tc / 64u + 1u) * sizeof(uint64_t));
     for (i = 0; i < n; i++) {
         uint32_t h = 3u * list[i];
         int s = sign[list[i]]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
@@ -2065,29 +2059,39 @@ static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t
         for (k = 0; k < 3u; k++, h++) {
             uint32_t tw = twin[h], fu = tw / 3u, c = tw < h ? tw : h;
             int sum;
-            fu = fu < tc ? fu : tc;
+            if (open) fu = fu < tc ? fu : tc;
             sum = s + sign[fu];                  /* NOLINT(bugprone-signed-char-misuse,cert-str34-c) */
             bits[c >> 6] |= (uint64_t)(((sum + 4) & 7) != 0) << (c & 63u); /* sum in [-4, 4]: not +-4 */
         }
     }
 }
 
-/* Every silhouette edge, integrated in increasing order of its smaller
- * half-edge (the summation order); list [T]: scratch for next_edge's faces.
- * Its own frame (the stack limit on every target). */
-LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, uint32_t *list, uint64_t *bits)
+/* Marks in bits [3 T / 64 + 1] the candidate silhouette edges, each at its
+ * smaller half-edge (edges_pass takes them in that order): a boundary edge,
+ * or an interior edge whose faces are not both certain of one orientation.
+ * Only the faces of list[0..n) are visited: every candidate has one (the
+ * faces whose sign is not that of certain culled ones; every face when
+ * nothing is culled, as with boundary edges). No branch per half-edge
+ * (candidates have no pattern): a boundary twin's face is clamped to the
+ * sentinel sign[tc] = 0, so its sum is never +-4 and it is a candidate, as
+ * it must be. */
+static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits, int open)
+{
+    memset(bits, 0, (3 * (size_t)sc->triangle_count / 64u + 1u) * sizeof(uint64_t));
+    if (open)
+        mark_faces(sc, list, n, bits, 1);
+    else
+        mark_faces(sc, list, n, bits, 0);
+}
+
+/* Every silhouette edge (next_edge's marks), integrated in increasing order
+ * of its smaller half-edge (the summation order). Its own frame (the stack
+ * limit on every target). */
+LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, const uint64_t *bits)
 {
     const ls_real *clip = sc->vis->clip;
-    const uint32_t tc = sc->triangle_count;
-    /* the faces certain of the culled orientation (the more numerous) are left out; all are kept with boundary edges */
-    const int x = table->boundary_edges != 0 ? 3 : (sc->cull != 0 ? 2 * sc->cull : -2);
-    uint32_t t, n = 0, w;
-    for (t = 0; t < tc; t++) { /* without a branch: orientations have no pattern */
-        list[n] = t;
-        n += (uint32_t)(sc->sign[t] != x); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
-    }
-    next_edge(sc, list, n, bits);
-    for (w = 0; w <= 3 * (size_t)tc / 64u; w++) {
+    uint32_t t, w;
+    for (w = 0; w <= 3 * (size_t)sc->triangle_count / 64u; w++) {
         uint64_t m = bits[w];
         while (m != 0) {
             uint32_t h = 64u * w + low_bit(m), k, tw = table->twin[h], v[4];
@@ -2116,6 +2120,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
 {
     sctx sc;
     uint32_t t, h, counts[2], *keep, nkeep = 0, nfront = 0;
+    int cull;
     ls_arena_mark mark;
     size_t count[2] = {0, 0}, slots;
     int over = 0;
@@ -2192,15 +2197,19 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.sign = sign;
     sc.twin = table->twin;
     choose_cull(&sc, table, sign);
+    /* the faces not certain of the culled orientation (all when nothing is
+     * culled), listed without a branch (orientations have no pattern):
+     * next_edge's faces, and box_keep's after its cull test (false only for
+     * the few uncertain ones); the others stay unbinned (x0 > x1) */
+    cull = sc.cull;
     for (t = 0; t < triangle_count; t++) {
-        /* the triangles not culled, listed without a branch (orientations
-         * have no pattern); the others stay unbinned (x0 > x1) */
         float *fb = sc.tbox + 4 * (size_t)t;
         fb[0] = 1.0f;
         fb[2] = 0.0f;
         keep[nkeep] = t;
-        nkeep += (uint32_t)((sc.cull * sign[t] < 0) | (sc.cull == 0));
+        nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
     }
+    next_edge(&sc, keep, nkeep, bits, table->boundary_edges != 0);
     nkeep = box_keep(&sc, keep, nkeep, offs, count, &over);
     slots = slot_count(count[1], count[0]);
     if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) {
@@ -2223,7 +2232,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     bin_pass(&sc, keep, nkeep, offs, ent);
     sc.offs = offs;
     sc.ent = ent;
-    edges_pass(&sc, table, keep, bits); /* keep: free after bin_pass */
+    edges_pass(&sc, table, bits);
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
