@@ -346,7 +346,7 @@ static int tri_sign(const sctx *sc, const uint32_t *f)
  * them with room. Otherwise tri_sign decides. Most triangles' cross
  * products exceed wkb, which bounds every triangle's bound, so the
  * answer is the same without computing theirs. */
-static int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
+static SIL_INLINE int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
 {
     const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
     ls_real dx1 = p1[0] - p0[0], dy1 = p1[1] - p0[1], dx2 = p2[0] - p0[0], dy2 = p2[1] - p0[1];
@@ -1862,6 +1862,17 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
     return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
 }
 
+/* The covered samples on every 4th sample row (choose_cull counts them
+ * itself when it scans those rows). */
+static uint64_t covered(const ls_vis *vis)
+{
+    uint64_t cov = 0;
+    uint32_t x, y;
+    for (y = 0; y < vis->sh; y += 4u)
+        for (x = 0; x < vis->sw; x++) cov += vis->tri[(size_t)y * vis->sw + x] != 0;
+    return cov;
+}
+
 /* Orientation culling of the candidates: for a closed mesh (no boundary
  * edge) of which nothing crosses the near plane, seen from outside, the
  * triangles of one orientation (back faces) are never the nearest surface
@@ -1872,25 +1883,29 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
  * an eye inside the mesh sees almost only back faces), counted on every 4th
  * sample row, as choose_tiles counts (the choice never changes what is
  * integrated, only which triangles are tested). sign: per-triangle
- * orientations (tri_sign), or NULL (the sizing query: slower, no memory). */
-static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
+ * orientations (tri_sign), or NULL (the sizing query: slower, no memory).
+ * Returns the covered samples of those rows (covered), for choose_tiles. */
+static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
     const uint32_t *tri = vis->tri, tc = sc->triangle_count;
     size_t pos = 0, neg = 0;
+    uint64_t cov = 0;
     uint32_t v, x, y;
     sc->cull = 0;
-    if (table->boundary_edges != 0 || sc->behind != 0) return;
+    if (table->boundary_edges != 0 || sc->behind != 0) return covered(vis);
     for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
         const ls_real *cl = vis->clip + 4 * (size_t)v;
-        if (!(cl[2] + cl[3] >= (ls_real)0)) return;
+        if (!(cl[2] + cl[3] >= (ls_real)0)) return covered(vis);
     }
     for (y = 0; y < vis->sh; y += 4u) {
         const uint32_t *row = tri + (size_t)y * vis->sw;
         for (x = 0; x < vis->sw; x++) { /* counts in registers: increments of a counter in memory chain through it */
             uint32_t id = row[x];
             int sg;
-            if (id == 0 || id > tc) continue;
+            if (id == 0) continue;
+            cov++;
+            if (id > tc) continue;
             /* NOLINTNEXTLINE(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
             sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
             pos += (size_t)(sg > 0);
@@ -1899,6 +1914,7 @@ static void choose_cull(sctx *sc, const ls_edge_table *table, const signed char 
     }
     if (neg < pos / 64u) sc->cull = -1;
     if (pos < neg / 64u) sc->cull = 1;
+    return cov;
 }
 
 /* Candidate slots of a view: a piece's candidates come from one tile's bin,
@@ -1948,17 +1964,14 @@ static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const
 }
 
 /* The bins' tile side, 2^tl pixels: 2, 4 or 8 by the covered pixels per
- * triangle (counted on every 4th sample row): small triangles want small
- * tiles (fewer candidates per run), large ones large tiles (fewer entries
- * per triangle, fewer and longer runs). 2 x 2 is the smallest, so sizes
+ * triangle (cov: the covered samples on every 4th row, choose_cull's
+ * count): small triangles want small tiles (fewer candidates per run),
+ * large ones large tiles (fewer entries per triangle, fewer and longer runs). 2 x 2 is the smallest, so sizes
  * counted with 2 x 2 tiles (the bounds below) hold for every choice. */
-static void choose_tiles(sctx *sc)
+static void choose_tiles(sctx *sc, uint64_t cov)
 {
     const ls_vis *vis = sc->vis;
-    uint64_t cov = 0, ts = (uint64_t)sc->triangle_count * vis->ss * vis->ss;
-    uint32_t x, y;
-    for (y = 0; y < vis->sh; y += 4u)
-        for (x = 0; x < vis->sw; x++) cov += vis->tri[(size_t)y * vis->sw + x] != 0;
+    uint64_t ts = (uint64_t)sc->triangle_count * vis->ss * vis->ss;
     cov *= 4u; /* covered samples, estimated; ts: triangles x samples per pixel */
     sc->tl = 4u * cov < ts ? SIL_TILE_LOG2 : (cov < 4u * ts ? SIL_TILE_LOG2 + 1u : SIL_TILE_LOG2 + 2u);
     sc->tiles_x = (vis->width + (1u << sc->tl) - 1u) >> sc->tl;
@@ -1993,8 +2006,7 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (vis->triangle_count != triangle_count || table->triangle_count != triangle_count) return LS_ERR_INVALID;
     if (ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL) != LS_OK) return LS_ERR_MESH;
     sctx_init(&sc, vis, indices, triangle_count);
-    choose_tiles(&sc);
-    choose_cull(&sc, table, NULL);
+    choose_tiles(&sc, choose_cull(&sc, table, NULL));
     box_pass(&sc, count, &over);
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
@@ -2137,7 +2149,6 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     st = check_args(vis, table, indices, normals, opts, counts, diag);
     if (st != LS_OK) return st;
     sctx_init(&sc, vis, indices, triangle_count);
-    choose_tiles(&sc);
     sc.normals = normals;
     sc.o = opts;
     sc.m = mvp;
@@ -2154,8 +2165,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     mark = ls_arena_save(arena);
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
     zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
-    offs = zv ? (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 2u, sizeof(size_t)) : NULL;
-    sign = offs ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
+    sign = zv ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
     vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
     sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
     keep = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
@@ -2166,9 +2176,6 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     }
     for (h = 0; h < vertex_count; h++) {
         const ls_real *cl = vis->clip + 4 * (size_t)h;
-        win[2 * (size_t)h] = (ls_real)0;
-        win[2 * (size_t)h + 1] = (ls_real)0;
-        zv[h] = (ls_real)0;
         vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
         sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
         nfront += vfront[h];
@@ -2178,6 +2185,10 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
             zv[h] = cl[2] / cl[3];
             m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
             if (m > sc.wk) sc.wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
+        } else {
+            win[2 * (size_t)h] = (ls_real)0;
+            win[2 * (size_t)h + 1] = (ls_real)0;
+            zv[h] = (ls_real)0;
         }
     }
     sc.wk = ((ls_real)3 * sc.wk + sc.width) + sc.height;
@@ -2188,7 +2199,9 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.win = win;
     sc.zv = zv;
     sc.vfront = vfront;
-    for (t = 0; t < triangle_count; t++) {
+    for (t = 0; sc.allfront && t < triangle_count; t++) /* no per-triangle test */
+        sign[t] = (signed char)tri_sign_front(&sc, indices + 3 * (size_t)t, wkb);
+    for (t = 0; !sc.allfront && t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
         sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f, wkb)
                                                                                   : tri_sign(&sc, f));
@@ -2196,7 +2209,12 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sign[triangle_count] = 0; /* next_edge's sentinel for boundary twins */
     sc.sign = sign;
     sc.twin = table->twin;
-    choose_cull(&sc, table, sign);
+    choose_tiles(&sc, choose_cull(&sc, table, sign));
+    offs = (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 2u, sizeof(size_t)); /* by the tiles */
+    if (offs == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
     /* the faces not certain of the culled orientation (all when nothing is
      * culled), listed without a branch (orientations have no pattern):
      * next_edge's faces, and box_keep's after its cull test (false only for
