@@ -10,9 +10,11 @@
 #if LS_REAL_IS_FLOAT
 #define R_SQRT sqrtf
 #define R_MIN_NORMAL FLT_MIN
+#define R_MAX FLT_MAX
 #else
 #define R_SQRT sqrt
 #define R_MIN_NORMAL DBL_MIN
+#define R_MAX DBL_MAX
 #endif
 
 #define EDGE_TABLE_MAGIC 0x45544231u /* "ETB1" */
@@ -408,9 +410,10 @@ static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 static inline int box_fbox(const sctx *sc, const ls_real box[4], float fb[4])
 {
     ls_real xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
-    if ((box[0] - box[0]) + (box[1] - box[1]) + (box[2] - box[2]) + (box[3] - box[3]) != (ls_real)0) return 0;
-    if (box[2] < -SIL_MARGIN || box[0] > sc->width + SIL_MARGIN || box[3] < -SIL_MARGIN ||
-        box[1] > sc->height + SIL_MARGIN)
+    /* finite and meeting the image, each bound on its own range (NaN fails
+     * every comparison): x0 in [-max, width + margin], x1 in [-margin, max] */
+    if (!(box[0] >= -R_MAX && box[0] <= sc->width + SIL_MARGIN && box[2] >= -SIL_MARGIN && box[2] <= R_MAX &&
+          box[1] >= -R_MAX && box[1] <= sc->height + SIL_MARGIN && box[3] >= -SIL_MARGIN && box[3] <= R_MAX))
         return 0;
     /* the box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
     fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
