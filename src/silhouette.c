@@ -2093,10 +2093,14 @@ static SIL_INLINE void mark_faces(const sctx *sc, const uint32_t *list, uint32_t
 static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits, int open)
 {
     memset(bits, 0, (3 * (size_t)sc->triangle_count / 64u + 1u) * sizeof(uint64_t));
+#if SIL_SPECIALIZE
     if (open)
         mark_faces(sc, list, n, bits, 1);
     else
         mark_faces(sc, list, n, bits, 0);
+#else
+    mark_faces(sc, list, n, bits, open);
+#endif
 }
 
 /* Every silhouette edge (next_edge's marks), integrated in increasing order
