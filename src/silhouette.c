@@ -1145,8 +1145,8 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
                                       ls_real t0, ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
     /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
-    ls_real l[2], h[2], rx[4], ry[4], sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
-    int q, ok[2] = {1, 1}, s, side[4], above = 0, below = 0;
+    ls_real l[2], h[2], sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
+    int q, ok[2] = {1, 1}, s, up[4], dn[4], allup = 1, alldn = 1;
     if (n > 4) return 0; /* never (tri_poly): tells the unrolled loops */
     if (!front) {
         /* corners cut at the near plane: their own bound (window corners
@@ -1163,26 +1163,30 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
     }
     SIL_UNROLL
     for (q = 0; q < n; q++) {
-        rx[q] = x[q] - ed->a[0];
-        ry[q] = y[q] - ed->a[1];
-        sd[q] = ed->e[0] * ry[q] - ed->e[1] * rx[q];
+        /* the corner relative to a: recomputed (the same bits) by the edges that need it,
+         * not kept across the loops (they spilled) */
+        ls_real rx = x[q] - ed->a[0], ry = y[q] - ed->a[1];
+        sd[q] = ed->e[0] * ry - ed->e[1] * rx;
         /* without branches: which side a corner lies on is no pattern */
-        above += sd[q] > tau;
-        below += sd[q] < -tau;
-        side[q] = (sd[q] > tau) - (sd[q] < -tau);
+        up[q] = sd[q] > tau;
+        dn[q] = sd[q] < -tau;
+        allup &= up[q];
+        alldn &= dn[q];
     }
-    if (above == n || below == n) return 0;
+    if (allup | alldn) return 0;
     l[0] = l[1] = t0;
     h[0] = h[1] = t1;
     SIL_UNROLL
     for (q = 0; q < n; q++) {
         int q1 = q + 1 == n ? 0 : q + 1;
-        ls_real dx, dy, den, num, eta, r, blo, bhi;
-        if (side[q] != 0 && side[q] == side[q1]) continue;
+        ls_real dx, dy, den, num, eta, r, blo, bhi, rx, ry;
+        if ((up[q] & up[q1]) | (dn[q] & dn[q1])) continue; /* both corners on one side */
+        rx = x[q] - ed->a[0];
+        ry = y[q] - ed->a[1];
         dx = x[q1] - x[q];
         dy = y[q1] - y[q];
         den = ed->e[0] * dy - ed->e[1] * dx;
-        num = rx[q] * dy - ry[q] * dx;
+        num = rx * dy - ry * dx;
         eta = c0 + SIL_MARGIN * (r_abs(dx) > r_abs(dy) ? r_abs(dx) : r_abs(dy));
         if (den == (ls_real)0) { /* parallel: cr = num all along */
             if (num < -eta) ok[0] = 0;
@@ -1200,9 +1204,9 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
             bhi = w;
         }
         if (bhi > t0 && blo < t1) {
-            ls_real tt = (rx[q] * dy - ry[q] * dx) / den;
+            ls_real tt = (rx * dy - ry * dx) / den;
             if (tt > t0 && tt < t1) {
-                ls_real uu = (rx[q] * ed->e[1] - ry[q] * ed->e[0]) / den;
+                ls_real uu = (rx * ed->e[1] - ry * ed->e[0]) / den;
                 if (uu >= (ls_real)0 && uu <= (ls_real)1) sp[(*ns)++] = tt;
             }
         }
