@@ -323,6 +323,26 @@ static inline int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_r
     return 3;
 }
 
+/* tri_poly for a triangle every corner of which is in front (tri_front):
+ * its window corners. */
+static inline void tri_win(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
+{
+    int k;
+    SIL_UNROLL
+    for (k = 0; k < 3; k++) {
+        x[k] = sc->win[2 * (size_t)f[k]];
+        y[k] = sc->win[2 * (size_t)f[k] + 1];
+    }
+}
+
+/* Whether every corner of triangle f is in front of the eye (the pass's
+ * sc->vfront is never NULL); allfront: sc->allfront, in a local of the
+ * caller (a store through a uint32_t pointer may change an int). */
+static inline int tri_front(const sctx *sc, int allfront, const uint32_t *f)
+{
+    return allfront || (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0;
+}
+
 static ls_real hdet(const ls_real *a, const ls_real *b, const ls_real *c);
 
 /* Orientation of triangle f: the sign of the homogeneous determinant of its
@@ -1022,6 +1042,7 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
      * (as walk_front's); every point of the segment is in front of the eye (W > 0 at both ends) */
     ls_real ze = ed->za + t * (ed->zb - ed->za);
     uint32_t i = 0, best_id = 0;
+    const int allfront = sc->allfront;
     if (ze > (ls_real)1) return 0; /* beyond the far plane: not drawn */
     tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
     while (i < *nact) {
@@ -1036,10 +1057,11 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
         i++;
         if (unsorted && sc->clo[k] > t) continue; /* not begun */
         f = sc->indices + 3 * (size_t)id;
-        n = tri_poly(sc, f, x, y);
-        if ((sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) { /* tri_poly's corners from sc->win */
+        if (tri_front(sc, allfront, f)) { /* tri_poly's corners from sc->win */
+            tri_win(sc, f, x, y);
             if (!window_hold(sc, f, x, y, xw, yw, &zc)) continue;
         } else {
+            n = tri_poly_cut(sc, f, x, y);
             if (!poly_holds(x, y, n, xw, yw)) continue;
             if (!tri_point(sc, f, xw, yw, b, &zc)) continue;
             if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
@@ -1509,6 +1531,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     ls_real xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
     ls_real ya = ed->a[1] + t0 * ed->e[1], yb = ed->a[1] + t1 * ed->e[1];
     uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0, va = ed->va, vb = ed->vb;
+    const int allfront = sc->allfront;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
     if (run_hidden(sc, ed, run)) return;
@@ -1541,18 +1564,22 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         uint32_t id = sc->cact[k];
         const uint32_t *f;
         ls_real x[4], y[4], lo, hi;
-        int n;
+        int n, front;
         if (id == ed->ft || id == ed->fu) continue;
         f = sc->indices + 3 * (size_t)id;
         /* the call only for a face with an end vertex (about a sixth) */
         if ((((f[0] == va) | (f[0] == vb)) | ((f[1] == va) | (f[1] == vb)) | ((f[2] == va) | (f[2] == vb))) &&
             end_face_misses(sc, ed, f))
             continue;
-        n = tri_poly(sc, f, x, y);
-        if (n < 3) continue;
-        if (!cand_interval(ed, x, y, n, (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0, t0, t1, sp, &ns,
-                           &lo, &hi))
-            continue;
+        front = tri_front(sc, allfront, f);
+        if (front) {
+            tri_win(sc, f, x, y);
+            n = 3;
+        } else {
+            n = tri_poly_cut(sc, f, x, y);
+            if (n < 3) continue;
+        }
+        if (!cand_interval(ed, x, y, n, front, t0, t1, sp, &ns, &lo, &hi)) continue;
         sc->cid[ncand] = id;
         sc->chi[ncand] = hi;
         sc->clo[ncand] = lo;
