@@ -1278,7 +1278,7 @@ static int walk_face(const sctx *sc, const sedge *ed, uint32_t o)
  * combination inside), the segment's the interpolation of its ends'; the
  * face's is inside the clip range and below the segment's by four times
  * visibility()'s tolerance. */
-static int walk_front(const sedge *ed, const ls_real num[3], const ls_real den[3], const ls_real z[3], ls_real t)
+static SIL_INLINE int walk_front(const sedge *ed, const ls_real num[3], const ls_real den[3], const ls_real z[3], ls_real t)
 {
     ls_real c[3], sum, zc, ze = ed->za + t * (ed->zb - ed->za), tol, zt = (ls_real)256 * LS_REAL_EPSILON;
     int q;
@@ -1373,9 +1373,11 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
  * returns the parameter up to which the segment is proven hidden (ts when
  * nothing is). Stopped by SIL_WALK_CAP, it leaves in *next and *nin the
  * face and entry edge to go on from there (else *next = LS_EDGE_NONE).
- * first: o's walk_sides from walk_locate, or NULL. */
+ * first: o's walk_sides from walk_locate, or NULL; checked: 1 when an
+ * earlier walk_reach from o with first found o in front of the segment at
+ * ts (walk_front, its first step), which this one then does not test again. */
 static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t in, ls_real ts, ls_real tg,
-                          const ls_real *first, uint32_t *next, uint32_t *nin)
+                          const ls_real *first, int checked, uint32_t *next, uint32_t *nin)
 {
     ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
     uint32_t step;
@@ -1409,13 +1411,14 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
             if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
         SIL_UNROLL
         for (q = 0; q < 3u; q++) z[q] = sc->zv[sc->indices[3 * (size_t)o + q]];
-        if (!walk_front(ed, num, den, z, ts) || !walk_front(ed, num, den, z, tx)) return ts;
+        if ((!checked && !walk_front(ed, num, den, z, ts)) || !walk_front(ed, num, den, z, tx)) return ts;
         if (qx == 3u) return tx; /* tg reached */
         tw = sc->twin[3 * (size_t)o + qx];
         if (tw == LS_EDGE_NONE) return tx;
         o = tw / 3u;
         in = tw % 3u;
         ts = tx;
+        checked = 0;
     }
     *next = o;
     *nin = in;
@@ -1449,7 +1452,7 @@ LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
     if (sc->twin == NULL) return 0;
     if (ed->wok && t1 <= ed->wtb) return 1; /* proven by an earlier walk */
     if (ed->wok && ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
-        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, &nx, &nin);
+        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
         ed->wtb = reach;
         ed->wnext = nx;
         ed->wnin = nin;
@@ -1463,8 +1466,9 @@ LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
     /* the surface drawn there behind the segment's depth: no walk in front starts there */
     if (vis->depth[(size_t)sy * vis->sw + sx] > ed->za + tm * (ed->zb - ed->za)) return 0;
     id = walk_locate(sc, ed, id - 1u, tm, w);
-    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, w, &nx, &nin) != t0) return 0;
-    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, &nx, &nin);
+    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, w, 0, &nx, &nin) != t0) return 0;
+    /* that walk passed its first step's walk_front at tm unless it returned tm (t0 == tm) */
+    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, t0 != tm, &nx, &nin);
     ed->wok = 1;
     ed->wtb = reach;
     ed->wnext = nx;
