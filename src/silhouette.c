@@ -1263,7 +1263,7 @@ static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, in
 /* Whether triangle o can stand in front of the segment in a walk: not its
  * faces, every corner in front of the eye, binned (not culled, inside the
  * image). */
-static int walk_face(const sctx *sc, const sedge *ed, uint32_t o)
+static SIL_INLINE int walk_face(const sctx *sc, const sedge *ed, uint32_t o)
 {
     const uint32_t *f = sc->indices + 3 * (size_t)o;
     if (o >= sc->triangle_count || o == ed->ft || o == ed->fu) return 0;
@@ -1311,7 +1311,7 @@ static SIL_INLINE int walk_front(const sedge *ed, const ls_real num[3], const ls
  * face): c_q(t) = num_q - t den_q, positive inside, and the margin m_q
  * (c0 as cand_interval's, far above rounding) they must exceed to count as inside; 0 when the
  * triangle is degenerate on screen. */
-static int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3], ls_real den[3], ls_real m[3])
+static SIL_INLINE int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3], ls_real den[3], ls_real m[3])
 {
     const uint32_t *f = sc->indices + 3 * (size_t)o;
     ls_real x[3], y[3], sg, mc = (ls_real)0, c0;
