@@ -1271,21 +1271,20 @@ static SIL_INLINE int walk_face(const sctx *sc, const sedge *ed, uint32_t o)
     return !(sc->tbox[4 * (size_t)o] > sc->tbox[4 * (size_t)o + 2]);
 }
 
-/* Whether walk face o, whose edge sides (walk_sides) at t are num - t den
+/* Whether walk face o, whose edge sides (walk_sides) at t are cs = num - t den
  * and whose corners have NDC depths z, is in front of the segment at t by
  * a margin: NDC depth is affine in window position, so the face's is the
  * corners' weighted by the sides of the opposite edges (a convex
  * combination inside), the segment's the interpolation of its ends'; the
  * face's is inside the clip range and below the segment's by four times
  * visibility()'s tolerance. */
-static SIL_INLINE int walk_front(const sedge *ed, const ls_real num[3], const ls_real den[3], const ls_real z[3], ls_real t)
+static SIL_INLINE int walk_front(const sedge *ed, const ls_real cs[3], const ls_real z[3], ls_real t)
 {
     ls_real c[3], sum, zc, ze = ed->za + t * (ed->zb - ed->za), tol, zt = (ls_real)256 * LS_REAL_EPSILON;
     int q;
     SIL_UNROLL
     for (q = 0; q < 3; q++) {
-        c[q] = num[q] - t * den[q];
-        if (!(c[q] > (ls_real)0)) c[q] = (ls_real)0;
+        c[q] = cs[q] > (ls_real)0 ? cs[q] : (ls_real)0;
     }
     sum = (c[0] + c[1]) + c[2];
     if (!(sum > (ls_real)0)) return 0;
@@ -1384,7 +1383,7 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
     *next = LS_EDGE_NONE;
     *nin = 3u;
     for (step = 0; step < SIL_WALK_CAP; step++) {
-        ls_real own[9], z[3], tx = tg;
+        ls_real own[9], z[3], cs[3], cx[3], tx = tg;
         const ls_real *num = own, *den = own + 3, *m = own + 6;
         uint32_t q, qx = 3u, tw;
         if (step == 0 && first != NULL) {
@@ -1396,7 +1395,8 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         }
         SIL_UNROLL
         for (q = 0; q < 3u; q++) {
-            if (q != in && num[q] - ts * den[q] < m[q]) return ts; /* ts not inside by the margin */
+            cs[q] = num[q] - ts * den[q];
+            if (q != in && cs[q] < m[q]) return ts; /* ts not inside by the margin */
             /* c_q falls along the walk: it leaves through q where c_q = 0 */
             if (q != in && d * den[q] > (ls_real)0) {
                 ls_real tq = num[q] / den[q];
@@ -1407,11 +1407,13 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
             }
         }
         SIL_UNROLL
-        for (q = 0; q < 3u; q++)
-            if (q != qx && num[q] - tx * den[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
+        for (q = 0; q < 3u; q++) {
+            cx[q] = num[q] - tx * den[q];
+            if (q != qx && cx[q] < m[q]) return ts; /* tx not inside (a corner, or tg) */
+        }
         SIL_UNROLL
         for (q = 0; q < 3u; q++) z[q] = sc->zv[sc->indices[3 * (size_t)o + q]];
-        if ((!checked && !walk_front(ed, num, den, z, ts)) || !walk_front(ed, num, den, z, tx)) return ts;
+        if ((!checked && !walk_front(ed, cs, z, ts)) || !walk_front(ed, cx, z, tx)) return ts;
         if (qx == 3u) return tx; /* tg reached */
         tw = sc->twin[3 * (size_t)o + qx];
         if (tw == LS_EDGE_NONE) return tx;
