@@ -1347,19 +1347,24 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
     ls_real *num = w, *den = w + 3, *m = w + 6;
     uint32_t step;
     for (step = 0; step < SIL_WALK_CAP; step++) {
-        ls_real worst = (ls_real)0;
+        ls_real worst = (ls_real)0, c[3];
         uint32_t q, qw = 3u, tw;
         if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return LS_EDGE_NONE;
         SIL_UNROLL
+        for (q = 0; q < 3u; q++) c[q] = num[q] - t * den[q];
+        /* inside by the margins (most tries): no division */
+        if (c[0] >= m[0] && c[1] >= m[1] && c[2] >= m[2]) return o;
+        SIL_UNROLL
         for (q = 0; q < 3u; q++) {
-            ls_real c = (num[q] - t * den[q]) / m[q];
-            if (c < (ls_real)1 && (qw == 3u || c < worst)) {
-                worst = c;
-                qw = q;
+            if (!(c[q] >= m[q])) {
+                ls_real r = c[q] / m[q];
+                if (qw == 3u || r < worst) {
+                    worst = r;
+                    qw = q;
+                }
             }
         }
-        if (qw == 3u) return o;
-        if (worst > (ls_real)0) return LS_EDGE_NONE; /* inside, but too near an edge */
+        if (!(worst <= (ls_real)0)) return LS_EDGE_NONE; /* inside, but too near an edge (or NaN) */
         tw = sc->twin[3 * (size_t)o + qw];
         if (tw == LS_EDGE_NONE) return LS_EDGE_NONE;
         o = tw / 3u;
