@@ -1383,7 +1383,7 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
 static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t in, ls_real ts, ls_real tg,
                           const ls_real *first, int checked, uint32_t *next, uint32_t *nin)
 {
-    ls_real d = tg > ts ? (ls_real)1 : (ls_real)-1;
+    int up = tg > ts; /* the direction of the walk along t */
     uint32_t step;
     *next = LS_EDGE_NONE;
     *nin = 3u;
@@ -1403,9 +1403,9 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
             cs[q] = num[q] - ts * den[q];
             if (q != in && cs[q] < m[q]) return ts; /* ts not inside by the margin */
             /* c_q falls along the walk: it leaves through q where c_q = 0 */
-            if (q != in && d * den[q] > (ls_real)0) {
+            if (q != in && (up ? den[q] > (ls_real)0 : den[q] < (ls_real)0)) {
                 ls_real tq = num[q] / den[q];
-                if (d * (tq - tx) < (ls_real)0) {
+                if (up ? tq < tx : tq > tx) {
                     tx = tq;
                     qx = q;
                 }
