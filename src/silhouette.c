@@ -1289,8 +1289,8 @@ static SIL_INLINE int walk_front(const sedge *ed, const ls_real cs[3], const ls_
     sum = (c[0] + c[1]) + c[2];
     if (!(sum > (ls_real)0)) return 0;
     zc = ((c[0] * z[2] + c[1] * z[0]) + c[2] * z[1]) / sum;
-    tol = (ls_real)64 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze));
-    return zc > (ls_real)-1 + zt && zc < (ls_real)1 - zt && zc < ze - (ls_real)4 * tol;
+    tol = (ls_real)256 * LS_REAL_EPSILON * ((ls_real)1 + r_abs(ze)); /* four times visibility()'s (exact: powers of 2) */
+    return zc > (ls_real)-1 + zt && zc < (ls_real)1 - zt && zc < ze - tol;
 }
 
 #define SIL_WALK_CAP 24 /* triangles a walk crosses before it gives up */
