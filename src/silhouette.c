@@ -624,6 +624,7 @@ typedef struct spiece {
      * of the areas, and the sign of sum a_k W_k = w0 + s dw tells the eye's side;
      * q = (c0, c2, s0, ds, w0, dw, c1, 0), the pairs as quad_side makes them */
     ls_real q[2][8];
+    ls_real G[20];   /* quad_piece's form, each entry twice (quad_side's pairs): here, not in a frame (the MCU's stack) */
     ls_real gbg;     /* g . background (beh = 0) */
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
 } spiece;
@@ -779,7 +780,7 @@ static inline ls_real quad_form(const ls_real *G, const ls_real *u, const ls_rea
  * values at lo (j = 0) and their changes (j = 1) go through the same
  * arithmetic side by side, which the compiler does in pairs (SLP); q is
  * stored last, after the loads. */
-static void quad_side(const sctx *sc, const aspan *sp, const ls_real *G, ls_real q[8])
+static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G, ls_real *restrict q)
 {
     const ls_real(*a)[2] = sp->ad;
     ls_real h[8], w[3], v[8]; /* h[2 r + j]: H's entry r */
@@ -823,11 +824,11 @@ static int quad_sure(const ls_real q[8])
 static void quad_piece(const sctx *sc, spiece *pc)
 {
     const ls_real *g = sc->gimg + 4 * pc->p;
-    ls_real G[20];
+    ls_real *G = pc->G, g0 = g[0], g1 = g[1], g2 = g[2];
+    const ls_real *shm = sc->shm;
     int j;
     SIL_UNROLL
-    for (j = 0; j < 10; j++)
-        G[2 * j] = G[2 * j + 1] = (g[0] * sc->shm[j] + g[1] * sc->shm[10 + j]) + g[2] * sc->shm[20 + j];
+    for (j = 0; j < 10; j++) G[2 * j] = G[2 * j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
     pc->sure = quad_sure(pc->q[0]);
     if (pc->beh != 0) {
@@ -2206,16 +2207,23 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     }
 }
 
-ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                 uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                                 const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
-                                 const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
-                                 ls_diag *diag)
+/* The pass's per-view set-up, after sctx_init: window positions and
+ * depths, orientations, culling, tiles, the contour marks (bits), boxes,
+ * bins and the candidate slots, all in scratch. Out of line: its locals
+ * stay out of the frame that the deep chain below edges_pass adds to (the
+ * MCU's 4 KiB job stack). */
+LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, uint32_t vertex_count,
+                                        uint64_t **bitsp, ls_arena *arena)
 {
-    sctx sc;
-    uint32_t t, h, counts[2], *keep, nkeep = 0, nfront = 0;
+    /* a copy of its own: the compiler keeps a local context's fields in
+     * registers across the byte stores of the orientations, which may
+     * alias anything reached through a pointer (0.3M instructions a view) */
+    sctx own = *out, *sc = &own;
+    const ls_vis *vis = sc->vis;
+    const uint32_t *indices = sc->indices;
+    uint32_t t, h, triangle_count = sc->triangle_count, *keep, nkeep = 0, nfront = 0, behind = 0;
+    ls_real wk = (ls_real)0;
     int cull;
-    ls_arena_mark mark;
     size_t count[2] = {0, 0}, slots;
     int over = 0;
     signed char *sign;
@@ -2224,6 +2232,97 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     size_t *offs;
     uint32_t *ent;
     uint64_t *bits;
+    win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
+    zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
+    sign = zv ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
+    vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
+    sc->tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
+    keep = sc->tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
+    bits = keep ? (uint64_t *)ls_arena_scratch(arena, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)) : NULL;
+    if (bits == NULL) return LS_ERR_NOMEM;
+    for (h = 0; h < vertex_count; h++) { /* behind and wk in registers, not through sc */
+        const ls_real *cl = vis->clip + 4 * (size_t)h;
+        vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
+        behind += !(cl[2] + cl[3] >= (ls_real)0);
+        nfront += vfront[h];
+        if (vfront[h]) {
+            ls_real m;
+            window_of(sc, cl, win + 2 * (size_t)h);
+            zv[h] = cl[2] / cl[3];
+            m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
+            if (m > wk) wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
+        } else {
+            win[2 * (size_t)h] = (ls_real)0;
+            win[2 * (size_t)h + 1] = (ls_real)0;
+            zv[h] = (ls_real)0;
+        }
+    }
+    sc->behind = behind;
+    sc->wk = ((ls_real)3 * wk + sc->width) + sc->height;
+    sc->allfront = nfront == vertex_count;
+    /* with M = max(|x| + |y|) <= wk / 3, each |d| sum is at most 4 M and |t1|, |t2| at most 4 M^2:
+     * tri_sign_front's bound is below 16 eps (20 wk^2 / 9 + eps wk) + 64 min, far below this */
+    wkb = (ls_real)64 * LS_REAL_EPSILON * sc->wk * (sc->wk + (ls_real)1) + (ls_real)128 * R_MIN_NORMAL;
+    sc->win = win;
+    sc->zv = zv;
+    sc->vfront = vfront;
+    for (t = 0; sc->allfront && t < triangle_count; t++) /* no per-triangle test */
+        sign[t] = (signed char)tri_sign_front(sc, indices + 3 * (size_t)t, wkb);
+    for (t = 0; !sc->allfront && t < triangle_count; t++) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(sc, f, wkb)
+                                                                                  : tri_sign(sc, f));
+    }
+    sign[triangle_count] = 0; /* next_edge's sentinel for boundary twins */
+    sc->sign = sign;
+    sc->twin = table->twin;
+    choose_tiles(sc, choose_cull(sc, table, sign));
+    offs = (size_t *)ls_arena_scratch(arena, (size_t)sc->tiles_x * sc->tiles_y + 2u, sizeof(size_t)); /* by the tiles */
+    if (offs == NULL) return LS_ERR_NOMEM;
+    /* the faces not certain of the culled orientation (all when nothing is
+     * culled), listed without a branch (orientations have no pattern):
+     * next_edge's faces, and box_keep's after its cull test (false only for
+     * the few uncertain ones); the others stay unbinned (x0 > x1) */
+    cull = sc->cull;
+    for (t = 0; t < triangle_count; t++) {
+        float *fb = sc->tbox + 4 * (size_t)t;
+        fb[0] = 1.0f;
+        fb[2] = 0.0f;
+        keep[nkeep] = t;
+        nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+    }
+    next_edge(sc, keep, nkeep, bits, table->boundary_edges != 0);
+    nkeep = box_keep(sc, keep, nkeep, offs, count, &over);
+    slots = slot_count(count[1], count[0]);
+    if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    ent = (uint32_t *)ls_arena_scratch(arena, count[0] + 1u, sizeof(uint32_t)); /* bin_pass's spare slot */
+    sc->cid = ent ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc->chi = sc->cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
+    sc->clo = sc->chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
+    sc->cord = sc->clo ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc->cact = sc->cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
+    sc->split = sc->cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
+    sc->piece = sc->split ? (spiece *)ls_arena_scratch(arena, 1, sizeof(spiece)) : NULL;
+    if (sc->piece == NULL) return LS_ERR_NOMEM;
+    memset(sc->piece, 0, sizeof *sc->piece); /* once: integrate sets, per sub-piece, what it reads */
+    bin_pass(sc, keep, nkeep, offs, ent);
+    sc->offs = offs;
+    sc->ent = ent;
+    *bitsp = bits;
+    *out = own;
+    return LS_OK;
+}
+
+ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                 uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                 const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
+                                 const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
+                                 ls_diag *diag)
+{
+    sctx sc;
+    uint32_t t, counts[2];
+    ls_arena_mark mark;
+    uint64_t *bits = NULL;
     ls_status st;
     if (mvp == NULL || grad_image == NULL || grad_positions == NULL || arena == NULL) return LS_ERR_INVALID;
     counts[0] = triangle_count;
@@ -2245,93 +2344,11 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     sc.qtol = 1e-9;
 #endif
     mark = ls_arena_save(arena);
-    win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
-    zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
-    sign = zv ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
-    vfront = sign ? (unsigned char *)ls_arena_scratch(arena, (size_t)vertex_count, 1) : NULL;
-    sc.tbox = vfront ? (float *)ls_arena_scratch(arena, (size_t)triangle_count, 4 * sizeof(float)) : NULL;
-    keep = sc.tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
-    bits = keep ? (uint64_t *)ls_arena_scratch(arena, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)) : NULL;
-    if (bits == NULL) {
+    st = setup_pass(&sc, table, vertex_count, &bits, arena);
+    if (st != LS_OK) {
         ls_arena_restore(arena, mark);
-        return LS_ERR_NOMEM;
+        return st;
     }
-    for (h = 0; h < vertex_count; h++) {
-        const ls_real *cl = vis->clip + 4 * (size_t)h;
-        vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
-        sc.behind += !(cl[2] + cl[3] >= (ls_real)0);
-        nfront += vfront[h];
-        if (vfront[h]) {
-            ls_real m;
-            window_of(&sc, cl, win + 2 * (size_t)h);
-            zv[h] = cl[2] / cl[3];
-            m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
-            if (m > sc.wk) sc.wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
-        } else {
-            win[2 * (size_t)h] = (ls_real)0;
-            win[2 * (size_t)h + 1] = (ls_real)0;
-            zv[h] = (ls_real)0;
-        }
-    }
-    sc.wk = ((ls_real)3 * sc.wk + sc.width) + sc.height;
-    sc.allfront = nfront == vertex_count;
-    /* with M = max(|x| + |y|) <= wk / 3, each |d| sum is at most 4 M and |t1|, |t2| at most 4 M^2:
-     * tri_sign_front's bound is below 16 eps (20 wk^2 / 9 + eps wk) + 64 min, far below this */
-    wkb = (ls_real)64 * LS_REAL_EPSILON * sc.wk * (sc.wk + (ls_real)1) + (ls_real)128 * R_MIN_NORMAL;
-    sc.win = win;
-    sc.zv = zv;
-    sc.vfront = vfront;
-    for (t = 0; sc.allfront && t < triangle_count; t++) /* no per-triangle test */
-        sign[t] = (signed char)tri_sign_front(&sc, indices + 3 * (size_t)t, wkb);
-    for (t = 0; !sc.allfront && t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(&sc, f, wkb)
-                                                                                  : tri_sign(&sc, f));
-    }
-    sign[triangle_count] = 0; /* next_edge's sentinel for boundary twins */
-    sc.sign = sign;
-    sc.twin = table->twin;
-    choose_tiles(&sc, choose_cull(&sc, table, sign));
-    offs = (size_t *)ls_arena_scratch(arena, (size_t)sc.tiles_x * sc.tiles_y + 2u, sizeof(size_t)); /* by the tiles */
-    if (offs == NULL) {
-        ls_arena_restore(arena, mark);
-        return LS_ERR_NOMEM;
-    }
-    /* the faces not certain of the culled orientation (all when nothing is
-     * culled), listed without a branch (orientations have no pattern):
-     * next_edge's faces, and box_keep's after its cull test (false only for
-     * the few uncertain ones); the others stay unbinned (x0 > x1) */
-    cull = sc.cull;
-    for (t = 0; t < triangle_count; t++) {
-        float *fb = sc.tbox + 4 * (size_t)t;
-        fb[0] = 1.0f;
-        fb[2] = 0.0f;
-        keep[nkeep] = t;
-        nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
-    }
-    next_edge(&sc, keep, nkeep, bits, table->boundary_edges != 0);
-    nkeep = box_keep(&sc, keep, nkeep, offs, count, &over);
-    slots = slot_count(count[1], count[0]);
-    if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) {
-        ls_arena_restore(arena, mark);
-        return LS_ERR_TOO_LARGE;
-    }
-    ent = (uint32_t *)ls_arena_scratch(arena, count[0] + 1u, sizeof(uint32_t)); /* bin_pass's spare slot */
-    sc.cid = ent ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
-    sc.chi = sc.cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
-    sc.clo = sc.chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
-    sc.cord = sc.clo ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
-    sc.cact = sc.cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
-    sc.split = sc.cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
-    sc.piece = sc.split ? (spiece *)ls_arena_scratch(arena, 1, sizeof(spiece)) : NULL;
-    if (sc.piece == NULL) {
-        ls_arena_restore(arena, mark);
-        return LS_ERR_NOMEM;
-    }
-    memset(sc.piece, 0, sizeof *sc.piece); /* once: integrate sets, per sub-piece, what it reads */
-    bin_pass(&sc, keep, nkeep, offs, ent);
-    sc.offs = offs;
-    sc.ent = ent;
     edges_pass(&sc, table, bits);
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
