@@ -408,13 +408,12 @@ static inline void corner_box(const ls_real *p0, const ls_real *p1, const ls_rea
  * has none. */
 static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 {
-    int k;
     if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
         /* every corner in front (most triangles): the box of the window corners */
         corner_box(sc->win + 2 * (size_t)f[0], sc->win + 2 * (size_t)f[1], sc->win + 2 * (size_t)f[2], box);
     } else {
         ls_real x[4], y[4];
-        int n = tri_poly(sc, f, x, y);
+        int k, n = tri_poly(sc, f, x, y);
         if (n < 3) return 0;
         box[0] = box[2] = x[0];
         box[1] = box[3] = y[0];
@@ -828,7 +827,7 @@ static void quad_piece(const sctx *sc, spiece *pc)
     const ls_real *shm = sc->shm;
     int j;
     SIL_UNROLL
-    for (j = 0; j < 10; j++) G[2 * j] = G[2 * j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
+    for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
     pc->sure = quad_sure(pc->q[0]);
     if (pc->beh != 0) {
@@ -1050,7 +1049,6 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
         uint32_t k = sc->cact[i], id = sc->cid[k];
         const uint32_t *f;
         ls_real x[4], y[4];
-        int n;
         if (sc->chi[k] < t) { /* its interval is behind: never needed again */
             sc->cact[i] = sc->cact[--*nact];
             continue;
@@ -1062,7 +1060,7 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
             tri_win(sc, f, x, y);
             if (!window_hold(sc, f, x, y, xw, yw, &zc)) continue;
         } else {
-            n = tri_poly_cut(sc, f, x, y);
+            int n = tri_poly_cut(sc, f, x, y);
             if (!poly_holds(x, y, n, xw, yw)) continue;
             if (!tri_point(sc, f, xw, yw, b, &zc)) continue;
             if (b[0] < (ls_real)0 || b[1] < (ls_real)0 || b[2] < (ls_real)0) continue;
@@ -1566,7 +1564,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
             uint32_t id = ent[k];
             const float *bx = tbox + 4 * (size_t)id;
             /* the hit as a product of the four negated misses: one add, no 1 - miss */
-            size_t hit = (size_t)(!(bx[2] < fx0) & !(bx[0] > fx1)) & (size_t)(!(bx[3] < fy0) & !(bx[1] > fy1));
+            size_t hit = (size_t)((!(bx[2] < fx0)) & (!(bx[0] > fx1))) & (size_t)((!(bx[3] < fy0)) & (!(bx[1] > fy1)));
             out[nh] = id;
             nh += hit;
         }
