@@ -516,14 +516,7 @@ ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, 
 {
     ls_real a[3], sum;
     int k;
-    for (k = 0; k < 3; k++) {
-        const ls_real *cl = clip + 4 * (size_t)f[k];
-        u[k] = cl[0] - px * cl[3];
-        v[k] = cl[1] - py * cl[3];
-    }
-    a[0] = u[1] * v[2] - u[2] * v[1];
-    a[1] = u[2] * v[0] - u[0] * v[2];
-    a[2] = u[0] * v[1] - u[1] * v[0];
+    ls_clip_areas(clip, f, px, py, u, v, a);
     sum = (a[0] + a[1]) + a[2];
     if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return (ls_real)0;
     for (k = 0; k < 3; k++) b[k] = a[k] / sum;

@@ -212,17 +212,8 @@ static void shading_backward(const bctx *bc, const uint32_t *f, const ls_real b[
 static BWD_INLINE int sample_bary(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
                                   ls_real v[3], ls_real b[3], ls_real *inv)
 {
-    const ls_real *c0 = clip + 4 * (size_t)f[0], *c1 = clip + 4 * (size_t)f[1], *c2 = clip + 4 * (size_t)f[2];
     ls_real sum, r;
-    u[0] = c0[0] - px * c0[3];
-    v[0] = c0[1] - py * c0[3];
-    u[1] = c1[0] - px * c1[3];
-    v[1] = c1[1] - py * c1[3];
-    u[2] = c2[0] - px * c2[3];
-    v[2] = c2[1] - py * c2[3];
-    b[0] = u[1] * v[2] - u[2] * v[1];
-    b[1] = u[2] * v[0] - u[0] * v[2];
-    b[2] = u[0] * v[1] - u[1] * v[0];
+    ls_clip_areas(clip, f, px, py, u, v, b);
     sum = (b[0] + b[1]) + b[2];
     if (!(sum != (ls_real)0) || sum - sum != (ls_real)0) return 0;
     r = (ls_real)1 / sum;

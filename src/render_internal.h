@@ -39,6 +39,24 @@ ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_c
 ls_real ls_clip_barycentric(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
                             ls_real v[3], ls_real b[3]);
 
+/* ls_clip_barycentric's first part: u, v and the areas a = u x v (b = a /
+ * sum(a)), for callers that need no b (the silhouette pass's spans). */
+static inline void ls_clip_areas(const ls_real *clip, const uint32_t *f, ls_real px, ls_real py, ls_real u[3],
+                                 ls_real v[3], ls_real a[3])
+{
+    /* unrolled by hand: gcc -O2 keeps small loops over arrays in memory */
+    const ls_real *c0 = clip + 4 * (size_t)f[0], *c1 = clip + 4 * (size_t)f[1], *c2 = clip + 4 * (size_t)f[2];
+    u[0] = c0[0] - px * c0[3];
+    v[0] = c0[1] - py * c0[3];
+    u[1] = c1[0] - px * c1[3];
+    v[1] = c1[1] - py * c1[3];
+    u[2] = c2[0] - px * c2[3];
+    v[2] = c2[1] - py * c2[3];
+    a[0] = u[1] * v[2] - u[2] * v[1];
+    a[1] = u[2] * v[0] - u[0] * v[2];
+    a[2] = u[0] * v[1] - u[1] * v[0];
+}
+
 /* ls_shade_point: the colour of triangle f at barycentrics b under opts (as
  * ls_shade computes each covered sample). O(lights). (shade.c) */
 void ls_shade_point(const ls_shade_opts *opts, const uint32_t *f, const ls_real *normals, const ls_real b[3],

@@ -157,7 +157,7 @@ typedef struct sctx {
     const ls_real *gimg;
     const ls_real *win;  /* [2 V] window position of the vertices in front of the near plane, or NULL */
     const unsigned char *vfront; /* [V] 1 for those vertices (Z + W >= 0, W > 0), or NULL */
-    const ls_real *zv;   /* [V] NDC depth Z / W of those vertices (walk_reach) */
+    const ls_real *zv;   /* [V] NDC depth Z / W of those vertices (walks, window_hold, segment ends) */
     uint32_t behind;     /* vertices behind the near plane (Z + W < 0) */
     const size_t *offs;  /* [tiles + 1] bin starts */
     const uint32_t *ent; /* bin entries: triangle indices, increasing within a bin */
@@ -310,19 +310,6 @@ LS_NOINLINE static int tri_poly_cut(const sctx *sc, const uint32_t *f, ls_real x
 /* The window polygon of triangle f clipped at the near plane (3 or 4
  * corners, 0 when nothing is in front); each clipped corner is computed
  * from the behind vertex, as the segment ends are. */
-static inline int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
-{
-    int k;
-    if (sc->vfront == NULL || (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) == 0)
-        return tri_poly_cut(sc, f, x, y);
-    SIL_UNROLL
-    for (k = 0; k < 3; k++) { /* every corner in front: its window position */
-        x[k] = sc->win[2 * (size_t)f[k]];
-        y[k] = sc->win[2 * (size_t)f[k] + 1];
-    }
-    return 3;
-}
-
 /* tri_poly for a triangle every corner of which is in front (tri_front):
  * its window corners. */
 static inline void tri_win(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
@@ -333,6 +320,14 @@ static inline void tri_win(const sctx *sc, const uint32_t *f, ls_real x[4], ls_r
         x[k] = sc->win[2 * (size_t)f[k]];
         y[k] = sc->win[2 * (size_t)f[k] + 1];
     }
+}
+
+static inline int tri_poly(const sctx *sc, const uint32_t *f, ls_real x[4], ls_real y[4])
+{
+    if (sc->vfront == NULL || (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) == 0)
+        return tri_poly_cut(sc, f, x, y);
+    tri_win(sc, f, x, y);
+    return 3;
 }
 
 /* Whether every corner of triangle f is in front of the eye (the pass's
@@ -628,23 +623,14 @@ typedef struct spiece {
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
 } spiece;
 
-/* ls_clip_barycentric's u, v and a = u x v, the same arithmetic, without
- * its call and the divisions of b, which are not used. */
+/* The areas of triangle f at the segment's point t (ls_clip_areas: no
+ * divisions for barycentrics, which are not used). */
 static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_real t, ls_real a[3])
 {
     ls_real px = (ls_real)2 * (ed->a[0] + t * ed->e[0]) / sc->width - (ls_real)1;
     ls_real py = (ls_real)1 - (ls_real)2 * (ed->a[1] + t * ed->e[1]) / sc->height;
     ls_real u[3], v[3];
-    int k;
-    SIL_UNROLL
-    for (k = 0; k < 3; k++) {
-        const ls_real *cl = sc->vis->clip + 4 * (size_t)f[k];
-        u[k] = cl[0] - px * cl[3];
-        v[k] = cl[1] - py * cl[3];
-    }
-    a[0] = u[1] * v[2] - u[2] * v[1];
-    a[1] = u[2] * v[0] - u[0] * v[2];
-    a[2] = u[0] * v[1] - u[1] * v[0];
+    ls_clip_areas(sc->vis->clip, f, px, py, u, v, a);
 }
 
 /* inv: 1 / (hi - lo), or 0 when lo = hi (the own face's span has it). */
@@ -1783,6 +1769,20 @@ static void end_make(const sctx *sc, uint32_t v, uint32_t w, endp *ep)
     }
 }
 
+/* Window position w and NDC depth *z of segment end ep: a vertex's from
+ * the pass's arrays (the same bits, no divisions), a cut end's computed. */
+static inline void end_window(const sctx *sc, const endp *ep, ls_real w[2], ls_real *z)
+{
+    if (ep->clipped) {
+        window_of(sc, ep->c, w);
+        *z = ep->c[2] / ep->c[3];
+        return;
+    }
+    w[0] = sc->win[2 * (size_t)ep->v];
+    w[1] = sc->win[2 * (size_t)ep->v + 1];
+    *z = sc->zv[ep->v];
+}
+
 /* One silhouette segment A -> B of face ft (twin fu), its ends those of
  * the edges v[0] -> v[1] and v[2] -> v[3] (end_make); C: a point of the
  * face off the segment's line (clip space), which tells the covered side. */
@@ -1811,23 +1811,8 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.wnin = 3u;
     ed.ka = (ls_real)0;
     ed.kb = (ls_real)0;
-    /* an end at a vertex: its window position and depth (the same bits) */
-    if (ea->clipped) {
-        window_of(sc, ea->c, ed.a);
-        ed.za = ea->c[2] / ea->c[3];
-    } else {
-        ed.a[0] = sc->win[2 * (size_t)ea->v];
-        ed.a[1] = sc->win[2 * (size_t)ea->v + 1];
-        ed.za = sc->zv[ea->v];
-    }
-    if (eb->clipped) {
-        window_of(sc, eb->c, b);
-        ed.zb = eb->c[2] / eb->c[3];
-    } else {
-        b[0] = sc->win[2 * (size_t)eb->v];
-        b[1] = sc->win[2 * (size_t)eb->v + 1];
-        ed.zb = sc->zv[eb->v];
-    }
+    end_window(sc, ea, ed.a, &ed.za);
+    end_window(sc, eb, b, &ed.zb);
     ed.e[0] = b[0] - ed.a[0];
     ed.e[1] = b[1] - ed.a[1];
     ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
