@@ -1298,25 +1298,31 @@ static SIL_INLINE int walk_front(const sedge *ed, const ls_real cs[3], const ls_
 static SIL_INLINE int walk_sides(const sctx *sc, const sedge *ed, uint32_t o, ls_real num[3], ls_real den[3], ls_real m[3])
 {
     const uint32_t *f = sc->indices + 3 * (size_t)o;
-    ls_real x[3], y[3], sg, mc = (ls_real)0, c0;
+    ls_real x[3], y[3], rx[3], ry[3], sg, mc = (ls_real)0, c0;
     uint32_t q;
     SIL_UNROLL
     for (q = 0; q < 3u; q++) {
         ls_real v;
         x[q] = sc->win[2 * (size_t)f[q]];
         y[q] = sc->win[2 * (size_t)f[q] + 1];
-        v = r_abs(x[q]) + r_abs(y[q]);
+        rx[q] = x[q] - ed->a[0];
+        ry[q] = y[q] - ed->a[1];
+        v = r_abs(rx[q]) + r_abs(ry[q]);
         if (v > mc) mc = v;
     }
     sg = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
     sg = sg > (ls_real)0 ? (ls_real)1 : (sg < (ls_real)0 ? (ls_real)-1 : (ls_real)0);
     if (sg == (ls_real)0) return 0;
-    c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+    /* the rounding of c_q = num_q - t den_q (t in [0, 1]) from the corners'
+     * offsets to a (mc bounds |x - a0| + |y - a1|, so |dx|, |dy| <= 2 mc):
+     * below 4 eps (2 mc^2 + 2 mc eabs); not from the corners' magnitudes,
+     * which in float put the margin pixels inside and no walk got through */
+    c0 = (ls_real)16 * LS_REAL_EPSILON * mc * (mc + ed->eabs) + (ls_real)64 * R_MIN_NORMAL;
     SIL_UNROLL
     for (q = 0; q < 3u; q++) {
         uint32_t q1 = q == 2u ? 0u : q + 1u;
         ls_real dx = x[q1] - x[q], dy = y[q1] - y[q];
-        num[q] = sg * ((x[q] - ed->a[0]) * dy - (y[q] - ed->a[1]) * dx);
+        num[q] = sg * (rx[q] * dy - ry[q] * dx);
         den[q] = sg * (ed->e[0] * dy - ed->e[1] * dx);
         m[q] = c0 + SIL_WALK_MARGIN * (r_abs(dx) > r_abs(dy) ? r_abs(dx) : r_abs(dy));
     }
