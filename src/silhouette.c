@@ -1827,17 +1827,6 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc */
     ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
     ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
-    /* normal scaled by |e|, pointing away from the face's side: window y
-     * runs down, so the window-space side is minus the homogeneous one */
-    side = -hdet(ea->c, eb->c, C);
-    if (side == (ls_real)0 || side - side != (ls_real)0) return;
-    nrm[0] = ed.e[1];
-    nrm[1] = -ed.e[0];
-    /* (e1, -e0) . (c - a) = -(e x (c - a)): it points towards the face when side < 0 */
-    if (side < (ls_real)0) {
-        nrm[0] = -nrm[0];
-        nrm[1] = -nrm[1];
-    }
     if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
     ed.tbeg = t0;
     ed.tend = t1;
@@ -1850,6 +1839,17 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     run.t[0] = t0;
     run.t[1] = t1;
     if (run_hidden(sc, &ed, &run)) return;
+    /* normal scaled by |e|, pointing away from the face's side: window y
+     * runs down, so the window-space side is minus the homogeneous one */
+    side = -hdet(ea->c, eb->c, C);
+    if (side == (ls_real)0 || side - side != (ls_real)0) return;
+    nrm[0] = ed.e[1];
+    nrm[1] = -ed.e[0];
+    /* (e1, -e0) . (c - a) = -(e x (c - a)): it points towards the face when side < 0 */
+    if (side < (ls_real)0) {
+        nrm[0] = -nrm[0];
+        nrm[1] = -nrm[1];
+    }
     run.n = 0;
     lines_init(&lx, ed.a[0], ed.e[0], t0, t1);
     lines_init(&ly, ed.a[1], ed.e[1], t0, t1);
