@@ -346,6 +346,9 @@ tradeoffs: $(CLI)
 bench: all $(BUILD)/bench/bench_gradient
 	@mkdir -p $(BUILD)/bench
 	BENCH_OUT=$(BUILD)/bench/gradient.md $(BUILD)/bench/bench_gradient
+	@# the same table with ls_real = float (the precision knob)
+	$(if $(filter double,$(REAL)),$(MAKE) --no-print-directory REAL=float BUILD=$(BUILD)/float $(BUILD)/float/bench/bench_gradient && \
+	  BENCH_OUT=$(BUILD)/bench/gradient_float.md $(BUILD)/float/bench/bench_gradient,@true)
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
 	BUILD=$(BUILD) sh tests/bench/run_grid.sh
