@@ -69,6 +69,25 @@ else
     tail -n 5 "$build/fit_bunny.log"
 fi
 
+# 1b. the spread of that run: a fit's Hausdorff maximum follows the last bits
+# of its trajectory (a collapsed ear in one run, 1-3 % in its neighbours), so
+# the same run with the learning rate moved in the 7th digit, both ways:
+# the median of the three must be close and none far off
+hs=$(field "$out/bunny/metrics.json" vertex_hausdorff_rel)
+for lr in 0.0099999 0.0100001; do
+    if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --lr $lr --track 0 --quiet -o "$out/bunny_$lr" \
+        > "$build/fit_bunny_$lr.log" 2>&1; then
+        hs="$hs $(field "$out/bunny_$lr/metrics.json" vertex_hausdorff_rel)"
+    else
+        hs="$hs 1"
+    fi
+done
+med=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 2p)
+max=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 3p)
+echo "     bunny 96x96, 200 iterations, lr 0.01 x (1, 1 - 1e-5, 1 + 1e-5): H/diag $hs"
+if [ -n "$med" ] && less "$med" 0.05 && less "$max" 0.25; then ok "fit_bunny_spread (median H/diag $med < 0.05, max $max < 0.25)"
+else bad "fit_bunny_spread (H/diag $hs)"; fi
+
 # 2. a mesh file and a text scene (cameras, SH lighting, mesh target)
 check fit_mesh_file "$ls" fit fixtures/meshes/elephant.obj --iters 10 --res 32 --views 4 --level 2 --remesh none --quiet -o "$out/elephant"
 mkdir -p "$out/scene"
