@@ -47,7 +47,7 @@ static int usage(FILE *f)
             "  without TARGET: the bunny compiled into the program\n"
             "  --views N          views on a Fibonacci sphere (default 16)\n"
             "  --res R            render size R x R (default 128)\n"
-            "  --iters N          iterations (default 400)\n"
+            "  --iters N          iterations (default 800)\n"
             "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
             "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha))\n"
             "  --lr X             learning rate, in units of the initial mesh's radius (the target's\n"
@@ -66,7 +66,7 @@ static int usage(FILE *f)
             "  --boost B          silhouette gradient multiplier (default 3)\n"
             "  --shading S        sh (default) | mask\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
-            "                     default 100,250; 'none' for no remeshing)\n"
+            "                     default 200,500; 'none' for no remeshing)\n"
             "  --max-vertices N   the job's capacity (memory is reserved once for it, ls_fit_job_bytes):\n"
             "                     vertices of any mesh and of the remesher (default (V0 + 64) 4^remeshes x 2)\n"
             "  --max-faces N      faces of any mesh (default: the most N vertices allow)\n"
@@ -111,10 +111,10 @@ static int parse_args(int argc, char **argv, fit_args *a)
     memset(a, 0, sizeof *a);
     a->views = 16;
     a->res = 128;
-    a->iters = 400;
+    a->iters = 800; /* the 2 % of the acceptance in every run of a sample, not at 400 (README) */
     a->remesh_count = 2;
-    a->remesh_at[0] = 100;
-    a->remesh_at[1] = 250;
+    a->remesh_at[0] = 200;
+    a->remesh_at[1] = 500;
     a->level = 3;
     a->init_smooth = 10;
     a->target_ss = 4;

@@ -191,8 +191,8 @@ static void default_setting(tr_setting *s, const tr_args *a)
     s->views = a->views;
     s->iters = a->iters;
     s->remesh_count = 2;
-    s->remesh_at[0] = a->iters / 4u;       /* 100 of 400, as largesteps fit */
-    s->remesh_at[1] = a->iters * 5u / 8u;  /* 250 of 400 */
+    s->remesh_at[0] = a->iters / 4u;       /* 200 of 800, as largesteps fit */
+    s->remesh_at[1] = a->iters * 5u / 8u;  /* 500 of 800 */
 }
 
 /* The variants of one knob, each the default with one change; returns how
