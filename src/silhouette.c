@@ -145,6 +145,14 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #define SIL_UNROLL2
 #endif
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
+/* run_pass's gather tests a box against the run's in one packed comparison
+ * where SSE is there (x86; a fast path: the scalar test gives the same hits) */
+#if LS_FAST_PATHS && (defined(__SSE__) || defined(_M_X64))
+#include <xmmintrin.h>
+#define SIL_SSE 1
+#else
+#define SIL_SSE 0
+#endif
 
 struct spiece;
 
@@ -1551,12 +1559,22 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         const float *tbox = sc->tbox;
         uint32_t *out = sc->cact;
         size_t kb = sc->offs[run->tile], ke = sc->offs[run->tile + 1u], nh = 0;
+#if SIL_SSE
+        /* (x0, y0, -x1, -y1) <= (fx1, fy1, -fx0, -fy0) in every lane: the boxes
+         * are finite (box_fbox), so the negated misses below are these */
+        const __m128 lim = _mm_setr_ps(fx1, fy1, -fx0, -fy0), flip = _mm_setr_ps(0.0f, 0.0f, -0.0f, -0.0f);
+#endif
         SIL_UNROLL2
         for (k = kb; k < ke; k++) {
             uint32_t id = ent[k];
             const float *bx = tbox + 4 * (size_t)id;
+#if SIL_SSE
+            /* all four lanes: mask 15, and (15 + 1) >> 4 is the only 1 */
+            size_t hit = ((size_t)_mm_movemask_ps(_mm_cmple_ps(_mm_xor_ps(_mm_loadu_ps(bx), flip), lim)) + 1u) >> 4;
+#else
             /* the hit as a product of the four negated misses: one add, no 1 - miss */
             size_t hit = (size_t)((!(bx[2] < fx0)) & (!(bx[0] > fx1))) & (size_t)((!(bx[3] < fy0)) & (!(bx[1] > fy1)));
+#endif
             out[nh] = id;
             nh += hit;
         }
