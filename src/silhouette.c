@@ -1042,7 +1042,6 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
     while (i < *nact) {
         uint32_t k = sc->cact[i], id = sc->cid[k];
         const uint32_t *f;
-        ls_real x[4], y[4];
         if (sc->chi[k] < t) { /* its interval is behind: never needed again */
             sc->cact[i] = sc->cact[--*nact];
             continue;
@@ -1050,10 +1049,13 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
         i++;
         if (unsorted && sc->clo[k] > t) continue; /* not begun */
         f = sc->indices + 3 * (size_t)id;
+        /* each path its own corners: the front one's never reach memory */
         if (tri_front(sc, allfront, f)) { /* tri_poly's corners from sc->win */
+            ls_real x[4], y[4];
             tri_win(sc, f, x, y);
             if (!window_hold(sc, f, x, y, xw, yw, &zc)) continue;
         } else {
+            ls_real x[4], y[4];
             int n = tri_poly_cut(sc, f, x, y);
             if (!poly_holds(x, y, n, xw, yw)) continue;
             if (!tri_point(sc, f, xw, yw, b, &zc)) continue;
@@ -1155,9 +1157,10 @@ static void sort_splits(ls_real *key, uint32_t n)
  * cr_q >= -eta_q (or every cr_q <= eta_q), eta_q again far above rounding,
  * hold every parameter where the test passes, and leaving out the edges
  * that do not meet the line only widens them: the intervals decide which
- * candidates are tested, never the outcome. */
-static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front,
-                                      ls_real t0, ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
+ * candidates are tested, never the outcome. Inlined (SIL_INLINE): run_pass
+ * calls it with 3 corners in front (nearly all) and with any polygon. */
+static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front,
+                                    ls_real t0, ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
     /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
     ls_real l[2], h[2], sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
@@ -1241,16 +1244,6 @@ static SIL_INLINE int cand_interval_n(const sedge *ed, const ls_real *x, const l
         if (h[1] > *hi) *hi = h[1];
     }
     return 1;
-}
-
-/* cand_interval_n, with a copy for triangles (most polygons; SIL_INLINE). */
-static int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front, ls_real t0,
-                         ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
-{
-#if SIL_SPECIALIZE
-    if (n == 3) return cand_interval_n(ed, x, y, 3, front, t0, t1, sp, ns, lo, hi);
-#endif
-    return cand_interval_n(ed, x, y, n, front, t0, t1, sp, ns, lo, hi);
 }
 
 /* Whether triangle o can stand in front of the segment in a walk: not its
@@ -1583,23 +1576,25 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     for (k = 0; k < nhit; k++) {
         uint32_t id = sc->cact[k];
         const uint32_t *f;
-        ls_real x[4], y[4], lo, hi;
-        int n, front;
+        ls_real lo, hi;
+        int in;
         if (id == ed->ft || id == ed->fu) continue;
         f = sc->indices + 3 * (size_t)id;
         /* the call only for a face with an end vertex (about a third of the hits; 87 % of those miss) */
         if ((((f[0] == va) | (f[0] == vb)) | ((f[1] == va) | (f[1] == vb)) | ((f[2] == va) | (f[2] == vb))) &&
             end_face_misses(sc, ed, f))
             continue;
-        front = tri_front(sc, allfront, f);
-        if (front) {
+        /* each path its own corners: the front one's never reach memory */
+        if (tri_front(sc, allfront, f)) {
+            ls_real x[4], y[4];
             tri_win(sc, f, x, y);
-            n = 3;
+            in = cand_interval(ed, x, y, 3, 1, t0, t1, sp, &ns, &lo, &hi);
         } else {
-            n = tri_poly_cut(sc, f, x, y);
-            if (n < 3) continue;
+            ls_real x[4], y[4];
+            int n = tri_poly_cut(sc, f, x, y);
+            in = n >= 3 && cand_interval(ed, x, y, n, 0, t0, t1, sp, &ns, &lo, &hi);
         }
-        if (!cand_interval(ed, x, y, n, front, t0, t1, sp, &ns, &lo, &hi)) continue;
+        if (!in) continue;
         sc->cid[ncand] = id;
         sc->chi[ncand] = hi;
         sc->clo[ncand] = lo;
