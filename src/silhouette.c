@@ -1162,9 +1162,10 @@ static void sort_splits(ls_real *key, uint32_t n)
 static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_real *y, int n, int front,
                                     ls_real t0, ls_real t1, ls_real *sp, uint32_t *ns, ls_real *lo, ls_real *hi)
 {
-    /* [0]: every cr >= -eta (one orientation), [1]: every cr <= eta (the other) */
-    ls_real l[2], h[2], sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
-    int q, ok[2] = {1, 1}, s, up[4], dn[4], allup = 1, alldn = 1;
+    /* [l0, h0]: every cr >= -eta (one orientation), [l1, h1]: every cr <= eta (the other);
+     * scalars, not arrays indexed by the sign of den (they lived in memory) */
+    ls_real l0, l1, h0, h1, sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
+    int q, ok0 = 1, ok1 = 1, up[4], dn[4], allup = 1, alldn = 1;
     if (n > 4) return 0; /* never (tri_poly): tells the unrolled loops */
     if (!front) {
         /* corners cut at the near plane: their own bound (window corners
@@ -1192,8 +1193,8 @@ static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_
         alldn &= dn[q];
     }
     if (allup | alldn) return 0;
-    l[0] = l[1] = t0;
-    h[0] = h[1] = t1;
+    l0 = l1 = t0;
+    h0 = h1 = t1;
     SIL_UNROLL
     for (q = 0; q < n; q++) {
         int q1 = q + 1 == n ? 0 : q + 1;
@@ -1207,8 +1208,8 @@ static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_
         num = rx * dy - ry * dx;
         eta = c0 + SIL_MARGIN * (r_abs(dx) > r_abs(dy) ? r_abs(dx) : r_abs(dy));
         if (den == (ls_real)0) { /* parallel: cr = num all along */
-            if (num < -eta) ok[0] = 0;
-            if (num > eta) ok[1] = 0;
+            if (num < -eta) ok0 = 0;
+            if (num > eta) ok1 = 0;
             continue;
         }
         /* cr = num - t den is -eta at blo and eta at bhi when den > 0 (the reverse when den < 0);
@@ -1230,18 +1231,22 @@ static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_
         }
         /* cr >= -eta: t <= bhi when den > 0, t >= blo when den < 0; cr <= eta: the reverse
          * (comparisons written so that a NaN bound leaves the interval as it was) */
-        s = den > (ls_real)0 ? 0 : 1;
-        if (bhi < h[s]) h[s] = bhi;
-        if (blo > l[1 - s]) l[1 - s] = blo;
+        if (den > (ls_real)0) {
+            if (bhi < h0) h0 = bhi;
+            if (blo > l1) l1 = blo;
+        } else {
+            if (bhi < h1) h1 = bhi;
+            if (blo > l0) l0 = blo;
+        }
     }
-    ok[0] = ok[0] && l[0] <= h[0];
-    ok[1] = ok[1] && l[1] <= h[1];
-    if (!ok[0] && !ok[1]) return 0;
-    *lo = ok[0] ? l[0] : l[1];
-    *hi = ok[0] ? h[0] : h[1];
-    if (ok[0] && ok[1]) {
-        if (l[1] < *lo) *lo = l[1];
-        if (h[1] > *hi) *hi = h[1];
+    ok0 = ok0 && l0 <= h0;
+    ok1 = ok1 && l1 <= h1;
+    if (!ok0 && !ok1) return 0;
+    *lo = ok0 ? l0 : l1;
+    *hi = ok0 ? h0 : h1;
+    if (ok0 && ok1) {
+        if (l1 < *lo) *lo = l1;
+        if (h1 > *hi) *hi = h1;
     }
     return 1;
 }
