@@ -139,11 +139,6 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #else
 #define SIL_UNROLL
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && LS_FAST_PATHS
-#define SIL_UNROLL2 _Pragma("GCC unroll 2")
-#else
-#define SIL_UNROLL2
-#endif
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 /* run_pass's gather tests a box against the run's in one packed comparison
  * where SSE is there (x86; a fast path: the scalar test gives the same hits) */
@@ -1562,7 +1557,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
          * are finite (box_fbox), so the negated misses below are these */
         const __m128 lim = _mm_setr_ps(fx1, fy1, -fx0, -fy0), flip = _mm_setr_ps(0.0f, 0.0f, -0.0f, -0.0f);
 #endif
-        SIL_UNROLL2
+        SIL_UNROLL
         for (k = kb; k < ke; k++) {
             uint32_t id = ent[k];
             const float *bx = tbox + 4 * (size_t)id;
