@@ -1577,22 +1577,27 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         uint32_t id = sc->cact[k];
         const uint32_t *f;
         ls_real lo, hi;
-        int in;
+        int in, front;
         if (id == ed->ft || id == ed->fu) continue;
         f = sc->indices + 3 * (size_t)id;
         /* the call only for a face with an end vertex (about a third of the hits; 87 % of those miss) */
         if ((((f[0] == va) | (f[0] == vb)) | ((f[1] == va) | (f[1] == vb)) | ((f[2] == va) | (f[2] == vb))) &&
             end_face_misses(sc, ed, f))
             continue;
-        /* each path its own corners: the front one's never reach memory */
-        if (tri_front(sc, allfront, f)) {
+        front = tri_front(sc, allfront, f);
+        if (SIL_SPECIALIZE && front) {
+            /* corners of its own, which never reach memory, and the triangle copy */
             ls_real x[4], y[4];
             tri_win(sc, f, x, y);
             in = cand_interval(ed, x, y, 3, 1, t0, t1, sp, &ns, &lo, &hi);
-        } else {
+        } else { /* one call where code size counts */
             ls_real x[4], y[4];
-            int n = tri_poly_cut(sc, f, x, y);
-            in = n >= 3 && cand_interval(ed, x, y, n, 0, t0, t1, sp, &ns, &lo, &hi);
+            int n = 3;
+            if (front)
+                tri_win(sc, f, x, y);
+            else
+                n = tri_poly_cut(sc, f, x, y);
+            in = n >= 3 && cand_interval(ed, x, y, n, front, t0, t1, sp, &ns, &lo, &hi);
         }
         if (!in) continue;
         sc->cid[ncand] = id;
