@@ -139,6 +139,7 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #else
 #define SIL_UNROLL
 #endif
+#define SIL_LOOSE ((ls_real)1 / (ls_real)16384) /* px^2: a view bound c0v above it widens intervals (cand_interval) */
 #define SIL_DEPTH_CAP 4                         /* adaptive quadrature: at most 2^4 parts per sub-piece */
 /* run_pass's gather tests a box against the run's in one packed comparison
  * where SSE is there (x86; a fast path: the scalar test gives the same hits) */
@@ -197,6 +198,7 @@ typedef struct sedge {
     ls_real ext;     /* |a0| + |a1| + |e0| + |e1|: the magnitude of the segment's points */
     ls_real tau;     /* margin x max(|e0|, |e1|): the side tests' margin (units of |e| x pixels) */
     ls_real tauv, c0v; /* cand_interval's tau and c0 for every polygon of window corners (sc->wk bounds them) */
+    int cloc;        /* 1: c0v too loose (float): cand_interval bounds each polygon's own */
     ls_real za, zb;  /* NDC depth at a and at a + e */
     ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
     int fok;         /* 1: fa holds the areas of ft at tbeg and their change to tend (span_own) */
@@ -1162,18 +1164,21 @@ static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_
     ls_real l0, l1, h0, h1, sd[4], mc = (ls_real)0, tau = ed->tauv, c0 = ed->c0v;
     int q, ok0 = 1, ok1 = 1, up[4], dn[4], allup = 1, alldn = 1;
     if (n > 4) return 0; /* never (tri_poly): tells the unrolled loops */
-    if (!front) {
-        /* corners cut at the near plane: their own bound (window corners
-         * take the view's, sc->wk: larger, so the same tests and intervals,
-         * as the margins only have to exceed rounding) */
+    if (!front || ed->cloc) {
+        /* corners cut at the near plane (sc->wk does not bound them), or
+         * the view's bound too loose (float: hundreds of px^2, every
+         * interval the whole run): the margins from the corners' offsets
+         * to a, mc. The sides sd_q round below 2 eps mc eabs, the crossings'
+         * cr_q = num_q - t den_q below 8 eps mc (mc + eabs), and the quick
+         * test at a point a + t e adds the point's rounding (ext); only the
+         * intervals change, never which candidate holds a point */
         SIL_UNROLL
         for (q = 0; q < n; q++) {
-            ls_real v = r_abs(x[q]) + r_abs(y[q]);
+            ls_real v = r_abs(x[q] - ed->a[0]) + r_abs(y[q] - ed->a[1]);
             if (v > mc) mc = v;
         }
-        /* mc bounds every corner's |x| + |y|: tau and eta below bound their q's */
         tau = ed->tau + (ls_real)64 * LS_REAL_EPSILON * (mc + ed->ext) * ed->eabs;
-        c0 = (ls_real)128 * LS_REAL_EPSILON * mc * (mc + ed->ext);
+        c0 = (ls_real)16 * LS_REAL_EPSILON * mc * (mc + ed->ext) + (ls_real)64 * R_MIN_NORMAL;
     }
     SIL_UNROLL
     for (q = 0; q < n; q++) {
@@ -1845,6 +1850,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc */
     ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
     ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
+    ed.cloc = !(ed.c0v <= SIL_LOOSE); /* and NaN */
     if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
     ed.tbeg = t0;
     ed.tend = t1;
