@@ -393,12 +393,14 @@ static SIL_INLINE int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real 
  * and max of p0 and p1 on two comparisons (SSE2's minsd and maxsd; on one,
  * gcc swaps them with a branch, which mispredicts); p0 - p0 keeps NaN as
  * one comparison had it (a NaN or infinite p0 made the max not finite),
- * else adds +0 (a max of -0 becomes +0: box_fbox does not tell them apart). */
-static inline void corner_box(const ls_real *p0, const ls_real *p1, const ls_real *p2, ls_real box[4])
+ * else adds +0 (a max of -0 becomes +0: box_fbox does not tell them apart);
+ * finite: the corners are known finite, and that is not needed. */
+static SIL_INLINE void corner_box(const ls_real *p0, const ls_real *p1, const ls_real *p2, ls_real box[4], int finite)
 {
     int k;
     for (k = 0; k < 2; k++) {
-        ls_real lo = p0[k] < p1[k] ? p0[k] : p1[k], hi = (p0[k] > p1[k] ? p0[k] : p1[k]) + (p0[k] - p0[k]);
+        ls_real lo = p0[k] < p1[k] ? p0[k] : p1[k], hi = p0[k] > p1[k] ? p0[k] : p1[k];
+        if (!finite) hi += p0[k] - p0[k];
         box[k] = p2[k] < lo ? p2[k] : lo;
         box[k + 2] = p2[k] > hi ? p2[k] : hi;
     }
@@ -410,7 +412,7 @@ static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 {
     if (sc->vfront != NULL && (sc->vfront[f[0]] & sc->vfront[f[1]] & sc->vfront[f[2]]) != 0) {
         /* every corner in front (most triangles): the box of the window corners */
-        corner_box(sc->win + 2 * (size_t)f[0], sc->win + 2 * (size_t)f[1], sc->win + 2 * (size_t)f[2], box);
+        corner_box(sc->win + 2 * (size_t)f[0], sc->win + 2 * (size_t)f[1], sc->win + 2 * (size_t)f[2], box, 0);
     } else {
         ls_real x[4], y[4];
         int k, n = tri_poly(sc, f, x, y);
@@ -427,23 +429,51 @@ static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
     return 1;
 }
 
+/* What the bins' boxes and tiles depend on, in a local copy (the
+ * stores of boxes, bins and lists cannot change it, so it stays in
+ * registers): grid_init. */
+typedef struct sgrid {
+    ls_real xm, ym;       /* width, height + margin: a box's x0, y0 at most these meets the image */
+    ls_real xl, yl;       /* width, height + 1: the clamps of x1, y1 */
+    float inv;            /* sc->tside_inv */
+    uint32_t tx;          /* sc->tiles_x */
+    uint32_t lx, ly;      /* the last tile of a row and of a column */
+} sgrid;
+
+static void grid_init(const sctx *sc, sgrid *g)
+{
+    g->xm = sc->width + SIL_MARGIN;
+    g->ym = sc->height + SIL_MARGIN;
+    g->xl = sc->width + (ls_real)1;
+    g->yl = sc->height + (ls_real)1;
+    g->inv = sc->tside_inv;
+    g->tx = sc->tiles_x;
+    g->lx = sc->tiles_x - 1u;
+    g->ly = sc->tiles_y - 1u;
+}
+
 /* The box for the bins of a window box of tri_box: clamped to the image
  * and a pixel around it, grown by the margin, in float (rounding at these
  * magnitudes is far below the margin); 0 (fb untouched) when the box is
- * not finite or lies outside the image. */
-static inline int box_fbox(const sctx *sc, const ls_real box[4], float fb[4])
+ * not finite or lies outside the image. finite: the box is known finite
+ * (box_keep's), so only the image is tested. */
+static SIL_INLINE int box_fbox(const sgrid *g, const ls_real box[4], float fb[4], int finite)
 {
-    ls_real xl = sc->width + (ls_real)1, yl = sc->height + (ls_real)1;
-    /* finite and meeting the image, each bound on its own range (NaN fails
-     * every comparison): x0 in [-max, width + margin], x1 in [-margin, max] */
-    if (!(box[0] >= -R_MAX && box[0] <= sc->width + SIL_MARGIN && box[2] >= -SIL_MARGIN && box[2] <= R_MAX &&
-          box[1] >= -R_MAX && box[1] <= sc->height + SIL_MARGIN && box[3] >= -SIL_MARGIN && box[3] <= R_MAX))
+    if (finite) {
+        if (!(box[0] <= g->xm && box[2] >= -SIL_MARGIN && box[1] <= g->ym && box[3] >= -SIL_MARGIN)) return 0;
+    } else if (!(box[0] >= -R_MAX && box[0] <= g->xm && box[2] >= -SIL_MARGIN && box[2] <= R_MAX &&
+                 box[1] >= -R_MAX && box[1] <= g->ym && box[3] >= -SIL_MARGIN && box[3] <= R_MAX)) {
+        /* finite and meeting the image, each bound on its own range (NaN fails
+         * every comparison): x0 in [-max, width + margin], x1 in [-margin, max] */
         return 0;
-    /* the box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin */
-    fb[0] = (float)((box[0] < (ls_real)-1 ? (ls_real)-1 : box[0]) - SIL_MARGIN);
-    fb[1] = (float)((box[1] < (ls_real)-1 ? (ls_real)-1 : box[1]) - SIL_MARGIN);
-    fb[2] = (float)((box[2] > xl ? xl : box[2]) + SIL_MARGIN);
-    fb[3] = (float)((box[3] > yl ? yl : box[3]) + SIL_MARGIN);
+    }
+    /* the box meets the image: x0, y0 <= size + margin and x1, y1 >= -margin;
+     * the clamps as max and min (no NaN here; a bound equal to -1 or to
+     * the limit is the same value either way) */
+    fb[0] = (float)((box[0] > (ls_real)-1 ? box[0] : (ls_real)-1) - SIL_MARGIN);
+    fb[1] = (float)((box[1] > (ls_real)-1 ? box[1] : (ls_real)-1) - SIL_MARGIN);
+    fb[2] = (float)((box[2] < g->xl ? box[2] : g->xl) + SIL_MARGIN);
+    fb[3] = (float)((box[3] < g->yl ? box[3] : g->yl) + SIL_MARGIN);
     return 1;
 }
 
@@ -455,55 +485,57 @@ static uint32_t cell_of(ls_real c, uint32_t n)
     return (uint32_t)c; /* in [1, n): the cast truncates, as floor */
 }
 
-/* The tile of a box coordinate v of tri_fbox: cell_of(v / side, n)
+/* The tile of a box coordinate v of tri_fbox: cell_of(v / side, last + 1)
  * without its branches: tri_fbox clamps v to at least -1 - margin and a
  * side is at least 2, so v / side > -1 and the truncation toward zero is
  * that floor clamped. inv = 1 / side, a power of two: the product is the
  * quotient exactly (in float too, the box's own type: no conversion),
  * without a division's latency. */
-static uint32_t tile_of(float v, float inv, uint32_t n)
+static uint32_t tile_of(float v, float inv, uint32_t last)
 {
     uint32_t i = (uint32_t)(int32_t)(v * inv);
-    return i < n ? i : n - 1u;
+    return i < last ? i : last;
 }
 
 /* The box of triangle t's visible polygon for the bins (box_fbox); 0 when
  * t is not binned (no box, or culled: sign 0 or of the culled orientation). */
-static int tri_fbox(const sctx *sc, uint32_t t, float fb[4])
+static int tri_fbox(const sctx *sc, const sgrid *g, uint32_t t, float fb[4])
 {
     const uint32_t *f = sc->indices + 3 * (size_t)t;
     ls_real box[4];
     if (sc->cull != 0 && sc->cull * (sc->sign != NULL ? sc->sign[t] : tri_sign(sc, f)) >= 0) return 0;
-    return tri_box(sc, f, box) && box_fbox(sc, box, fb);
+    return tri_box(sc, f, box) && box_fbox(g, box, fb, 0);
 }
 
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
-static inline void fbox_tiles(const sctx *sc, const float fb[4], uint32_t r[4])
+static inline void fbox_tiles(const sgrid *g, const float fb[4], uint32_t r[4])
 {
-    r[0] = tile_of(fb[0], sc->tside_inv, sc->tiles_x);
-    r[1] = tile_of(fb[1], sc->tside_inv, sc->tiles_y);
-    r[2] = tile_of(fb[2], sc->tside_inv, sc->tiles_x);
-    r[3] = tile_of(fb[3], sc->tside_inv, sc->tiles_y);
+    r[0] = tile_of(fb[0], g->inv, g->lx);
+    r[1] = tile_of(fb[1], g->inv, g->ly);
+    r[2] = tile_of(fb[2], g->inv, g->lx);
+    r[3] = tile_of(fb[3], g->inv, g->ly);
+}
+
+/* Adds the bin entries of the tiles r (fbox_tiles) of a binned triangle's
+ * box to *count (*over set on overflow of size_t). */
+static void tile_count(const uint32_t r[4], size_t *count, int *over)
+{
+    size_t add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
+    if (*count > SIZE_MAX - add) *over = 1;
+    *count += add;
 }
 
 /* Adds the tiles r (fbox_tiles) of a binned triangle's box to the entries
- * and binned triangles count[0], count[1] (*over set on overflow of size_t)
- * and, when offs [tiles + 2] is not NULL, the entries of each tile to
- * offs[tile + 2], for bin_pass. */
-static inline void tile_add(const sctx *sc, const uint32_t r[4], size_t *offs, size_t count[2], int *over)
+ * of each tile, offs[tile + 2], for bin_pass. */
+static inline void tile_add(const sgrid *g, const uint32_t r[4], size_t *offs)
 {
-    size_t add = (size_t)(r[2] - r[0] + 1u) * (size_t)(r[3] - r[1] + 1u);
     uint32_t tx, ty;
-    if (count[0] > SIZE_MAX - add) *over = 1;
-    count[0] += add;
-    count[1]++;
-    if (offs == NULL) return;
     if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
         /* at most 2 x 2 tiles (most triangles): the four counts without
          * loops, whose trip counts mispredict; an absent tile adds 0 to
          * one that is present */
-        size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0] + 2u;
-        size_t d = ny * sc->tiles_x;
+        size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * g->tx + r[0] + 2u;
+        size_t d = ny * g->tx;
         offs[b]++;
         offs[b + nx] += nx;
         offs[b + d] += ny;
@@ -511,39 +543,72 @@ static inline void tile_add(const sctx *sc, const uint32_t r[4], size_t *offs, s
         return;
     }
     for (ty = r[1]; ty <= r[3]; ty++)
-        for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * sc->tiles_x + tx + 2u]++;
+        for (tx = r[0]; tx <= r[2]; tx++) offs[(size_t)ty * g->tx + tx + 2u]++;
 }
 
-/* Boxes the triangles of list[0..n) not culled into sc->tbox, counts their
- * bin entries and binned triangles into count[0], count[1] (*over set on
- * overflow) and the entries of each tile into offs [tiles + 2]; keeps in
- * list, in order, the binned ones and returns their number (bin_pass's
- * list). tri_fbox, without the per-triangle front test when every vertex
- * is in front. */
-static uint32_t box_keep(const sctx *sc, uint32_t *list, uint32_t n, size_t *offs, size_t count[2], int *over)
+/* box_keep's loop; fast: every vertex is in front and every window
+ * position finite (the corners' box, tested against the image only). */
+static SIL_INLINE uint32_t box_list(const sctx *sc, uint32_t *list, uint32_t n, size_t *offs, int fast)
 {
     const uint32_t *ind = sc->indices;
     const ls_real *win = sc->win;
     float *tbox = sc->tbox;
     const signed char *sign = sc->sign;
-    const int allfront = sc->allfront, cull = sc->cull;
-    uint32_t i, m = 0, r[4];
-    memset(offs, 0, ((size_t)sc->tiles_x * sc->tiles_y + 2u) * sizeof(size_t));
+    const int cull = sc->cull;
+    sgrid g;
+    uint32_t i, *out = list, r[4];
+    grid_init(sc, &g);
     for (i = 0; i < n; i++) {
         uint32_t t = list[i];
         const uint32_t *f = ind + 3 * (size_t)t;
         float *fb = tbox + 4 * (size_t)t;
         ls_real box[4];
         if (cull != 0 && cull * sign[t] >= 0) continue; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
-        if (allfront)
-            corner_box(win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], box);
-        else if (!tri_box(sc, f, box))
+        if (fast) {
+            corner_box(win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], box, 1);
+            if (!box_fbox(&g, box, fb, 1)) continue;
+        } else if (!tri_box(sc, f, box) || !box_fbox(&g, box, fb, 0)) {
             continue;
-        if (!box_fbox(sc, box, fb)) continue;
-        fbox_tiles(sc, fb, r);
-        tile_add(sc, r, offs, count, over);
-        list[m++] = t;
+        }
+        fbox_tiles(&g, fb, r);
+        tile_add(&g, r, offs);
+        *out++ = t;
     }
+    return (uint32_t)(out - list);
+}
+
+/* Boxes the triangles of list[0..n) not culled into sc->tbox, counts
+ * the entries of each tile into offs [tiles + 2] and makes offs[tile + 2]
+ * the end of the entries of the tiles before (bin_pass's cursors), so
+ * offs[tiles + 1] is the number of bin entries; keeps in list, in order,
+ * the binned ones and returns their number (bin_pass's list). count:
+ * the bin entries and binned triangles (*over set on overflow). tri_fbox,
+ * without the per-triangle front test when every vertex is in front
+ * (allfront) and finite (finite). */
+LS_NOINLINE static uint32_t box_keep(const sctx *sc, uint32_t *list, uint32_t n, size_t *offs, size_t count[2],
+                                     int *over, int finite)
+{
+    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k, sum = 0;
+    uint32_t m;
+    int ov = 0;
+    memset(offs, 0, (tiles + 2u) * sizeof(size_t));
+#if SIL_SPECIALIZE
+    if (sc->allfront && finite)
+        m = box_list(sc, list, n, offs, 1);
+    else
+        m = box_list(sc, list, n, offs, 0);
+#else
+    m = box_list(sc, list, n, offs, sc->allfront && finite);
+#endif
+    /* each tile's count is at most the triangles; only the sum may overflow */
+    for (k = 2; k <= tiles + 1u; k++) {
+        sum += offs[k];
+        ov |= sum < offs[k];
+        offs[k] = sum;
+    }
+    *over = ov;
+    count[0] = sum;
+    count[1] = m;
     return m;
 }
 
@@ -553,39 +618,44 @@ static void box_pass(const sctx *sc, size_t count[2], int *over)
 {
     uint32_t t, r[4];
     float fb[4];
+    sgrid g;
+    grid_init(sc, &g);
     count[0] = 0;
     count[1] = 0;
     *over = 0;
     for (t = 0; t < sc->triangle_count; t++) {
-        if (!tri_fbox(sc, t, fb)) continue;
-        fbox_tiles(sc, fb, r);
-        tile_add(sc, r, NULL, count, over);
+        if (!tri_fbox(sc, &g, t, fb)) continue;
+        fbox_tiles(&g, fb, r);
+        tile_count(r, count, over);
+        count[1]++;
     }
 }
 
 /* Bins the triangles of list[0..n) (in increasing order, each binned:
- * their boxes sc->tbox counted into offs [tiles + 2] by tile_add) into the
- * tiles their boxes overlap: offs becomes the bin starts (offs[tiles] the
- * total), ent the bins (triangles in index order in each). */
+ * their boxes sc->tbox counted into offs [tiles + 2] by box_keep) into
+ * the tiles their boxes overlap: offs becomes the bin starts (offs[tiles]
+ * the total), ent the bins (triangles in index order in each). */
 static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *offs, uint32_t *ent)
 {
+    const float *tbox = sc->tbox;
     uint32_t i, tx, ty, r[4];
-    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, k, spare;
-    /* offs[tile + 1] becomes the tile's start and, as its cursor, its end:
+    sgrid g;
+    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, spare;
+    grid_init(sc, &g);
+    /* offs[tile + 1], the tile's start, is its cursor: it ends as its end,
      * the next tile's start, with no shift afterwards */
-    for (k = 2; k <= tiles + 1u; k++) offs[k] += offs[k - 1u];
     spare = offs[tiles + 1u]; /* ent's extra last slot: where an absent tile's entry goes */
     offs++;
     for (i = 0; i < n; i++) {
         uint32_t t = list[i];
-        fbox_tiles(sc, sc->tbox + 4 * (size_t)t, r);
+        fbox_tiles(&g, tbox + 4 * (size_t)t, r);
         if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
             /* at most 2 x 2 tiles, as tile_add counted them: each present
              * tile takes the next entry of its bin, an absent one writes
              * the spare slot and advances nothing; no loops, whose trip
              * counts mispredict */
-            size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * sc->tiles_x + r[0];
-            size_t d = ny * sc->tiles_x, both = nx & ny, m;
+            size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * g.tx + r[0];
+            size_t d = ny * g.tx, both = nx & ny, m;
             ent[offs[b]++] = t;
             m = (size_t)0 - nx; /* all ones when present: a select by masks, not a branch */
             ent[(offs[b + nx] & m) | (spare & ~m)] = t;
@@ -599,7 +669,7 @@ static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *o
             continue;
         }
         for (ty = r[1]; ty <= r[3]; ty++)
-            for (tx = r[0]; tx <= r[2]; tx++) ent[offs[(size_t)ty * sc->tiles_x + tx]++] = t;
+            for (tx = r[0]; tx <= r[2]; tx++) ent[offs[(size_t)ty * g.tx + tx]++] = t;
     }
 }
 
@@ -2235,7 +2305,7 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     const ls_vis *vis = sc->vis;
     const uint32_t *indices = sc->indices;
     uint32_t t, h, triangle_count = sc->triangle_count, *keep, nkeep = 0, nfront = 0, behind = 0;
-    ls_real wk = (ls_real)0;
+    ls_real wk = (ls_real)0, msum = (ls_real)0;
     int cull;
     size_t count[2] = {0, 0}, slots;
     int over = 0;
@@ -2253,16 +2323,21 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     keep = sc->tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
     bits = keep ? (uint64_t *)ls_arena_scratch(arena, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)) : NULL;
     if (bits == NULL) return LS_ERR_NOMEM;
-    for (h = 0; h < vertex_count; h++) { /* behind and wk in registers, not through sc */
+    for (h = 0; h < vertex_count; h++) { /* behind, wk and msum in registers, not through sc */
         const ls_real *cl = vis->clip + 4 * (size_t)h;
-        vfront[h] = cl[2] + cl[3] >= (ls_real)0 && cl[3] > (ls_real)0;
-        behind += !(cl[2] + cl[3] >= (ls_real)0);
-        nfront += vfront[h];
-        if (vfront[h]) {
-            ls_real m;
-            window_of(sc, cl, win + 2 * (size_t)h);
-            zv[h] = cl[2] / cl[3];
-            m = r_abs(win[2 * (size_t)h]) + r_abs(win[2 * (size_t)h + 1]);
+        ls_real w = cl[3];
+        int near = cl[2] + w >= (ls_real)0, fr = near & (w > (ls_real)0);
+        vfront[h] = (unsigned char)fr;
+        behind += (uint32_t)!near;
+        nfront += (uint32_t)fr;
+        if (fr) {
+            ls_real p[2], m;
+            window_of(sc, cl, p);
+            win[2 * (size_t)h] = p[0];
+            win[2 * (size_t)h + 1] = p[1];
+            zv[h] = cl[2] / w;
+            m = r_abs(p[0]) + r_abs(p[1]);
+            msum += m; /* finite only when every m is */
             if (m > wk) wk = m; /* inf: no bound is finite; NaN: its triangles' cross products are NaN */
         } else {
             win[2 * (size_t)h] = (ls_real)0;
@@ -2305,7 +2380,7 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
         nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
     }
     next_edge(sc, keep, nkeep, bits, table->boundary_edges != 0);
-    nkeep = box_keep(sc, keep, nkeep, offs, count, &over);
+    nkeep = box_keep(sc, keep, nkeep, offs, count, &over, msum <= R_MAX);
     slots = slot_count(count[1], count[0]);
     if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
     ent = (uint32_t *)ls_arena_scratch(arena, count[0] + 1u, sizeof(uint32_t)); /* bin_pass's spare slot */
