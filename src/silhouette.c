@@ -640,32 +640,25 @@ static void bin_pass(const sctx *sc, const uint32_t *list, uint32_t n, size_t *o
     const float *tbox = sc->tbox;
     uint32_t i, tx, ty, r[4];
     sgrid g;
-    size_t tiles = (size_t)sc->tiles_x * sc->tiles_y, spare;
     grid_init(sc, &g);
-    /* offs[tile + 1], the tile's start, is its cursor: it ends as its end,
-     * the next tile's start, with no shift afterwards */
-    spare = offs[tiles + 1u]; /* ent's extra last slot: where an absent tile's entry goes */
-    offs++;
+    offs++; /* offs[tile + 1], the tile's start, is its cursor: it ends as its end, the next tile's start */
     for (i = 0; i < n; i++) {
         uint32_t t = list[i];
         fbox_tiles(&g, tbox + 4 * (size_t)t, r);
         if ((r[2] - r[0]) <= 1u && (r[3] - r[1]) <= 1u) {
-            /* at most 2 x 2 tiles, as tile_add counted them: each present
-             * tile takes the next entry of its bin, an absent one writes
-             * the spare slot and advances nothing; no loops, whose trip
-             * counts mispredict */
+            /* at most 2 x 2 tiles, as tile_add counted them, with no loops
+             * (their trip counts mispredict) and no branch: an absent tile
+             * is one of the tiles after it in this order (nx, ny = 0), so
+             * its entry is written again there, and then kept */
             size_t nx = r[2] - r[0], ny = r[3] - r[1], b = (size_t)r[1] * g.tx + r[0];
-            size_t d = ny * g.tx, both = nx & ny, m;
-            ent[offs[b]++] = t;
-            m = (size_t)0 - nx; /* all ones when present: a select by masks, not a branch */
-            ent[(offs[b + nx] & m) | (spare & ~m)] = t;
-            offs[b + nx] += nx;
-            m = (size_t)0 - ny;
-            ent[(offs[b + d] & m) | (spare & ~m)] = t;
+            size_t d = ny * g.tx;
+            ent[offs[b + d + nx]] = t;
+            offs[b + d + nx] += nx & ny;
+            ent[offs[b + d]] = t;
             offs[b + d] += ny;
-            m = (size_t)0 - both;
-            ent[(offs[b + d + nx] & m) | (spare & ~m)] = t;
-            offs[b + d + nx] += both;
+            ent[offs[b + nx]] = t;
+            offs[b + nx] += nx;
+            ent[offs[b]++] = t;
             continue;
         }
         for (ty = r[1]; ty <= r[3]; ty++)
@@ -2095,7 +2088,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
                               size_t slots, size_t *bytes)
 {
     ls_size s;
-    if (tiles > SIZE_MAX - 2u || entries > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    if (tiles > SIZE_MAX - 2u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
     ls_size_init(&s);
     ls_size_add(&s, (size_t)vertex_count, 2 * sizeof(ls_real));
     ls_size_add(&s, (size_t)vertex_count, sizeof(ls_real));
@@ -2105,7 +2098,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_add(&s, (size_t)triangle_count, 4 * sizeof(float));
     ls_size_add(&s, (size_t)triangle_count, sizeof(uint32_t));
     ls_size_add(&s, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)); /* edge marks (next_edge) */
-    ls_size_add(&s, entries + 1u, sizeof(uint32_t)); /* and bin_pass's spare slot */
+    ls_size_add(&s, entries, sizeof(uint32_t));
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cid */
     ls_size_add(&s, slots, sizeof(ls_real));  /* chi */
     ls_size_add(&s, slots, sizeof(ls_real));  /* clo */
@@ -2382,8 +2375,8 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     next_edge(sc, keep, nkeep, bits, table->boundary_edges != 0);
     nkeep = box_keep(sc, keep, nkeep, offs, count, &over, msum <= R_MAX);
     slots = slot_count(count[1], count[0]);
-    if (over || count[0] > SIZE_MAX - 1u || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
-    ent = (uint32_t *)ls_arena_scratch(arena, count[0] + 1u, sizeof(uint32_t)); /* bin_pass's spare slot */
+    if (over || slots > (SIZE_MAX - 2u) / 4u) return LS_ERR_TOO_LARGE;
+    ent = (uint32_t *)ls_arena_scratch(arena, count[0], sizeof(uint32_t));
     sc->cid = ent ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc->chi = sc->cid ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
     sc->clo = sc->chi ? (ls_real *)ls_arena_scratch(arena, slots, sizeof(ls_real)) : NULL;
