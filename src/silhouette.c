@@ -376,12 +376,20 @@ static int tri_sign(const sctx *sc, const uint32_t *f)
 static SIL_INLINE int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real wkb)
 {
     const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
-    ls_real dx1 = p1[0] - p0[0], dy1 = p1[1] - p0[1], dx2 = p2[0] - p0[0], dy2 = p2[1] - p0[1];
-    ls_real t1 = dx1 * dy2, t2 = dy1 * dx2, cr = t1 - t2, k = sc->wk, bound;
-    int fast = 2 * ((cr < -wkb) - (cr > wkb)); /* no branch on the orientation: it has no pattern */
+    ls_real d1[2], d2[2], t1, t2, cr, k = sc->wk, bound;
+    int j, fast;
+    for (j = 0; j < 2; j++) { /* (dx, dy) pairs: SSE2 subtracts each in one */
+        d1[j] = p1[j] - p0[j];
+        d2[j] = p2[j] - p0[j];
+    }
+    t1 = d1[0] * d2[1];
+    t2 = d1[1] * d2[0];
+    cr = t1 - t2;
+    fast = 2 * ((cr < -wkb) - (cr > wkb)); /* no branch on the orientation: it has no pattern */
     if (fast != 0) return fast;
     bound = (ls_real)16 * LS_REAL_EPSILON *
-                ((k * (((r_abs(dx1) + r_abs(dy1)) + (r_abs(dx2) + r_abs(dy2))) + LS_REAL_EPSILON * k) + r_abs(t1)) +
+                ((k * (((r_abs(d1[0]) + r_abs(d1[1])) + (r_abs(d2[0]) + r_abs(d2[1]))) + LS_REAL_EPSILON * k) +
+                  r_abs(t1)) +
                  r_abs(t2)) +
             (ls_real)64 * R_MIN_NORMAL;
     if (cr > bound) return -2;
@@ -2213,22 +2221,31 @@ static uint32_t low_bit(uint64_t m)
     return idx[((m & ((uint64_t)0 - m)) * 0x03f79d71b4cb0a89ull) >> 58];
 }
 
-/* next_edge's loop; open: the mesh has boundary edges (twins to clamp). */
+/* next_edge's loop; open: the mesh has boundary edges (twins to clamp).
+ * One branch per face, on whether any of its edges is a candidate: few
+ * are (the contour's), so it is mostly not taken and the bits' updates
+ * are skipped, with fewer mispredictions than a branch per edge. */
 static SIL_INLINE void mark_faces(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits, int open)
 {
     const signed char *sign = sc->sign;
     const uint32_t *twin = sc->twin;
     uint32_t i, k, tc = sc->triangle_count;
     for (i = 0; i < n; i++) {
-        uint32_t h = 3u * list[i];
-        int s = sign[list[i]]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
+        uint32_t h = 3u * list[i], tw[3], mk[3];
+        int s = sign[list[i]] + 4; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
+        SIL_UNROLL
+        for (k = 0; k < 3u; k++) {
+            uint32_t fu;
+            tw[k] = twin[h + k];
+            fu = tw[k] / 3u;
+            if (open) fu = fu < tc ? fu : tc;
+            mk[k] = (uint32_t)(((s + sign[fu]) & 7) != 0); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): the sum is not +-4 */
+        }
+        if ((mk[0] | mk[1] | mk[2]) == 0) continue;
         SIL_UNROLL
         for (k = 0; k < 3u; k++, h++) {
-            uint32_t tw = twin[h], fu = tw / 3u, c = tw < h ? tw : h;
-            int sum;
-            if (open) fu = fu < tc ? fu : tc;
-            sum = s + sign[fu];                  /* NOLINT(bugprone-signed-char-misuse,cert-str34-c) */
-            bits[c >> 6] |= (uint64_t)(((sum + 4) & 7) != 0) << (c & 63u); /* sum in [-4, 4]: not +-4 */
+            uint32_t c = tw[k] < h ? tw[k] : h;
+            bits[c >> 6] |= (uint64_t)mk[k] << (c & 63u);
         }
     }
 }
@@ -2238,10 +2255,9 @@ static SIL_INLINE void mark_faces(const sctx *sc, const uint32_t *list, uint32_t
  * or an interior edge whose faces are not both certain of one orientation.
  * Only the faces of list[0..n) are visited: every candidate has one (the
  * faces whose sign is not that of certain culled ones; every face when
- * nothing is culled, as with boundary edges). No branch per half-edge
- * (candidates have no pattern): a boundary twin's face is clamped to the
- * sentinel sign[tc] = 0, so its sum is never +-4 and it is a candidate, as
- * it must be. */
+ * nothing is culled, as with boundary edges). A boundary twin's face is
+ * clamped to the sentinel sign[tc] = 0, so its sum is never +-4 and it is
+ * a candidate, as it must be. */
 static void next_edge(const sctx *sc, const uint32_t *list, uint32_t n, uint64_t *bits, int open)
 {
     memset(bits, 0, (3 * (size_t)sc->triangle_count / 64u + 1u) * sizeof(uint64_t));
@@ -2283,6 +2299,32 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     }
 }
 
+/* setup_pass's orientations (tri_sign) of the triangles into sign, each
+ * triangle's tbox entry unbinned (x0 > x1) until box_keep boxes it and,
+ * on the guess that the culled faces are those certain of sign -2
+ * (choose_cull's cull = -1: a closed mesh wound counterclockwise, seen
+ * from outside), the others listed in keep, their number returned
+ * (setup_pass lists them again when the guess fails). allfront:
+ * sc->allfront (no per-triangle front test). */
+static SIL_INLINE uint32_t sign_pass(const sctx *sc, signed char *sign, uint32_t *keep, ls_real wkb, int allfront)
+{
+    const uint32_t *indices = sc->indices;
+    const unsigned char *vfront = sc->vfront;
+    float *fb = sc->tbox;
+    uint32_t t, n = 0, tc = sc->triangle_count;
+    for (t = 0; t < tc; t++, fb += 4) {
+        const uint32_t *f = indices + 3 * (size_t)t;
+        int s = allfront || (vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(sc, f, wkb)
+                                                                                : tri_sign(sc, f);
+        sign[t] = (signed char)s;
+        fb[0] = 1.0f;
+        fb[2] = 0.0f;
+        keep[n] = t;
+        n += (uint32_t)(s != -2);
+    }
+    return n;
+}
+
 /* The pass's per-view set-up, after sctx_init: window positions and
  * depths, orientations, culling, tiles, the contour marks (bits), boxes,
  * bins and the candidate slots, all in scratch. Out of line: its locals
@@ -2296,7 +2338,7 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
      * alias anything reached through a pointer (0.3M instructions a view) */
     sctx own = *out, *sc = &own;
     const ls_vis *vis = sc->vis;
-    const uint32_t *indices = sc->indices;
+    const ls_real *cl = vis->clip;
     uint32_t t, h, triangle_count = sc->triangle_count, *keep, nkeep = 0, nfront = 0, behind = 0;
     ls_real wk = (ls_real)0, msum = (ls_real)0;
     int cull;
@@ -2316,8 +2358,7 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     keep = sc->tbox ? (uint32_t *)ls_arena_scratch(arena, (size_t)triangle_count, sizeof(uint32_t)) : NULL;
     bits = keep ? (uint64_t *)ls_arena_scratch(arena, 3 * (size_t)triangle_count / 64u + 1u, sizeof(uint64_t)) : NULL;
     if (bits == NULL) return LS_ERR_NOMEM;
-    for (h = 0; h < vertex_count; h++) { /* behind, wk and msum in registers, not through sc */
-        const ls_real *cl = vis->clip + 4 * (size_t)h;
+    for (h = 0; h < vertex_count; h++, cl += 4) { /* behind, wk and msum in registers, not through sc */
         ls_real w = cl[3];
         int near = cl[2] + w >= (ls_real)0, fr = near & (w > (ls_real)0);
         vfront[h] = (unsigned char)fr;
@@ -2347,13 +2388,14 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     sc->win = win;
     sc->zv = zv;
     sc->vfront = vfront;
-    for (t = 0; sc->allfront && t < triangle_count; t++) /* no per-triangle test */
-        sign[t] = (signed char)tri_sign_front(sc, indices + 3 * (size_t)t, wkb);
-    for (t = 0; !sc->allfront && t < triangle_count; t++) {
-        const uint32_t *f = indices + 3 * (size_t)t;
-        sign[t] = (signed char)((vfront[f[0]] & vfront[f[1]] & vfront[f[2]]) != 0 ? tri_sign_front(sc, f, wkb)
-                                                                                  : tri_sign(sc, f));
-    }
+#if SIL_SPECIALIZE
+    if (sc->allfront)
+        nkeep = sign_pass(sc, sign, keep, wkb, 1);
+    else
+        nkeep = sign_pass(sc, sign, keep, wkb, 0);
+#else
+    nkeep = sign_pass(sc, sign, keep, wkb, sc->allfront);
+#endif
     sign[triangle_count] = 0; /* next_edge's sentinel for boundary twins */
     sc->sign = sign;
     sc->twin = table->twin;
@@ -2363,14 +2405,14 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     /* the faces not certain of the culled orientation (all when nothing is
      * culled), listed without a branch (orientations have no pattern):
      * next_edge's faces, and box_keep's after its cull test (false only for
-     * the few uncertain ones); the others stay unbinned (x0 > x1) */
+     * the few uncertain ones); sign_pass listed them when its guess holds */
     cull = sc->cull;
-    for (t = 0; t < triangle_count; t++) {
-        float *fb = sc->tbox + 4 * (size_t)t;
-        fb[0] = 1.0f;
-        fb[2] = 0.0f;
-        keep[nkeep] = t;
-        nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+    if (cull != -1) {
+        nkeep = 0;
+        for (t = 0; t < triangle_count; t++) {
+            keep[nkeep] = t;
+            nkeep += (uint32_t)(sign[t] != 2 * cull + 3 * (cull == 0)); /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+        }
     }
     next_edge(sc, keep, nkeep, bits, table->boundary_edges != 0);
     nkeep = box_keep(sc, keep, nkeep, offs, count, &over, msum <= R_MAX);
