@@ -502,8 +502,17 @@ static inline int unclipped_box(const rctx *cx, const int32_t *snap, const size_
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
                                     ls_diag *diag)
 {
-    uint32_t t;
-    for (t = 0; t < triangle_count; t++) {
+    size_t i = 0, j, n = 3 * (size_t)triangle_count;
+    uint32_t t, bad = 0;
+    /* whether any index is out of range first, without a branch per index:
+     * in blocks of a fixed count, which compilers vectorize at -O2 */
+    for (; i + 64u <= n; i += 64u) {
+        uint32_t b = 0;
+        for (j = 0; j < 64u; j++) b |= (uint32_t)(indices[i + j] >= vertex_count);
+        bad |= b;
+    }
+    for (; i < n; i++) bad |= (uint32_t)(indices[i] >= vertex_count);
+    for (t = 0; bad != 0 && t < triangle_count; t++) { /* the first triangle out of range */
         const uint32_t *f = indices + 3 * (size_t)t;
         if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count)
             return ls_diag_set(diag, LS_ERR_MESH, "triangle vertex index out of range", t);

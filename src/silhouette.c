@@ -2036,6 +2036,22 @@ static uint64_t covered(const ls_vis *vis)
     return cov;
 }
 
+/* choose_cull's count of a sample showing id into cnt: covered, showing
+ * a positive and a negative orientation (sign, or tri_sign when NULL).
+ * Inlined, so the counts stay in registers (increments of a counter in
+ * memory chain through it). */
+static SIL_INLINE void cull_count(const sctx *sc, const signed char *sign, uint32_t id, uint64_t cnt[3])
+{
+    int sg;
+    if (id == 0) return;
+    cnt[0]++;
+    if (id > sc->triangle_count) return;
+    /* NOLINTNEXTLINE(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
+    sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
+    cnt[1] += (uint64_t)(sg > 0);
+    cnt[2] += (uint64_t)(sg < 0);
+}
+
 /* Orientation culling of the candidates: for a closed mesh (no boundary
  * edge) of which nothing crosses the near plane, seen from outside, the
  * triangles of one orientation (back faces) are never the nearest surface
@@ -2051,9 +2067,8 @@ static uint64_t covered(const ls_vis *vis)
 static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
-    const uint32_t *tri = vis->tri, tc = sc->triangle_count;
-    size_t pos = 0, neg = 0;
-    uint64_t cov = 0;
+    const uint32_t *tri = vis->tri;
+    uint64_t cnt[3] = {0, 0, 0}; /* covered, positive, negative */
     uint32_t v, x, y;
     sc->cull = 0;
     if (table->boundary_edges != 0 || sc->behind != 0) return covered(vis);
@@ -2063,21 +2078,17 @@ static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed c
     }
     for (y = 0; y < vis->sh; y += 4u) {
         const uint32_t *row = tri + (size_t)y * vis->sw;
-        for (x = 0; x < vis->sw; x++) { /* counts in registers: increments of a counter in memory chain through it */
-            uint32_t id = row[x];
-            int sg;
-            if (id == 0) continue;
-            cov++;
-            if (id > tc) continue;
-            /* NOLINTNEXTLINE(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
-            sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
-            pos += (size_t)(sg > 0);
-            neg += (size_t)(sg < 0);
+        /* samples by pairs, most of which show nothing */
+        for (x = 0; x + 1u < vis->sw; x += 2u) {
+            if ((row[x] | row[x + 1u]) == 0) continue;
+            cull_count(sc, sign, row[x], cnt);
+            cull_count(sc, sign, row[x + 1u], cnt);
         }
+        if (x < vis->sw) cull_count(sc, sign, row[x], cnt);
     }
-    if (neg < pos / 64u) sc->cull = -1;
-    if (pos < neg / 64u) sc->cull = 1;
-    return cov;
+    if (cnt[2] < cnt[1] / 64u) sc->cull = -1;
+    if (cnt[1] < cnt[2] / 64u) sc->cull = 1;
+    return cnt[0];
 }
 
 /* Candidate slots of a view: a piece's candidates come from one tile's bin,
