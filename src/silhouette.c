@@ -697,6 +697,7 @@ typedef struct spiece {
     ls_real G[20];   /* quad_piece's form, each entry twice (quad_side's pairs): here, not in a frame (the MCU's stack) */
     ls_real gbg;     /* g . background (beh = 0) */
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
+    ls_real xerr;    /* if sure, quad_sure's bound on the 3-point rule's error over (hi - lo) / 400 */
 } spiece;
 
 /* The areas of triangle f at the segment's point t (ls_clip_areas: no
@@ -870,15 +871,34 @@ static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G
 
 /* Whether quad_eval's tests pass all over [0, 1] for the side q: S and
  * sum a_k W_k are affine, so they keep their signs there when both ends
- * have them by far more than the rounding of their evaluation. */
-static int quad_sure(const ls_real q[8])
+ * have them by far more than the rounding of their evaluation. If so, adds
+ * to *xerr a bound on the 3-point rule's error there, over (hi - lo) / 400
+ * (integrate): the integrand is omega N / S^2 (N = c0 + c1 s + c2 s^2,
+ * S = S0 + d s, omega = 1 - t or t), and with rho = |d| / min |S| <= 1/16
+ * Leibniz's rule bounds its 6th derivative in s by
+ * 4635 rho^3 (|c2| + rho |c1| + rho^2 |c0|) / min S^2; the 3-point rule's
+ * error is (hi - lo) / 2016000 times that (4635 / 2016000 < 1 / 400). */
+static int quad_sure(const ls_real q[8], ls_real *xerr)
 {
-    ls_real r = (ls_real)8 * LS_REAL_EPSILON, S0 = q[2], S1 = q[2] + q[3], w0 = q[4], w1 = q[4] + q[5];
-    ls_real ms = r * (r_abs(q[2]) + r_abs(q[3])), mw = r * (r_abs(q[4]) + r_abs(q[5]));
-    if (!(ms - ms == (ls_real)0 && mw - mw == (ls_real)0)) return 0;
-    if (S0 > ms && S1 > ms) return w0 > mw && w1 > mw;
-    if (S0 < -ms && S1 < -ms) return w0 < -mw && w1 < -mw;
-    return 0;
+    ls_real r = (ls_real)8 * LS_REAL_EPSILON, d = r_abs(q[3]), ms = r * (r_abs(q[2]) + d);
+    ls_real mw = r * (r_abs(q[4]) + r_abs(q[5])), sg, s0, s1, w0, w1, smin, inv, rho;
+    if (!((ms + mw) - (ms + mw) == (ls_real)0)) return 0; /* both finite, and then so are S and w */
+    /* S0 > ms and ... or S0 < -ms and ...: the same with all made positive */
+    sg = q[2] > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
+    s0 = sg * q[2];
+    s1 = sg * (q[2] + q[3]);
+    w0 = sg * q[4];
+    w1 = sg * (q[4] + q[5]);
+    smin = s0 < s1 ? s0 : s1;
+    if (!((smin > ms) & ((w0 < w1 ? w0 : w1) > mw))) return 0;
+    if (!((ls_real)16 * d <= smin)) {
+        *xerr = LS_REAL_MAX;
+        return 1;
+    }
+    inv = (ls_real)1 / smin;
+    rho = d * inv;
+    *xerr += rho * rho * rho * (r_abs(q[1]) + rho * (r_abs(q[6]) + rho * r_abs(q[0]))) * (inv * inv);
+    return 1;
 }
 
 /* Sets up the fast path's coefficients of sub-piece pc (spans made). */
@@ -891,10 +911,11 @@ static void quad_piece(const sctx *sc, spiece *pc)
     SIL_UNROLL
     for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
     quad_side(sc, &pc->in, G, pc->q[0]);
-    pc->sure = quad_sure(pc->q[0]);
+    pc->xerr = (ls_real)0;
+    pc->sure = quad_sure(pc->q[0], &pc->xerr);
     if (pc->beh != 0) {
         quad_side(sc, &pc->bh, G, pc->q[1]);
-        pc->sure = pc->sure && quad_sure(pc->q[1]);
+        pc->sure = pc->sure && quad_sure(pc->q[1], &pc->xerr);
     } else {
         const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * pc->p : sc->o->background;
         pc->gbg = (g[0] * bg[0] + g[1] * bg[1]) + g[2] * bg[2];
@@ -937,13 +958,38 @@ static ls_real quad_term(const sctx *sc, const spiece *pc, ls_real t)
     return quad_term_n(sc, pc, t, pc->sure, pc->beh != 0);
 }
 
+/* f[k] = half x the integrand at t[k] for k0 <= k < k1; sure: integrate's
+ * (1, 2: quad_term_n's sure path without, with a surface behind). */
+static SIL_INLINE void quad_nodes(const sctx *sc, const spiece *pc, int sure, const ls_real *t, ls_real half, int k0,
+                                  int k1, ls_real *f)
+{
+    int k;
+#if SIL_SPECIALIZE
+    /* the usual cases with their tests out of the loop */
+    if (sure == 1) {
+        SIL_UNROLL
+        for (k = k0; k < k1; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 0) * half;
+        return;
+    }
+    if (sure == 2) {
+        SIL_UNROLL
+        for (k = k0; k < k1; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 1) * half;
+        return;
+    }
+#else
+    (void)sure;
+#endif
+    SIL_UNROLL
+    for (k = k0; k < k1; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
+}
+
 /* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb
  * (the surface behind: beh, pixel p): one point when df is constant (mask
- * mode), else Gauss-Legendre with 3
- * points, the interval halved (depth first, at most SIL_DEPTH_CAP times)
- * until the 2-point rule agrees with it to qtol (the difference bounds the
- * 2-point rule's error; the 3-point rule's is far below: 5 evaluations
- * where 5 and 3 points took 7). */
+ * mode), else Gauss-Legendre with 3 points: once when quad_sure's bound
+ * puts its error within qtol, else on the interval halved (depth first, at
+ * most SIL_DEPTH_CAP times) until the 2-point rule agrees with it to qtol
+ * (the difference bounds the 2-point rule's error; the 3-point rule's is
+ * far below: 5 evaluations where 5 and 3 points took 7). */
 static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_t beh, size_t p)
 {
     static const ls_real x2 = (ls_real)0.57735026918962576451, x3 = (ls_real)0.77459666924148337704;
@@ -952,10 +998,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
      * but for the two halves just pushed, so it holds at most CAP + 1 */
     ls_real slo[SIL_DEPTH_CAP + 1], shi[SIL_DEPTH_CAP + 1], gabs;
     unsigned char sd[SIL_DEPTH_CAP + 1];
-    int n = 1;
-#if SIL_SPECIALIZE
-    int sure;
-#endif
+    int n = 1, sure = 0;
     const ls_real *g = sc->gimg + 4 * p;
     spiece *pc = sc->piece;
     /* zeroed once a view (ls_silhouette_backward): the parts a path leaves unused keep
@@ -973,17 +1016,18 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     }
     span_own(sc, ed, lo, hi, &pc->in);
     if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, pc->in.inv, &pc->bh);
-    if (sc->shq) quad_piece(sc, pc);
-#if SIL_SPECIALIZE
-    sure = sc->shq && pc->sure ? 1 + (beh != 0) : 0; /* 1, 2: quad_term_n's sure path without, with a surface behind */
-#endif
+    if (sc->shq) {
+        quad_piece(sc, pc);
+        if (pc->sure) sure = 1 + (beh != 0);
+    }
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
     slo[0] = lo;
     shi[0] = hi;
-    sd[0] = 0;
+    /* the bound shows the 3-point rule within qtol: no 2-point check, no halving */
+    sd[0] = (unsigned char)(sure && pc->xerr <= (ls_real)200 * sc->qtol * gabs ? SIL_DEPTH_CAP : 0);
     while (n > 0) {
-        ls_real l, h, mid, half, f[5], t[5], a2, b2, a3, b3, err;
-        int d, k;
+        ls_real l, h, mid, half, f[5], t[5], a3, b3;
+        int d;
         n--;
         l = slo[n];
         h = shi[n];
@@ -993,39 +1037,30 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
         t[0] = mid;
         t[1] = mid - half * x3;
         t[2] = mid + half * x3;
-        t[3] = mid - half * x2;
-        t[4] = mid + half * x2;
-#if SIL_SPECIALIZE
-        /* the usual cases with their tests out of the loop */
-        if (sure == 1) {
-            SIL_UNROLL
-            for (k = 0; k < 5; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 0) * half;
-        } else if (sure == 2) {
-            SIL_UNROLL
-            for (k = 0; k < 5; k++) f[k] = quad_term_n(sc, pc, t[k], 1, 1) * half;
-        } else
-#endif
-        {
-            SIL_UNROLL
-            for (k = 0; k < 5; k++) f[k] = (sc->shq ? quad_term(sc, pc, t[k]) : point_term(sc, pc, t[k])) * half;
-        }
+        quad_nodes(sc, pc, sure, t, half, 0, 3, f);
         a3 = (w3b * ((ls_real)1 - t[0]) * f[0] + w3a * ((ls_real)1 - t[1]) * f[1]) + w3a * ((ls_real)1 - t[2]) * f[2];
         b3 = (w3b * t[0] * f[0] + w3a * t[1] * f[1]) + w3a * t[2] * f[2];
-        a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
-        b2 = t[3] * f[3] + t[4] * f[4];
-        err = r_abs(a3 - a2) + r_abs(b3 - b2);
-        if ((d >= SIL_DEPTH_CAP) | (err <= sc->qtol * ((r_abs(a3) + r_abs(b3)) + (h - l) * gabs))) { /* one branch */
-            ed->ka += a3;
-            ed->kb += b3;
-            continue;
+        if (d < SIL_DEPTH_CAP) {
+            ls_real a2, b2, err;
+            t[3] = mid - half * x2;
+            t[4] = mid + half * x2;
+            quad_nodes(sc, pc, sure, t, half, 3, 5, f);
+            a2 = ((ls_real)1 - t[3]) * f[3] + ((ls_real)1 - t[4]) * f[4];
+            b2 = t[3] * f[3] + t[4] * f[4];
+            err = r_abs(a3 - a2) + r_abs(b3 - b2);
+            if (!(err <= sc->qtol * ((r_abs(a3) + r_abs(b3)) + (h - l) * gabs))) {
+                slo[n] = mid; /* the upper half waits: the lower half is done first */
+                shi[n] = h;
+                sd[n] = (unsigned char)(d + 1);
+                slo[n + 1] = l;
+                shi[n + 1] = mid;
+                sd[n + 1] = (unsigned char)(d + 1);
+                n += 2;
+                continue;
+            }
         }
-        slo[n] = mid; /* the upper half waits: the lower half is done first */
-        shi[n] = h;
-        sd[n] = (unsigned char)(d + 1);
-        slo[n + 1] = l;
-        shi[n + 1] = mid;
-        sd[n + 1] = (unsigned char)(d + 1);
-        n += 2;
+        ed->ka += a3;
+        ed->kb += b3;
     }
 }
 
