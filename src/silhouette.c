@@ -695,6 +695,9 @@ typedef struct spiece {
      * q = (c0, c2, s0, ds, w0, dw, c1, 0), the pairs as quad_side makes them */
     ls_real q[2][8];
     ls_real G[20];   /* quad_piece's form, each entry twice (quad_side's pairs): here, not in a frame (the MCU's stack) */
+    size_t gkey;     /* 1 + the pixel G is for, 0: none (zeroed once a view) */
+    uint32_t bkey;   /* beh of span_init's last span, 0: none */
+    ls_real bt, ba[3]; /* its hi and the areas there */
     ls_real gbg;     /* g . background (beh = 0) */
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
     ls_real xerr;    /* if sure, quad_sure's bound on the 3-point rule's error over (hi - lo) / 400 */
@@ -710,35 +713,47 @@ static void span_areas(const sctx *sc, const sedge *ed, const uint32_t *f, ls_re
     ls_clip_areas(sc->vis->clip, f, px, py, u, v, a);
 }
 
-/* inv: 1 / (hi - lo), or 0 when lo = hi (the own face's span has it). */
-static void span_init(const sctx *sc, const sedge *ed, uint32_t t, ls_real lo, ls_real hi, ls_real inv, aspan *sp)
+/* The span of the surface behind (pc->beh) on [lo, hi], with the own
+ * face's inv (pc->in: 1 / (hi - lo), or 0 when lo = hi). The areas at hi
+ * are kept for the next sub-piece of the segment: about half start there
+ * on the same triangle (pixel boundaries, run_pass's joins). */
+static void span_init(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, ls_real hi)
 {
     ls_real al[3], ah[3];
+    aspan *sp = &pc->bh;
     int k;
-    sp->f = sc->indices + 3 * (size_t)t;
+    sp->f = sc->indices + 3 * (size_t)(pc->beh - 1u);
     sp->lo = lo;
-    sp->inv = inv;
-    span_areas(sc, ed, sp->f, lo, al);
+    sp->inv = pc->in.inv;
+    if (pc->bkey == pc->beh && pc->bt == lo)
+        for (k = 0; k < 3; k++) al[k] = pc->ba[k];
+    else
+        span_areas(sc, ed, sp->f, lo, al);
     if (hi > lo)
         span_areas(sc, ed, sp->f, hi, ah);
     else
         for (k = 0; k < 3; k++) ah[k] = al[k];
+    pc->bkey = pc->beh;
+    pc->bt = hi;
     SIL_UNROLL
     for (k = 0; k < 3; k++) {
+        pc->ba[k] = ah[k];
         sp->ad[k][0] = al[k];
         sp->ad[k][1] = ah[k] - al[k];
     }
 }
 
-/* span_init for the segment's own face: its areas along the segment's
- * part in the image, from their values at its ends (ed->fa, computed at
- * the first sub-piece), affine there. On its own edge they stay within
+/* span_init for the segment's own face (pc->in): its areas along the
+ * segment's part in the image, from their values at its ends (ed->fa,
+ * computed at the first sub-piece), affine there. On its own edge they stay within
  * [0, their sum], so the interpolation loses nothing to magnitudes. */
-static void span_own(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, aspan *sp)
+static void span_own(const sctx *sc, sedge *ed, spiece *pc, ls_real lo, ls_real hi)
 {
+    aspan *sp = &pc->in;
     ls_real s0, ds;
     int k;
-    if (!ed->fok) {
+    if (!ed->fok) { /* the segment's first sub-piece */
+        pc->bkey = 0; /* span_init's areas are another segment's */
         const uint32_t *f = sc->indices + 3 * (size_t)ed->ft;
         span_areas(sc, ed, f, ed->tbeg, ed->fa);
         span_areas(sc, ed, f, ed->tend, ed->fa + 3);
@@ -908,8 +923,11 @@ static void quad_piece(const sctx *sc, spiece *pc)
     ls_real *G = pc->G, g0 = g[0], g1 = g[1], g2 = g[2];
     const ls_real *shm = sc->shm;
     int j;
-    SIL_UNROLL
-    for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
+    if (pc->gkey != pc->p + 1u) { /* a pixel's sub-pieces come in a row (a quarter follow one of theirs) */
+        pc->gkey = pc->p + 1u;
+        SIL_UNROLL
+        for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
+    }
     quad_side(sc, &pc->in, G, pc->q[0]);
     pc->xerr = (ls_real)0;
     pc->sure = quad_sure(pc->q[0], &pc->xerr);
@@ -1007,15 +1025,15 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     pc->p = p;
     if (sc->flat) {
         ls_real mid = (lo + hi) * (ls_real)0.5, term, len = hi - lo, mb = len * (hi + lo) * (ls_real)0.5;
-        span_own(sc, ed, mid, mid, &pc->in);
-        if (beh != 0) span_init(sc, ed, beh - 1u, mid, mid, pc->in.inv, &pc->bh);
+        span_own(sc, ed, pc, mid, mid);
+        if (beh != 0) span_init(sc, ed, pc, mid, mid);
         term = point_term(sc, pc, mid);
         ed->ka += term * (len - mb);
         ed->kb += term * mb;
         return;
     }
-    span_own(sc, ed, lo, hi, &pc->in);
-    if (beh != 0) span_init(sc, ed, beh - 1u, lo, hi, pc->in.inv, &pc->bh);
+    span_own(sc, ed, pc, lo, hi);
+    if (beh != 0) span_init(sc, ed, pc, lo, hi);
     if (sc->shq) {
         quad_piece(sc, pc);
         if (pc->sure) sure = 1 + (beh != 0);
