@@ -201,8 +201,7 @@ typedef struct sedge {
     int cloc;        /* 1: c0v too loose (float): cand_interval bounds each polygon's own */
     ls_real za, zb;  /* NDC depth at a and at a + e */
     ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
-    int fok;         /* 1: fa holds the areas of ft at tbeg and their change to tend (span_own) */
-    ls_real fa[6];
+    int fok;         /* 1: the own face's span over [tbeg, tend] is made (span_own: spiece.own) */
     int wok;         /* 1: the walk of an earlier run proved the segment hidden from its t0 up to wtb */
     ls_real wtb;
     uint32_t wnext, wnin; /* where that walk goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
@@ -687,6 +686,13 @@ typedef struct aspan {
  * the surface behind (beh = triangle + 1, 0: the background of pixel p). */
 typedef struct spiece {
     aspan in, bh;
+    aspan own;       /* the segment's own face over [tbeg, tend] (span_own) */
+    /* on the fast path (own_form), per channel c, H^T M_c H of own along it
+     * is oc[3c] + u oc[3c + 1] + u^2 oc[3c + 2] (u = (t - tbeg) tinv); osw:
+     * S, sum a_k W_k at tbeg and their changes to tend */
+    ls_real oc[9], osw[4];
+    int osure;       /* quad_sure over the segment; then orho, oinv: |dS| / min |S|, 1 / min |S| there */
+    ls_real orho, oinv;
     uint32_t beh;
     size_t p;
     /* the SH fast path (sc->shq): per side (0 inside, 1 behind), g.E along the
@@ -700,7 +706,7 @@ typedef struct spiece {
     ls_real bt, ba[3]; /* its hi and the areas there */
     ls_real gbg;     /* g . background (beh = 0) */
     int sure;        /* 1: quad_eval's tests pass at every s in [0, 1] (quad_sure), so are skipped */
-    ls_real xerr;    /* if sure, quad_sure's bound on the 3-point rule's error over (hi - lo) / 400 */
+    ls_real xerr;    /* if sure, quad_bound's bound on the 3-point rule's error over (hi - lo) / 400 */
 } spiece;
 
 /* The areas of triangle f at the segment's point t (ls_clip_areas: no
@@ -743,32 +749,43 @@ static void span_init(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, l
     }
 }
 
+static void own_form(const sctx *sc, spiece *pc);
+
 /* span_init for the segment's own face (pc->in): its areas along the
- * segment's part in the image, from their values at its ends (ed->fa,
- * computed at the first sub-piece), affine there. On its own edge they stay within
- * [0, their sum], so the interpolation loses nothing to magnitudes. */
+ * segment's part in the image, from their values at its ends (pc->own,
+ * made at the first sub-piece with own_form's coefficients), affine there.
+ * On its own edge they stay within [0, their sum], so the interpolation
+ * loses nothing to magnitudes. The fast path reads no areas (quad_piece). */
 static void span_own(const sctx *sc, sedge *ed, spiece *pc, ls_real lo, ls_real hi)
 {
     aspan *sp = &pc->in;
+    ls_real(*od)[2] = pc->own.ad;
     ls_real s0, ds;
     int k;
     if (!ed->fok) { /* the segment's first sub-piece */
+        ls_real al[3], ah[3];
+        aspan *ow = &pc->own;
+        ow->f = sc->indices + 3 * (size_t)ed->ft;
+        span_areas(sc, ed, ow->f, ed->tbeg, al);
+        span_areas(sc, ed, ow->f, ed->tend, ah);
+        for (k = 0; k < 3; k++) {
+            ow->ad[k][0] = al[k];
+            ow->ad[k][1] = ah[k] - al[k];
+        }
+        if (sc->shq && !sc->flat) own_form(sc, pc);
         pc->bkey = 0; /* span_init's areas are another segment's */
-        const uint32_t *f = sc->indices + 3 * (size_t)ed->ft;
-        span_areas(sc, ed, f, ed->tbeg, ed->fa);
-        span_areas(sc, ed, f, ed->tend, ed->fa + 3);
-        for (k = 0; k < 3; k++) ed->fa[3 + k] -= ed->fa[k];
         ed->fok = 1;
     }
-    s0 = (lo - ed->tbeg) * ed->tinv;
-    ds = (hi - lo) * ed->tinv;
-    sp->f = sc->indices + 3 * (size_t)ed->ft;
+    sp->f = pc->own.f;
     sp->lo = lo;
     sp->inv = hi > lo ? (ls_real)1 / (hi - lo) : (ls_real)0;
+    if (sc->shq && !sc->flat) return;
+    s0 = (lo - ed->tbeg) * ed->tinv;
+    ds = (hi - lo) * ed->tinv;
     SIL_UNROLL
     for (k = 0; k < 3; k++) {
-        sp->ad[k][0] = ed->fa[k] + s0 * ed->fa[3 + k];
-        sp->ad[k][1] = ds * ed->fa[3 + k];
+        sp->ad[k][0] = od[k][0] + s0 * od[k][1];
+        sp->ad[k][1] = ds * od[k][1];
     }
 }
 
@@ -842,25 +859,24 @@ static void sh_quad_init(sctx *sc)
     }
 }
 
-/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m with each
- * entry twice (G[2 i] = G[2 i + 1]), u and v in every other entry (u[2 r]):
- * quad_side's pairs. */
-static inline ls_real quad_form(const ls_real *G, const ls_real *u, const ls_real *v)
+/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m, entry i
+ * at G[gs i] (gs = 2: each entry twice, quad_side's pairs), u and v in
+ * every other entry (u[2 r]). */
+static inline ls_real quad_form(const ls_real *G, int gs, const ls_real *u, const ls_real *v)
 {
-    return ((G[0] * u[0] * v[0] + G[8] * u[2] * v[2]) + (G[14] * u[4] * v[4] + G[18] * u[6] * v[6])) +
-           ((G[2] * (u[0] * v[2] + u[2] * v[0]) + G[4] * (u[0] * v[4] + u[4] * v[0])) +
-            (G[6] * (u[0] * v[6] + u[6] * v[0]) + G[10] * (u[2] * v[4] + u[4] * v[2]))) +
-           (G[12] * (u[2] * v[6] + u[6] * v[2]) + G[16] * (u[4] * v[6] + u[6] * v[4]));
+    return ((G[0] * u[0] * v[0] + G[4 * gs] * u[2] * v[2]) + (G[7 * gs] * u[4] * v[4] + G[9 * gs] * u[6] * v[6])) +
+           ((G[gs] * (u[0] * v[2] + u[2] * v[0]) + G[2 * gs] * (u[0] * v[4] + u[4] * v[0])) +
+            (G[3 * gs] * (u[0] * v[6] + u[6] * v[0]) + G[5 * gs] * (u[2] * v[4] + u[4] * v[2]))) +
+           (G[6 * gs] * (u[2] * v[6] + u[6] * v[2]) + G[8 * gs] * (u[4] * v[6] + u[6] * v[4]));
 }
 
-/* The coefficients q (spiece.q) of one side's span for the form G. The
- * values at lo (j = 0) and their changes (j = 1) go through the same
- * arithmetic side by side, which the compiler does in pairs (SLP); q is
- * stored last, after the loads. */
-static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G, ls_real *restrict q)
+/* H = sum_k a_k (n_k, 1) of span sp at lo and its change, h[2 r + j]: H's
+ * entry r (j = 0 at lo, 1 the change), and the same for sum a_k W_k, hw[j].
+ * Side by side, which the compiler does in pairs (SLP). */
+static SIL_INLINE void side_h(const sctx *sc, const aspan *sp, ls_real h[8], ls_real hw[2])
 {
     const ls_real(*a)[2] = sp->ad;
-    ls_real h[8], w[3], v[8]; /* h[2 r + j]: H's entry r */
+    ls_real w[3];
     const ls_real *n0 = sc->normals + 3 * (size_t)sp->f[0], *n1 = sc->normals + 3 * (size_t)sp->f[1];
     const ls_real *n2 = sc->normals + 3 * (size_t)sp->f[2];
     int j, k, r;
@@ -871,72 +887,131 @@ static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G
         h[6 + j] = (a[0][j] + a[1][j]) + a[2][j];
         SIL_UNROLL
         for (r = 0; r < 3; r++) h[2 * r + j] = (a[0][j] * n0[r] + a[1][j] * n1[r]) + a[2][j] * n2[r];
-        v[4 + j] = (((ls_real)0 + a[0][j] * w[0]) + a[1][j] * w[1]) + a[2][j] * w[2];
+        hw[j] = (((ls_real)0 + a[0][j] * w[0]) + a[1][j] * w[1]) + a[2][j] * w[2];
     }
+}
+
+/* The coefficients q (spiece.q) of one side's span for the form G; q is
+ * stored last, after the loads. */
+static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G, ls_real *restrict q)
+{
+    ls_real h[8], v[8];
+    int j, k;
+    side_h(sc, sp, h, v + 4);
     SIL_UNROLL
     for (j = 0; j < 2; j++) {
-        v[j] = quad_form(G + j, h + j, h + j);
+        v[j] = quad_form(G + j, 2, h + j, h + j);
         v[2 + j] = h[6 + j];
     }
-    v[6] = (ls_real)2 * quad_form(G, h, h + 1);
+    v[6] = (ls_real)2 * quad_form(G, 2, h, h + 1);
     v[7] = (ls_real)0;
     SIL_UNROLL
     for (k = 0; k < 8; k++) q[k] = v[k];
 }
 
-/* Whether quad_eval's tests pass all over [0, 1] for the side q: S and
- * sum a_k W_k are affine, so they keep their signs there when both ends
- * have them by far more than the rounding of their evaluation. If so, adds
- * to *xerr a bound on the 3-point rule's error there, over (hi - lo) / 400
- * (integrate): the integrand is omega N / S^2 (N = c0 + c1 s + c2 s^2,
- * S = S0 + d s, omega = 1 - t or t), and with rho = |d| / min |S| <= 1/16
- * Leibniz's rule bounds its 6th derivative in s by
- * 4635 rho^3 (|c2| + rho |c1| + rho^2 |c0|) / min S^2; the 3-point rule's
- * error is (hi - lo) / 2016000 times that (4635 / 2016000 < 1 / 400). */
-static int quad_sure(const ls_real q[8], ls_real *xerr)
+/* For a side whose S and sum a_k W_k are sw[0] + s sw[1], sw[2] + s sw[3]
+ * (q + 2): min |S| over s in [0, 1] if quad_eval's tests pass all over it,
+ * else 0. Both are affine, so they keep their signs there when both ends
+ * have them by far more than the rounding of their evaluation. */
+static ls_real quad_sure(const ls_real sw[4])
 {
-    ls_real r = (ls_real)8 * LS_REAL_EPSILON, d = r_abs(q[3]), ms = r * (r_abs(q[2]) + d);
-    ls_real mw = r * (r_abs(q[4]) + r_abs(q[5])), sg, s0, s1, w0, w1, smin, inv, rho;
-    if (!((ms + mw) - (ms + mw) == (ls_real)0)) return 0; /* both finite, and then so are S and w */
+    ls_real r = (ls_real)8 * LS_REAL_EPSILON, ms = r * (r_abs(sw[0]) + r_abs(sw[1]));
+    ls_real mw = r * (r_abs(sw[2]) + r_abs(sw[3])), sg, s0, s1, w0, w1, smin;
+    if (!((ms + mw) - (ms + mw) == (ls_real)0)) return (ls_real)0; /* both finite, and then so are S and w */
     /* S0 > ms and ... or S0 < -ms and ...: the same with all made positive */
-    sg = q[2] > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
-    s0 = sg * q[2];
-    s1 = sg * (q[2] + q[3]);
-    w0 = sg * q[4];
-    w1 = sg * (q[4] + q[5]);
+    sg = sw[0] > (ls_real)0 ? (ls_real)1 : (ls_real)-1;
+    s0 = sg * sw[0];
+    s1 = sg * (sw[0] + sw[1]);
+    w0 = sg * sw[2];
+    w1 = sg * (sw[2] + sw[3]);
     smin = s0 < s1 ? s0 : s1;
-    if (!((smin > ms) & ((w0 < w1 ? w0 : w1) > mw))) return 0;
-    if (!((ls_real)16 * d <= smin)) {
-        *xerr = LS_REAL_MAX;
-        return 1;
-    }
-    inv = (ls_real)1 / smin;
-    rho = d * inv;
-    *xerr += rho * rho * rho * (r_abs(q[1]) + rho * (r_abs(q[6]) + rho * r_abs(q[0]))) * (inv * inv);
-    return 1;
+    return (smin > ms) & ((w0 < w1 ? w0 : w1) > mw) ? smin : (ls_real)0;
 }
 
-/* Sets up the fast path's coefficients of sub-piece pc (spans made). */
-static void quad_piece(const sctx *sc, spiece *pc)
+/* A bound on the 3-point rule's error for a side q over [0, 1] on
+ * quad_sure's path, over (hi - lo) / 400 (integrate), given
+ * rho >= |dS| / min |S| and inv >= 1 / min |S|: the integrand is
+ * omega N / S^2 (N = c0 + c1 s + c2 s^2, omega = 1 - t or t), and with
+ * rho <= 1/16 Leibniz's rule bounds its 6th derivative in s by
+ * 4635 rho^3 (|c2| + rho |c1| + rho^2 |c0|) / min S^2; the rule's error is
+ * (hi - lo) / 2016000 times that (4635 / 2016000 < 1 / 400). */
+static ls_real quad_bound(const ls_real q[8], ls_real rho, ls_real inv)
 {
-    const ls_real *g = sc->gimg + 4 * pc->p;
-    ls_real *G = pc->G, g0 = g[0], g1 = g[1], g2 = g[2];
-    const ls_real *shm = sc->shm;
-    int j;
-    if (pc->gkey != pc->p + 1u) { /* a pixel's sub-pieces come in a row (a quarter follow one of theirs) */
-        pc->gkey = pc->p + 1u;
+    if (!(rho <= (ls_real)0.0625)) return LS_REAL_MAX;
+    return rho * rho * rho * (r_abs(q[1]) + rho * (r_abs(q[6]) + rho * r_abs(q[0]))) * (inv * inv);
+}
+
+/* The own face's coefficients along the segment (spiece.oc, osw) from
+ * pc->own: per channel's M_c (sh_quad_init), the form of H(u) = H0 + u dH
+ * through K = M_c H0, M_c dH (pairs, as side_h's). Once a segment, where
+ * quad_side took two spans and a form per sub-piece. */
+static void own_form(const sctx *sc, spiece *pc)
+{
+    static const unsigned char ix[16] = {0, 1, 2, 3, 1, 4, 5, 6, 2, 5, 7, 8, 3, 6, 8, 9}; /* M_c's entry (r, i) */
+    ls_real h[8], hw[2], k[8], *oc = pc->oc;
+    int c, j, r;
+    side_h(sc, &pc->own, h, hw);
+    for (c = 0; c < 3; c++) {
+        const ls_real *M = sc->shm + 10 * c;
         SIL_UNROLL
-        for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
+        for (r = 0; r < 4; r++) {
+            const unsigned char *x = ix + 4 * r;
+            SIL_UNROLL
+            for (j = 0; j < 2; j++)
+                k[2 * r + j] = (M[x[0]] * h[j] + M[x[1]] * h[2 + j]) + (M[x[2]] * h[4 + j] + M[x[3]] * h[6 + j]);
+        }
+        oc[3 * c] = (h[0] * k[0] + h[2] * k[2]) + (h[4] * k[4] + h[6] * k[6]);
+        oc[3 * c + 1] = (ls_real)2 * ((h[0] * k[1] + h[2] * k[3]) + (h[4] * k[5] + h[6] * k[7]));
+        oc[3 * c + 2] = (h[1] * k[1] + h[3] * k[3]) + (h[5] * k[5] + h[7] * k[7]);
     }
-    quad_side(sc, &pc->in, G, pc->q[0]);
-    pc->xerr = (ls_real)0;
-    pc->sure = quad_sure(pc->q[0], &pc->xerr);
+    pc->osw[0] = h[6];
+    pc->osw[1] = h[7];
+    pc->osw[2] = hw[0];
+    pc->osw[3] = hw[1];
+    /* quad_sure over the segment holds on each sub-piece: their coefficients
+     * (quad_piece) round by far less than its margins */
+    pc->oinv = quad_sure(pc->osw);
+    pc->osure = pc->oinv > (ls_real)0;
+    if (pc->osure) pc->oinv = (ls_real)1 / pc->oinv;
+    pc->orho = r_abs(h[7]) * pc->oinv;
+}
+
+/* Sets up the fast path's coefficients of sub-piece [lo, hi] (spans made):
+ * the own face's from own_form's at u = u0 + s du, the surface behind's
+ * through quad_side and the pixel's form G. */
+static void quad_piece(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, ls_real hi)
+{
+    const ls_real *g = sc->gimg + 4 * pc->p, *oc = pc->oc, *sw = pc->osw, *shm = sc->shm;
+    ls_real g0 = g[0], g1 = g[1], g2 = g[2], *q = pc->q[0], *G = pc->G;
+    ls_real u0 = (lo - ed->tbeg) * ed->tinv, du = (hi - lo) * ed->tinv;
+    ls_real k0 = (g0 * oc[0] + g1 * oc[3]) + g2 * oc[6], k1 = (g0 * oc[1] + g1 * oc[4]) + g2 * oc[7];
+    ls_real k2 = (g0 * oc[2] + g1 * oc[5]) + g2 * oc[8];
+    int j;
+    q[0] = k0 + u0 * (k1 + u0 * k2);
+    q[1] = du * du * k2;
+    q[2] = sw[0] + u0 * sw[1];
+    q[3] = du * sw[1];
+    q[4] = sw[2] + u0 * sw[3];
+    q[5] = du * sw[3];
+    q[6] = du * (k1 + (u0 + u0) * k2);
+    q[7] = (ls_real)0;
+    pc->sure = pc->osure;
+    pc->xerr = pc->sure ? quad_bound(q, du * pc->orho, pc->oinv) : (ls_real)0;
     if (pc->beh != 0) {
+        if (pc->gkey != pc->p + 1u) { /* a pixel's sub-pieces come in a row (a quarter follow one of theirs) */
+            pc->gkey = pc->p + 1u;
+            SIL_UNROLL
+            for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
+        }
         quad_side(sc, &pc->bh, G, pc->q[1]);
-        pc->sure = pc->sure && quad_sure(pc->q[1], &pc->xerr);
+        if (pc->sure) {
+            ls_real sm = quad_sure(pc->q[1] + 2);
+            pc->sure = sm > (ls_real)0;
+            if (pc->sure) pc->xerr += quad_bound(pc->q[1], r_abs(pc->q[1][3]) / sm, (ls_real)1 / sm);
+        }
     } else {
         const ls_real *bg = sc->o->background_image != NULL ? sc->o->background_image + 3 * pc->p : sc->o->background;
-        pc->gbg = (g[0] * bg[0] + g[1] * bg[1]) + g[2] * bg[2];
+        pc->gbg = (g0 * bg[0] + g1 * bg[1]) + g2 * bg[2];
     }
 }
 
@@ -1003,7 +1078,7 @@ static SIL_INLINE void quad_nodes(const sctx *sc, const spiece *pc, int sure, co
 
 /* Integrates (1 - t) g.df and t g.df over [lo, hi] into ed->ka, ed->kb
  * (the surface behind: beh, pixel p): one point when df is constant (mask
- * mode), else Gauss-Legendre with 3 points: once when quad_sure's bound
+ * mode), else Gauss-Legendre with 3 points: once when quad_bound's bound
  * puts its error within qtol, else on the interval halved (depth first, at
  * most SIL_DEPTH_CAP times) until the 2-point rule agrees with it to qtol
  * (the difference bounds the 2-point rule's error; the 3-point rule's is
@@ -1035,7 +1110,7 @@ static void integrate(const sctx *sc, sedge *ed, ls_real lo, ls_real hi, uint32_
     span_own(sc, ed, pc, lo, hi);
     if (beh != 0) span_init(sc, ed, pc, lo, hi);
     if (sc->shq) {
-        quad_piece(sc, pc);
+        quad_piece(sc, ed, pc, lo, hi);
         if (pc->sure) sure = 1 + (beh != 0);
     }
     gabs = ((r_abs(g[0]) + r_abs(g[1])) + r_abs(g[2])) + r_abs(g[3]);
