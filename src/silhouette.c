@@ -691,6 +691,7 @@ typedef struct spiece {
      * is oc[3c] + u oc[3c + 1] + u^2 oc[3c + 2] (u = (t - tbeg) tinv); osw:
      * S, sum a_k W_k at tbeg and their changes to tend */
     ls_real oc[9], osw[4];
+    int oset;        /* 1: oc, osw, osure, orho, oinv are the segment's */
     int osure;       /* quad_sure over the segment; then orho, oinv: |dS| / min |S|, 1 / min |S| there */
     ls_real orho, oinv;
     uint32_t beh;
@@ -749,11 +750,9 @@ static void span_init(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, l
     }
 }
 
-static void own_form(const sctx *sc, spiece *pc);
-
 /* span_init for the segment's own face (pc->in): its areas along the
  * segment's part in the image, from their values at its ends (pc->own,
- * made at the first sub-piece with own_form's coefficients), affine there.
+ * made at the first sub-piece), affine there.
  * On its own edge they stay within [0, their sum], so the interpolation
  * loses nothing to magnitudes. The fast path reads no areas (quad_piece). */
 static void span_own(const sctx *sc, sedge *ed, spiece *pc, ls_real lo, ls_real hi)
@@ -772,8 +771,8 @@ static void span_own(const sctx *sc, sedge *ed, spiece *pc, ls_real lo, ls_real 
             ow->ad[k][0] = al[k];
             ow->ad[k][1] = ah[k] - al[k];
         }
-        if (sc->shq && !sc->flat) own_form(sc, pc);
-        pc->bkey = 0; /* span_init's areas are another segment's */
+        pc->oset = 0; /* own_form's coefficients are another segment's */
+        pc->bkey = 0; /* and span_init's areas */
         ed->fok = 1;
     }
     sp->f = pc->own.f;
@@ -859,15 +858,24 @@ static void sh_quad_init(sctx *sc)
     }
 }
 
-/* u^T G v for the symmetric 4 x 4 G stored as sh_quad_init's m, entry i
- * at G[gs i] (gs = 2: each entry twice, quad_side's pairs), u and v in
- * every other entry (u[2 r]). */
-static inline ls_real quad_form(const ls_real *G, int gs, const ls_real *u, const ls_real *v)
+/* For the symmetric 4 x 4 M stored as sh_quad_init's m, entry i at M[gs i]
+ * (gs = 2: each entry twice), and H = H0 + u dH in side_h's pairs h:
+ * H^T M H = c[0] + u c[1] + u^2 c[2], through K = M H0, M dH (pairs as h). */
+static SIL_INLINE void quad_coef(const ls_real *M, int gs, const ls_real h[8], ls_real c[3])
 {
-    return ((G[0] * u[0] * v[0] + G[4 * gs] * u[2] * v[2]) + (G[7 * gs] * u[4] * v[4] + G[9 * gs] * u[6] * v[6])) +
-           ((G[gs] * (u[0] * v[2] + u[2] * v[0]) + G[2 * gs] * (u[0] * v[4] + u[4] * v[0])) +
-            (G[3 * gs] * (u[0] * v[6] + u[6] * v[0]) + G[5 * gs] * (u[2] * v[4] + u[4] * v[2]))) +
-           (G[6 * gs] * (u[2] * v[6] + u[6] * v[2]) + G[8 * gs] * (u[4] * v[6] + u[6] * v[4]));
+    static const unsigned char ix[16] = {0, 1, 2, 3, 1, 4, 5, 6, 2, 5, 7, 8, 3, 6, 8, 9}; /* M's entry (r, i) */
+    ls_real k[8];
+    int j, r;
+    SIL_UNROLL
+    for (r = 0; r < 4; r++) {
+        const unsigned char *x = ix + 4 * r;
+        SIL_UNROLL
+        for (j = 0; j < 2; j++)
+            k[2 * r + j] = (M[gs * x[0]] * h[j] + M[gs * x[1]] * h[2 + j]) + (M[gs * x[2]] * h[4 + j] + M[gs * x[3]] * h[6 + j]);
+    }
+    c[0] = (h[0] * k[0] + h[2] * k[2]) + (h[4] * k[4] + h[6] * k[6]);
+    c[1] = (ls_real)2 * ((h[0] * k[1] + h[2] * k[3]) + (h[4] * k[5] + h[6] * k[7]));
+    c[2] = (h[1] * k[1] + h[3] * k[3]) + (h[5] * k[5] + h[7] * k[7]);
 }
 
 /* H = sum_k a_k (n_k, 1) of span sp at lo and its change, h[2 r + j]: H's
@@ -895,15 +903,15 @@ static SIL_INLINE void side_h(const sctx *sc, const aspan *sp, ls_real h[8], ls_
  * stored last, after the loads. */
 static void quad_side(const sctx *sc, const aspan *sp, const ls_real *restrict G, ls_real *restrict q)
 {
-    ls_real h[8], v[8];
-    int j, k;
+    ls_real h[8], v[8], c[3];
+    int k;
     side_h(sc, sp, h, v + 4);
-    SIL_UNROLL
-    for (j = 0; j < 2; j++) {
-        v[j] = quad_form(G + j, 2, h + j, h + j);
-        v[2 + j] = h[6 + j];
-    }
-    v[6] = (ls_real)2 * quad_form(G, 2, h, h + 1);
+    quad_coef(G, 2, h, c);
+    v[0] = c[0];
+    v[1] = c[2];
+    v[2] = h[6];
+    v[3] = h[7];
+    v[6] = c[1];
     v[7] = (ls_real)0;
     SIL_UNROLL
     for (k = 0; k < 8; k++) q[k] = v[k];
@@ -944,26 +952,14 @@ static ls_real quad_bound(const ls_real q[8], ls_real rho, ls_real inv)
 /* The own face's coefficients along the segment (spiece.oc, osw) from
  * pc->own: per channel's M_c (sh_quad_init), the form of H(u) = H0 + u dH
  * through K = M_c H0, M_c dH (pairs, as side_h's). Once a segment, where
- * quad_side took two spans and a form per sub-piece. */
-static void own_form(const sctx *sc, spiece *pc)
+ * quad_side took two spans and a form per sub-piece. Not inlined: its frame
+ * stays off integrate's (the MCU's stack). */
+LS_NOINLINE static void own_form(const sctx *sc, spiece *pc)
 {
-    static const unsigned char ix[16] = {0, 1, 2, 3, 1, 4, 5, 6, 2, 5, 7, 8, 3, 6, 8, 9}; /* M_c's entry (r, i) */
-    ls_real h[8], hw[2], k[8], *oc = pc->oc;
-    int c, j, r;
+    ls_real h[8], hw[2];
+    int c;
     side_h(sc, &pc->own, h, hw);
-    for (c = 0; c < 3; c++) {
-        const ls_real *M = sc->shm + 10 * c;
-        SIL_UNROLL
-        for (r = 0; r < 4; r++) {
-            const unsigned char *x = ix + 4 * r;
-            SIL_UNROLL
-            for (j = 0; j < 2; j++)
-                k[2 * r + j] = (M[x[0]] * h[j] + M[x[1]] * h[2 + j]) + (M[x[2]] * h[4 + j] + M[x[3]] * h[6 + j]);
-        }
-        oc[3 * c] = (h[0] * k[0] + h[2] * k[2]) + (h[4] * k[4] + h[6] * k[6]);
-        oc[3 * c + 1] = (ls_real)2 * ((h[0] * k[1] + h[2] * k[3]) + (h[4] * k[5] + h[6] * k[7]));
-        oc[3 * c + 2] = (h[1] * k[1] + h[3] * k[3]) + (h[5] * k[5] + h[7] * k[7]);
-    }
+    for (c = 0; c < 3; c++) quad_coef(sc->shm + 10 * c, 1, h, pc->oc + 3 * c);
     pc->osw[0] = h[6];
     pc->osw[1] = h[7];
     pc->osw[2] = hw[0];
@@ -974,6 +970,7 @@ static void own_form(const sctx *sc, spiece *pc)
     pc->osure = pc->oinv > (ls_real)0;
     if (pc->osure) pc->oinv = (ls_real)1 / pc->oinv;
     pc->orho = r_abs(h[7]) * pc->oinv;
+    pc->oset = 1;
 }
 
 /* Sets up the fast path's coefficients of sub-piece [lo, hi] (spans made):
@@ -983,10 +980,12 @@ static void quad_piece(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, 
 {
     const ls_real *g = sc->gimg + 4 * pc->p, *oc = pc->oc, *sw = pc->osw, *shm = sc->shm;
     ls_real g0 = g[0], g1 = g[1], g2 = g[2], *q = pc->q[0], *G = pc->G;
-    ls_real u0 = (lo - ed->tbeg) * ed->tinv, du = (hi - lo) * ed->tinv;
-    ls_real k0 = (g0 * oc[0] + g1 * oc[3]) + g2 * oc[6], k1 = (g0 * oc[1] + g1 * oc[4]) + g2 * oc[7];
-    ls_real k2 = (g0 * oc[2] + g1 * oc[5]) + g2 * oc[8];
+    ls_real u0 = (lo - ed->tbeg) * ed->tinv, du = (hi - lo) * ed->tinv, k0, k1, k2;
     int j;
+    if (!pc->oset) own_form(sc, pc); /* the segment's first sub-piece */
+    k0 = (g0 * oc[0] + g1 * oc[3]) + g2 * oc[6];
+    k1 = (g0 * oc[1] + g1 * oc[4]) + g2 * oc[7];
+    k2 = (g0 * oc[2] + g1 * oc[5]) + g2 * oc[8];
     q[0] = k0 + u0 * (k1 + u0 * k2);
     q[1] = du * du * k2;
     q[2] = sw[0] + u0 * sw[1];
