@@ -933,7 +933,7 @@ static ls_real quad_sure(const ls_real sw[4])
     w0 = sg * sw[2];
     w1 = sg * (sw[2] + sw[3]);
     smin = s0 < s1 ? s0 : s1;
-    return (smin > ms) & ((w0 < w1 ? w0 : w1) > mw) ? smin : (ls_real)0;
+    return ((smin > ms) & ((w0 < w1 ? w0 : w1) > mw)) ? smin : (ls_real)0;
 }
 
 /* A bound on the 3-point rule's error for a side q over [0, 1] on
