@@ -861,14 +861,14 @@ static void sh_quad_init(sctx *sc)
 /* For the symmetric 4 x 4 M stored as sh_quad_init's m, entry i at M[gs i]
  * (gs = 2: each entry twice), and H = H0 + u dH in side_h's pairs h:
  * H^T M H = c[0] + u c[1] + u^2 c[2], through K = M H0, M dH (pairs as h). */
-static SIL_INLINE void quad_coef(const ls_real *M, int gs, const ls_real h[8], ls_real c[3])
+static SIL_INLINE void quad_coef(const ls_real *M, size_t gs, const ls_real h[8], ls_real c[3])
 {
     static const unsigned char ix[16] = {0, 1, 2, 3, 1, 4, 5, 6, 2, 5, 7, 8, 3, 6, 8, 9}; /* M's entry (r, i) */
     ls_real k[8];
     int j, r;
     SIL_UNROLL
     for (r = 0; r < 4; r++) {
-        const unsigned char *x = ix + 4 * r;
+        const unsigned char *x = ix + 4 * (size_t)r;
         SIL_UNROLL
         for (j = 0; j < 2; j++)
             k[2 * r + j] = (M[gs * x[0]] * h[j] + M[gs * x[1]] * h[2 + j]) + (M[gs * x[2]] * h[4 + j] + M[gs * x[3]] * h[6 + j]);
@@ -959,7 +959,7 @@ LS_NOINLINE static void own_form(const sctx *sc, spiece *pc)
     ls_real h[8], hw[2];
     int c;
     side_h(sc, &pc->own, h, hw);
-    for (c = 0; c < 3; c++) quad_coef(sc->shm + 10 * c, 1, h, pc->oc + 3 * c);
+    for (c = 0; c < 3; c++) quad_coef(sc->shm + 10 * (size_t)c, 1, h, pc->oc + 3 * (size_t)c);
     pc->osw[0] = h[6];
     pc->osw[1] = h[7];
     pc->osw[2] = hw[0];
@@ -981,7 +981,6 @@ static void quad_piece(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, 
     const ls_real *g = sc->gimg + 4 * pc->p, *oc = pc->oc, *sw = pc->osw, *shm = sc->shm;
     ls_real g0 = g[0], g1 = g[1], g2 = g[2], *q = pc->q[0], *G = pc->G;
     ls_real u0 = (lo - ed->tbeg) * ed->tinv, du = (hi - lo) * ed->tinv, k0, k1, k2;
-    int j;
     if (!pc->oset) own_form(sc, pc); /* the segment's first sub-piece */
     k0 = (g0 * oc[0] + g1 * oc[3]) + g2 * oc[6];
     k1 = (g0 * oc[1] + g1 * oc[4]) + g2 * oc[7];
@@ -998,6 +997,7 @@ static void quad_piece(const sctx *sc, const sedge *ed, spiece *pc, ls_real lo, 
     pc->xerr = pc->sure ? quad_bound(q, du * pc->orho, pc->oinv) : (ls_real)0;
     if (pc->beh != 0) {
         if (pc->gkey != pc->p + 1u) { /* a pixel's sub-pieces come in a row (a quarter follow one of theirs) */
+            int j;
             pc->gkey = pc->p + 1u;
             SIL_UNROLL
             for (j = 0; j < 10; j++) G[2 * (size_t)j] = G[2 * (size_t)j + 1] = (g0 * shm[j] + g1 * shm[10 + j]) + g2 * shm[20 + j];
