@@ -1421,7 +1421,7 @@ static SIL_INLINE int cand_interval(const sedge *ed, const ls_real *x, const ls_
             bhi = w;
         }
         if (bhi > t0 && blo < t1) {
-            ls_real tt = (rx * dy - ry * dx) / den;
+            ls_real tt = num / den;
             if (tt > t0 && tt < t1) {
                 ls_real uu = (rx * ed->e[1] - ry * ed->e[0]) / den;
                 if (uu >= (ls_real)0 && uu <= (ls_real)1) sp[(*ns)++] = tt;
@@ -2045,10 +2045,6 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.eabs = r_abs(ed.e[0]) + r_abs(ed.e[1]);
     ed.ext = (r_abs(ed.a[0]) + r_abs(ed.a[1])) + ed.eabs;
     ed.tau = SIL_MARGIN * (r_abs(ed.e[0]) > r_abs(ed.e[1]) ? r_abs(ed.e[0]) : r_abs(ed.e[1]));
-    /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc */
-    ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
-    ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
-    ed.cloc = !(ed.c0v <= SIL_LOOSE); /* and NaN */
     if (!clip_rect(sc, ed.a, ed.e, &t0, &t1)) return;
     ed.tbeg = t0;
     ed.tend = t1;
@@ -2061,6 +2057,10 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     run.t[0] = t0;
     run.t[1] = t1;
     if (run_hidden(sc, &ed, &run)) return;
+    /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc (the runs' candidates) */
+    ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
+    ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
+    ed.cloc = !(ed.c0v <= SIL_LOOSE); /* and NaN */
     /* normal scaled by |e|, pointing away from the face's side: window y
      * runs down, so the window-space side is minus the homogeneous one */
     side = -hdet(ea->c, eb->c, C);

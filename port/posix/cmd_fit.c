@@ -111,7 +111,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     memset(a, 0, sizeof *a);
     a->views = 16;
     a->res = 128;
-    a->iters = 800; /* the 2 % of the acceptance in every run of a sample, not at 400 (README) */
+    a->iters = 800; /* 400 and 100, 250 twice as long: a lower spread of H over perturbed runs (README) */
     a->remesh_count = 2;
     a->remesh_at[0] = 200;
     a->remesh_at[1] = 500;
