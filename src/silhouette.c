@@ -149,8 +149,9 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #else
 #define SIL_SSE 0
 #endif
-/* and its end-vertex test of a hit's corners in one packed comparison (SSE2) */
-#if SIL_SSE && (defined(__SSE2__) || defined(_M_X64))
+/* SSE2 (x86-64, a fast path): fbox_tiles converts a box's four coordinates
+ * in one, and run_pass tests a hit's corners against the end vertices in one */
+#if LS_FAST_PATHS && (defined(__SSE2__) || defined(_M_X64))
 #include <emmintrin.h>
 #define SIL_SSE2 1
 #else
@@ -449,6 +450,9 @@ static int tri_box(const sctx *sc, const uint32_t *f, ls_real box[4])
 typedef struct sgrid {
     ls_real xm, ym;       /* width, height + margin: a box's x0, y0 at most these meets the image */
     ls_real xl, yl;       /* width, height + 1: the clamps of x1, y1 */
+#if SIL_SSE2
+    __m128 inv4, last4;   /* inv and (lx, ly, lx, ly) in each lane (fbox_tiles) */
+#endif
     float inv;            /* sc->tside_inv */
     uint32_t tx;          /* sc->tiles_x */
     uint32_t lx, ly;      /* the last tile of a row and of a column */
@@ -464,6 +468,10 @@ static void grid_init(const sctx *sc, sgrid *g)
     g->tx = sc->tiles_x;
     g->lx = sc->tiles_x - 1u;
     g->ly = sc->tiles_y - 1u;
+#if SIL_SSE2
+    g->inv4 = _mm_set1_ps(g->inv);
+    g->last4 = _mm_setr_ps((float)g->lx, (float)g->ly, (float)g->lx, (float)g->ly);
+#endif
 }
 
 /* The box for the bins of a window box of tri_box: clamped to the image
@@ -499,6 +507,7 @@ static uint32_t cell_of(ls_real c, uint32_t n)
     return (uint32_t)c; /* in [1, n): the cast truncates, as floor */
 }
 
+#if !SIL_SSE2
 /* The tile of a box coordinate v of tri_fbox: cell_of(v / side, last + 1)
  * without its branches: tri_fbox clamps v to at least -1 - margin and a
  * side is at least 2, so v / side > -1 and the truncation toward zero is
@@ -510,6 +519,7 @@ static uint32_t tile_of(float v, float inv, uint32_t last)
     uint32_t i = (uint32_t)(int32_t)(v * inv);
     return i < last ? i : last;
 }
+#endif
 
 /* The box of triangle t's visible polygon for the bins (box_fbox); 0 when
  * t is not binned (no box, or culled: sign 0 or of the culled orientation). */
@@ -524,10 +534,16 @@ static int tri_fbox(const sctx *sc, const sgrid *g, uint32_t t, float fb[4])
 /* The tiles (x0, y0, x1, y1) a box of tri_fbox overlaps. */
 static inline void fbox_tiles(const sgrid *g, const float fb[4], uint32_t r[4])
 {
+#if SIL_SSE2
+    /* tile_of's in each lane, the clamp before the truncation: the last
+     * tile (< 2^24) is a float exactly, and the truncation is monotone */
+    _mm_storeu_si128((__m128i *)(void *)r, _mm_cvttps_epi32(_mm_min_ps(_mm_mul_ps(_mm_loadu_ps(fb), g->inv4), g->last4)));
+#else
     r[0] = tile_of(fb[0], g->inv, g->lx);
     r[1] = tile_of(fb[1], g->inv, g->ly);
     r[2] = tile_of(fb[2], g->inv, g->lx);
     r[3] = tile_of(fb[3], g->inv, g->ly);
+#endif
 }
 
 /* Adds the bin entries of the tiles r (fbox_tiles) of a binned triangle's
