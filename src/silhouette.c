@@ -154,6 +154,30 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #if LS_FAST_PATHS && (defined(__SSE2__) || defined(_M_X64))
 #include <emmintrin.h>
 #define SIL_SSE2 1
+/* corner_tiles' (x, y) pairs of ls_real in the low lanes */
+#if LS_REAL_IS_FLOAT
+typedef __m128 sil_v2;
+#define V2_LOAD(p) _mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)(const void *)(p))
+#define V2_SET(x, y) _mm_setr_ps(x, y, 0.0f, 0.0f)
+#define V2_MIN _mm_min_ps
+#define V2_MAX _mm_max_ps
+#define V2_ADD _mm_add_ps
+#define V2_SUB _mm_sub_ps
+#define V2_LE(a, b) _mm_movemask_ps(_mm_cmple_ps(a, b))
+#define V2_GE(a, b) _mm_movemask_ps(_mm_cmpge_ps(a, b))
+#define V2_FLOAT(v) (v)
+#else
+typedef __m128d sil_v2;
+#define V2_LOAD(p) _mm_loadu_pd(p)
+#define V2_SET(x, y) _mm_setr_pd(x, y)
+#define V2_MIN _mm_min_pd
+#define V2_MAX _mm_max_pd
+#define V2_ADD _mm_add_pd
+#define V2_SUB _mm_sub_pd
+#define V2_LE(a, b) _mm_movemask_pd(_mm_cmple_pd(a, b))
+#define V2_GE(a, b) _mm_movemask_pd(_mm_cmpge_pd(a, b))
+#define V2_FLOAT(v) _mm_cvtpd_ps(v)
+#endif
 #else
 #define SIL_SSE2 0
 #endif
@@ -452,6 +476,7 @@ typedef struct sgrid {
     ls_real xl, yl;       /* width, height + 1: the clamps of x1, y1 */
 #if SIL_SSE2
     __m128 inv4, last4;   /* inv and (lx, ly, lx, ly) in each lane (fbox_tiles) */
+    sil_v2 m2, l2;        /* (xm, ym), (xl, yl) (corner_tiles) */
 #endif
     float inv;            /* sc->tside_inv */
     uint32_t tx;          /* sc->tiles_x */
@@ -471,6 +496,8 @@ static void grid_init(const sctx *sc, sgrid *g)
 #if SIL_SSE2
     g->inv4 = _mm_set1_ps(g->inv);
     g->last4 = _mm_setr_ps((float)g->lx, (float)g->ly, (float)g->lx, (float)g->ly);
+    g->m2 = V2_SET(g->xm, g->ym);
+    g->l2 = V2_SET(g->xl, g->yl);
 #endif
 }
 
@@ -546,6 +573,29 @@ static inline void fbox_tiles(const sgrid *g, const float fb[4], uint32_t r[4])
 #endif
 }
 
+#if SIL_SSE2
+/* corner_box, box_fbox (finite) and fbox_tiles of window corners p0, p1,
+ * p2 in pairs: min and max are the comparisons' (a < b ? a : b), the
+ * conversions round as the casts; 0 (fb untouched) when the box misses
+ * the image. */
+static SIL_INLINE int corner_tiles(const sgrid *g, const ls_real *p0, const ls_real *p1, const ls_real *p2, float fb[4],
+                                   uint32_t r[4])
+{
+    sil_v2 a = V2_LOAD(p0), b = V2_LOAD(p1), c = V2_LOAD(p2), lo, hi;
+    const sil_v2 mg = V2_SET(SIL_MARGIN, SIL_MARGIN);
+    __m128 v;
+    lo = V2_MIN(c, V2_MIN(a, b));
+    hi = V2_MAX(c, V2_MAX(a, b));
+    if ((V2_LE(lo, g->m2) & V2_GE(hi, V2_SET(-SIL_MARGIN, -SIL_MARGIN)) & 3) != 3) return 0;
+    lo = V2_SUB(V2_MAX(lo, V2_SET((ls_real)-1, (ls_real)-1)), mg);
+    hi = V2_ADD(V2_MIN(hi, g->l2), mg);
+    v = _mm_movelh_ps(V2_FLOAT(lo), V2_FLOAT(hi));
+    _mm_storeu_ps(fb, v);
+    _mm_storeu_si128((__m128i *)(void *)r, _mm_cvttps_epi32(_mm_min_ps(_mm_mul_ps(v, g->inv4), g->last4)));
+    return 1;
+}
+#endif
+
 /* Adds the bin entries of the tiles r (fbox_tiles) of a binned triangle's
  * box to *count (*over set on overflow of size_t). */
 static void tile_count(const uint32_t r[4], size_t *count, int *over)
@@ -595,12 +645,19 @@ static SIL_INLINE uint32_t box_list(const sctx *sc, uint32_t *list, uint32_t n, 
         ls_real box[4];
         if (cull != 0 && cull * sign[t] >= 0) continue; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
         if (fast) {
+#if SIL_SSE2
+            if (!corner_tiles(&g, win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], fb, r))
+                continue;
+#else
             corner_box(win + 2 * (size_t)f[0], win + 2 * (size_t)f[1], win + 2 * (size_t)f[2], box, 1);
             if (!box_fbox(&g, box, fb, 1)) continue;
+            fbox_tiles(&g, fb, r);
+#endif
         } else if (!tri_box(sc, f, box) || !box_fbox(&g, box, fb, 0)) {
             continue;
+        } else {
+            fbox_tiles(&g, fb, r);
         }
-        fbox_tiles(&g, fb, r);
         tile_add(&g, r, offs);
         *out++ = t;
     }
