@@ -163,9 +163,14 @@ typedef __m128 sil_v2;
 #define V2_MAX _mm_max_ps
 #define V2_ADD _mm_add_ps
 #define V2_SUB _mm_sub_ps
+#define V2_MUL _mm_mul_ps
 #define V2_LE(a, b) _mm_movemask_ps(_mm_cmple_ps(a, b))
 #define V2_GE(a, b) _mm_movemask_ps(_mm_cmpge_ps(a, b))
 #define V2_FLOAT(v) (v)
+#define V2_SWAP(v) _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 2, 0, 1))
+#define V2_LO(v) _mm_cvtss_f32(v)
+#define V2_HI(v) _mm_cvtss_f32(_mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 2, 0, 1)))
+#define V2_STORE(p, v) _mm_storel_pi((__m64 *)(void *)(p), v)
 #else
 typedef __m128d sil_v2;
 #define V2_LOAD(p) _mm_loadu_pd(p)
@@ -174,9 +179,14 @@ typedef __m128d sil_v2;
 #define V2_MAX _mm_max_pd
 #define V2_ADD _mm_add_pd
 #define V2_SUB _mm_sub_pd
+#define V2_MUL _mm_mul_pd
 #define V2_LE(a, b) _mm_movemask_pd(_mm_cmple_pd(a, b))
 #define V2_GE(a, b) _mm_movemask_pd(_mm_cmpge_pd(a, b))
 #define V2_FLOAT(v) _mm_cvtpd_ps(v)
+#define V2_SWAP(v) _mm_shuffle_pd(v, v, 1)
+#define V2_LO(v) _mm_cvtsd_f64(v)
+#define V2_HI(v) _mm_cvtsd_f64(_mm_unpackhi_pd(v, v))
+#define V2_STORE(p, v) _mm_storeu_pd(p, v)
 #endif
 #else
 #define SIL_SSE2 0
@@ -408,16 +418,28 @@ static SIL_INLINE int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real 
 {
     const ls_real *p0 = sc->win + 2 * (size_t)f[0], *p1 = sc->win + 2 * (size_t)f[1], *p2 = sc->win + 2 * (size_t)f[2];
     ls_real d1[2], d2[2], t1, t2, cr, k = sc->wk, bound;
-    int j, fast;
+    int fast;
+#if SIL_SSE2
+    /* the (dx, dy) pairs and both products in one each */
+    sil_v2 a = V2_LOAD(p0), e1 = V2_SUB(V2_LOAD(p1), a), e2 = V2_SUB(V2_LOAD(p2), a), pr = V2_MUL(e1, V2_SWAP(e2));
+    t1 = V2_LO(pr);
+    t2 = V2_HI(pr);
+#else
+    int j;
     for (j = 0; j < 2; j++) { /* (dx, dy) pairs: SSE2 subtracts each in one */
         d1[j] = p1[j] - p0[j];
         d2[j] = p2[j] - p0[j];
     }
     t1 = d1[0] * d2[1];
     t2 = d1[1] * d2[0];
+#endif
     cr = t1 - t2;
     fast = 2 * ((cr < -wkb) - (cr > wkb)); /* no branch on the orientation: it has no pattern */
     if (fast != 0) return fast;
+#if SIL_SSE2
+    V2_STORE(d1, e1);
+    V2_STORE(d2, e2);
+#endif
     bound = (ls_real)16 * LS_REAL_EPSILON *
                 ((k * (((r_abs(d1[0]) + r_abs(d1[1])) + (r_abs(d2[0]) + r_abs(d2[1]))) + LS_REAL_EPSILON * k) +
                   r_abs(t1)) +
