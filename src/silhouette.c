@@ -158,12 +158,14 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #if LS_REAL_IS_FLOAT
 typedef __m128 sil_v2;
 #define V2_LOAD(p) _mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)(const void *)(p))
-#define V2_SET(x, y) _mm_setr_ps(x, y, 0.0f, 0.0f)
+#define V2_SET(x, y) _mm_setr_ps(x, y, 1.0f, 1.0f) /* 1: no 0 / 0 in a division's unused lanes */
 #define V2_MIN _mm_min_ps
 #define V2_MAX _mm_max_ps
 #define V2_ADD _mm_add_ps
 #define V2_SUB _mm_sub_ps
 #define V2_MUL _mm_mul_ps
+#define V2_DIV _mm_div_ps
+#define V2_XOR _mm_xor_ps
 #define V2_LE(a, b) _mm_movemask_ps(_mm_cmple_ps(a, b))
 #define V2_GE(a, b) _mm_movemask_ps(_mm_cmpge_ps(a, b))
 #define V2_FLOAT(v) (v)
@@ -180,6 +182,8 @@ typedef __m128d sil_v2;
 #define V2_ADD _mm_add_pd
 #define V2_SUB _mm_sub_pd
 #define V2_MUL _mm_mul_pd
+#define V2_DIV _mm_div_pd
+#define V2_XOR _mm_xor_pd
 #define V2_LE(a, b) _mm_movemask_pd(_mm_cmple_pd(a, b))
 #define V2_GE(a, b) _mm_movemask_pd(_mm_cmpge_pd(a, b))
 #define V2_FLOAT(v) _mm_cvtpd_ps(v)
@@ -2307,8 +2311,8 @@ static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed c
 {
     const ls_vis *vis = sc->vis;
     const uint32_t *tri = vis->tri;
-    uint64_t cnt[3] = {0, 0, 0}; /* covered, positive, negative */
-    uint32_t v, x, y;
+    uint64_t cnt[3] = {0, 0, 0}, q[2]; /* covered, positive, negative */
+    uint32_t v, x, y, k;
     sc->cull = 0;
     if (table->boundary_edges != 0 || sc->behind != 0) return covered(vis);
     for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
@@ -2317,13 +2321,14 @@ static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed c
     }
     for (y = 0; y < vis->sh; y += 4u) {
         const uint32_t *row = tri + (size_t)y * vis->sw;
-        /* samples by pairs, most of which show nothing */
-        for (x = 0; x + 1u < vis->sw; x += 2u) {
-            if ((row[x] | row[x + 1u]) == 0) continue;
-            cull_count(sc, sign, row[x], cnt);
-            cull_count(sc, sign, row[x + 1u], cnt);
+        /* samples by fours, most of which show nothing: two 8-byte loads test them */
+        for (x = 0; x + 4u <= vis->sw; x += 4u) {
+            memcpy(q, row + x, sizeof q);
+            if ((q[0] | q[1]) == 0) continue;
+            SIL_UNROLL
+            for (k = 0; k < 4u; k++) cull_count(sc, sign, row[x + k], cnt);
         }
-        if (x < vis->sw) cull_count(sc, sign, row[x], cnt);
+        for (; x < vis->sw; x++) cull_count(sc, sign, row[x], cnt);
     }
     if (cnt[2] < cnt[1] / 64u) sc->cull = -1;
     if (cnt[1] < cnt[2] / 64u) sc->cull = 1;
@@ -2600,6 +2605,10 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     size_t *offs;
     uint32_t *ent;
     uint64_t *bits;
+#if SIL_SSE2
+    const sil_v2 flip = V2_SET((ls_real)0, -(ls_real)0), one = V2_SET((ls_real)1, (ls_real)1),
+                 wh = V2_SET(sc->width, sc->height), half = V2_SET((ls_real)0.5, (ls_real)0.5);
+#endif
     win = (ls_real *)ls_arena_scratch(arena, 2 * (size_t)vertex_count, sizeof(ls_real));
     zv = win ? (ls_real *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(ls_real)) : NULL;
     sign = zv ? (signed char *)ls_arena_scratch(arena, (size_t)triangle_count + 1u, 1) : NULL;
@@ -2616,7 +2625,12 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
         nfront += (uint32_t)fr;
         if (fr) {
             ls_real p[2], m;
+#if SIL_SSE2
+            /* window_of in pairs: (x / w + 1, -(y / w) + 1) x (width, height) x 0.5 */
+            V2_STORE(p, V2_MUL(V2_MUL(V2_ADD(V2_XOR(V2_DIV(V2_LOAD(cl), V2_SET(w, w)), flip), one), wh), half));
+#else
             window_of(sc, cl, p);
+#endif
             win[2 * (size_t)h] = p[0];
             win[2 * (size_t)h + 1] = p[1];
             zv[h] = cl[2] / w;
