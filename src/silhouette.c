@@ -2268,27 +2268,16 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
     return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
 }
 
-/* The covered samples on every 4th sample row (choose_cull counts them
- * itself when it scans those rows). */
-static uint64_t covered(const ls_vis *vis)
-{
-    uint64_t cov = 0;
-    uint32_t x, y;
-    for (y = 0; y < vis->sh; y += 4u)
-        for (x = 0; x < vis->sw; x++) cov += vis->tri[(size_t)y * vis->sw + x] != 0;
-    return cov;
-}
-
 /* choose_cull's count of a sample showing id into cnt: covered, showing
- * a positive and a negative orientation (sign, or tri_sign when NULL).
- * Inlined, so the counts stay in registers (increments of a counter in
- * memory chain through it). */
-static SIL_INLINE void cull_count(const sctx *sc, const signed char *sign, uint32_t id, uint64_t cnt[3])
+ * a positive and a negative orientation (sign, or tri_sign when NULL; only
+ * for an id up to lim). Inlined, so the counts stay in registers
+ * (increments of a counter in memory chain through it). */
+static SIL_INLINE void cull_count(const sctx *sc, const signed char *sign, uint32_t lim, uint32_t id, uint64_t cnt[3])
 {
     int sg;
     if (id == 0) return;
     cnt[0]++;
-    if (id > sc->triangle_count) return;
+    if (id > lim) return;
     /* NOLINTNEXTLINE(bugprone-signed-char-misuse,cert-str34-c): -2..2 */
     sg = sign != NULL ? sign[id - 1u] : tri_sign(sc, sc->indices + 3 * (size_t)(id - 1u));
     cnt[1] += (uint64_t)(sg > 0);
@@ -2306,18 +2295,19 @@ static SIL_INLINE void cull_count(const sctx *sc, const signed char *sign, uint3
  * sample row, as choose_tiles counts (the choice never changes what is
  * integrated, only which triangles are tested). sign: per-triangle
  * orientations (tri_sign), or NULL (the sizing query: slower, no memory).
- * Returns the covered samples of those rows (covered), for choose_tiles. */
+ * Returns the covered samples of those rows, for choose_tiles (counted
+ * alone, lim = 0, when nothing can be culled). */
 static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
     const uint32_t *tri = vis->tri;
     uint64_t cnt[3] = {0, 0, 0}, q[2]; /* covered, positive, negative */
-    uint32_t v, x, y, k;
+    uint32_t v, x, y, k, lim = sc->triangle_count;
     sc->cull = 0;
-    if (table->boundary_edges != 0 || sc->behind != 0) return covered(vis);
+    if (table->boundary_edges != 0 || sc->behind != 0) lim = 0;
     for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
         const ls_real *cl = vis->clip + 4 * (size_t)v;
-        if (!(cl[2] + cl[3] >= (ls_real)0)) return covered(vis);
+        if (!(cl[2] + cl[3] >= (ls_real)0)) lim = 0;
     }
     for (y = 0; y < vis->sh; y += 4u) {
         const uint32_t *row = tri + (size_t)y * vis->sw;
@@ -2326,10 +2316,11 @@ static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed c
             memcpy(q, row + x, sizeof q);
             if ((q[0] | q[1]) == 0) continue;
             SIL_UNROLL
-            for (k = 0; k < 4u; k++) cull_count(sc, sign, row[x + k], cnt);
+            for (k = 0; k < 4u; k++) cull_count(sc, sign, lim, row[x + k], cnt);
         }
-        for (; x < vis->sw; x++) cull_count(sc, sign, row[x], cnt);
+        for (; x < vis->sw; x++) cull_count(sc, sign, lim, row[x], cnt);
     }
+    /* with lim = 0, both are 0: no culling */
     if (cnt[2] < cnt[1] / 64u) sc->cull = -1;
     if (cnt[1] < cnt[2] / 64u) sc->cull = 1;
     return cnt[0];
