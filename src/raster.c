@@ -503,16 +503,21 @@ ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_c
                                     ls_diag *diag)
 {
     size_t i = 0, j, n = 3 * (size_t)triangle_count;
-    uint32_t t, bad = 0;
-    /* whether any index is out of range first, without a branch per index:
-     * in blocks of a fixed count, which compilers vectorize at -O2 */
+    uint32_t t, all = 0xffffffffu;
+    /* whether any index may be out of range first, without a branch per
+     * index, in blocks of a fixed count, which compilers vectorize at -O2:
+     * with vertex_count <= 2^31, an index is below it exactly when its top
+     * bit is clear and (index - vertex_count) mod 2^32 has it set, so every
+     * index is in range when the and of ~index & (index - vertex_count)
+     * over all has it set (an index out of range always clears it; with
+     * more vertices an index in range may too: the loop below decides) */
     for (; i + 64u <= n; i += 64u) {
-        uint32_t b = 0;
-        for (j = 0; j < 64u; j++) b |= (uint32_t)(indices[i + j] >= vertex_count);
-        bad |= b;
+        uint32_t b = 0xffffffffu;
+        for (j = 0; j < 64u; j++) b &= ~indices[i + j] & (indices[i + j] - vertex_count);
+        all &= b;
     }
-    for (; i < n; i++) bad |= (uint32_t)(indices[i] >= vertex_count);
-    for (t = 0; bad != 0 && t < triangle_count; t++) { /* the first triangle out of range */
+    for (; i < n; i++) all &= ~indices[i] & (indices[i] - vertex_count);
+    for (t = 0; (all >> 31) == 0 && t < triangle_count; t++) { /* the first triangle out of range */
         const uint32_t *f = indices + 3 * (size_t)t;
         if (f[0] >= vertex_count || f[1] >= vertex_count || f[2] >= vertex_count)
             return ls_diag_set(diag, LS_ERR_MESH, "triangle vertex index out of range", t);
