@@ -248,9 +248,8 @@ typedef struct sedge {
     ls_real za, zb;  /* NDC depth at a and at a + e */
     ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
     int fok;         /* 1: the own face's span over [tbeg, tend] is made (span_own: spiece.own) */
-    int wok;         /* 1: the walk of an earlier run proved the segment hidden from its t0 up to wtb */
-    ls_real wtb;
-    uint32_t wnext, wnin; /* where that walk goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
+    ls_real wta, wtb; /* earlier walks proved the segment hidden on [wta, wtb] (none: wta > wtb) */
+    uint32_t wnext, wnin; /* where the walk that reached wtb goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -1744,44 +1743,85 @@ typedef struct srun {
     int n;
 } srun;
 
+/* The walk face holding the segment's point at t by the margins (its
+ * walk_sides in w), located from the triangle the forward drew at the
+ * sample under the point at tq; LS_EDGE_NONE when that sample shows none
+ * in front of the segment or the walk fails. */
+static uint32_t walk_start(const sctx *sc, const sedge *ed, ls_real tq, ls_real t, ls_real w[9])
+{
+    const ls_vis *vis = sc->vis;
+    ls_real ss = (ls_real)vis->ss;
+    uint32_t sx = cell_of((ed->a[0] + tq * ed->e[0]) * ss, vis->sw), sy = cell_of((ed->a[1] + tq * ed->e[1]) * ss, vis->sh);
+    uint32_t id = vis->tri[(size_t)sy * vis->sw + sx];
+    if (id == 0 || id - 1u == ed->ft || id - 1u == ed->fu) return LS_EDGE_NONE;
+    /* the surface drawn there behind the segment's depth: no walk in front starts there */
+    if (vis->depth[(size_t)sy * vis->sw + sx] > ed->za + tq * (ed->zb - ed->za)) return LS_EDGE_NONE;
+    return walk_locate(sc, ed, id - 1u, t, w);
+}
+
+/* A walk from ts towards tg that stopped at tr: it goes on from a face of
+ * whatever surface the sample a sample and a half beyond tr shows (a walk
+ * most often stops at the contour of the surface it crossed, behind which
+ * a farther one hides the segment), when that one holds the point at tr. */
+static ls_real walk_again(const sctx *sc, const sedge *ed, ls_real tr, ls_real tg, uint32_t *next, uint32_t *nin)
+{
+    ls_real w[9], d = (ls_real)1.5 / ((ls_real)sc->vis->ss * (r_abs(ed->e[0]) > r_abs(ed->e[1]) ? r_abs(ed->e[0]) : r_abs(ed->e[1])));
+    ls_real tq = tg > tr ? (tr + d < tg ? tr + d : tg) : (tr - d > tg ? tr - d : tg);
+    uint32_t id = walk_start(sc, ed, tq, tr, w);
+    if (id == LS_EDGE_NONE) return tr;
+    return walk_reach(sc, ed, id, 3u, tr, tg, w, 0, next, nin);
+}
+
 /* Whether the whole run [t0, t1] is hidden: a quick proof that skips a run
  * whose every sub-piece the candidate sweep would find hidden; 0 leaves the
  * run to it. A walk starts from the triangle the forward drew at the
  * sample under the run's middle (walk_locate finds the face holding the
- * middle from there), goes back to t0 and on along the segment as far as
- * it can: the runs that follow (in order along the segment) inside what it
- * proved hidden cost nothing, and one stopped by the cap goes on from
- * where it stopped. */
+ * middle from there), goes back towards t0 and on along the segment as far
+ * as it can: what it proves is kept as [wta, wtb] (joined to the earlier
+ * proof when they meet), so that the runs that follow (in order along the
+ * segment) inside it cost nothing, even when the walk back stopped short
+ * of t0 (the whole-segment walk's, most often at an end vertex that a face
+ * around it hides), and one stopped by the cap goes on from where it
+ * stopped. */
 LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
 {
-    const ls_vis *vis = sc->vis;
-    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, ss = (ls_real)vis->ss, reach, w[9];
-    uint32_t sx, sy, id, nx, nin;
+    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, reach, tb, w[9];
+    uint32_t id, nx, nin;
     if (sc->twin == NULL) return 0;
-    if (ed->wok && t1 <= ed->wtb) return 1; /* proven by an earlier walk */
-    if (ed->wok && ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
-        reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
-        ed->wtb = reach;
-        ed->wnext = nx;
-        ed->wnin = nin;
-        if (t1 <= reach) return 1;
+    if (t0 >= ed->wta) {
+        if (t1 <= ed->wtb) return 1; /* proven by an earlier walk */
+        if (ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
+            reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
+            ed->wtb = reach;
+            ed->wnext = nx;
+            ed->wnin = nin;
+            if (t1 <= reach) return 1;
+        }
     }
-    ed->wok = 0;
-    sx = cell_of((ed->a[0] + tm * ed->e[0]) * ss, vis->sw);
-    sy = cell_of((ed->a[1] + tm * ed->e[1]) * ss, vis->sh);
-    id = vis->tri[(size_t)sy * vis->sw + sx];
-    if (id == 0 || id - 1u == ed->ft || id - 1u == ed->fu) return 0;
-    /* the surface drawn there behind the segment's depth: no walk in front starts there */
-    if (vis->depth[(size_t)sy * vis->sw + sx] > ed->za + tm * (ed->zb - ed->za)) return 0;
-    id = walk_locate(sc, ed, id - 1u, tm, w);
-    if (id == LS_EDGE_NONE || walk_reach(sc, ed, id, 3u, tm, t0, w, 0, &nx, &nin) != t0) return 0;
-    /* that walk passed its first step's walk_front at tm unless it returned tm (t0 == tm) */
-    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, t0 != tm, &nx, &nin);
-    ed->wok = 1;
+    id = walk_start(sc, ed, tm, tm, w);
+    if (id == LS_EDGE_NONE) return 0;
+    tb = walk_reach(sc, ed, id, 3u, tm, t0, w, 0, &nx, &nin);
+    /* that walk passed its first step's walk_front at tm unless it returned tm */
+    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, tb != tm, &nx, &nin);
+    /* once each way (more found next to nothing) */
+    if (tb != tm && tb > t0) tb = walk_again(sc, ed, tb, t0, &id, &id);
+    if (reach != tm && reach < ed->tend && nx == LS_EDGE_NONE) reach = walk_again(sc, ed, reach, ed->tend, &nx, &nin);
+    if (!(reach > tb)) return 0;
+    if (reach >= ed->wta && tb <= ed->wtb) { /* meets the earlier proof: both */
+        if (ed->wta < tb) tb = ed->wta;
+        if (ed->wtb > reach) {
+            reach = ed->wtb;
+            nx = ed->wnext;
+            nin = ed->wnin;
+        }
+    } else if (!(reach > t1) && ed->wtb > t1) {
+        return 0; /* the earlier proof serves the runs beyond this one, this one's not */
+    }
+    ed->wta = tb;
     ed->wtb = reach;
     ed->wnext = nx;
     ed->wnin = nin;
-    return t1 <= reach;
+    return tb <= t0 && t1 <= reach;
 }
 
 /* Whether triangle g, every corner in front of the eye, with corner k at
@@ -2148,7 +2188,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.fu = fu;
     ed.va = ea->clipped ? LS_EDGE_NONE : ea->v;
     ed.vb = eb->clipped ? LS_EDGE_NONE : eb->v;
-    ed.wok = 0;
+    ed.wta = (ls_real)1;
     ed.wtb = (ls_real)0;
     ed.wnext = LS_EDGE_NONE;
     ed.wnin = 3u;
