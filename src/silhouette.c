@@ -232,6 +232,7 @@ typedef struct sctx {
     ls_real wk;          /* 3 max(|x| + |y|) + width + height over the window positions (tri_sign_front) */
     int shq;             /* 1: SH shading as a quadratic form (sh_quad_init), else ls_shade_point */
     ls_real shm[30];     /* per channel, the 10 entries of M_c / pi (shade.h), upper triangle by rows */
+    uint32_t *wend;      /* [V] 1 + a walk face that held the vertex's window point, in front of it, or 0 (walk_reach) */
 } sctx;
 
 /* One silhouette segment being integrated: window a + t e, t in [0, 1]. */
@@ -1719,7 +1720,11 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         SIL_UNROLL
         for (q = 0; q < 3u; q++) z[q] = sc->zv[sc->indices[3 * (size_t)o + q]];
         if ((!checked && !walk_front(ed, cs, z, ts)) || !walk_front(ed, cx, z, tx)) return ts;
-        if (qx == 3u) return tx; /* tg reached */
+        if (qx == 3u) { /* tg reached: a walk of the next segment through an end vertex there starts from o */
+            uint32_t v = tg == (ls_real)0 ? ed->va : (tg == (ls_real)1 ? ed->vb : LS_EDGE_NONE);
+            if (v != LS_EDGE_NONE) sc->wend[v] = o + 1u;
+            return tx;
+        }
         tw = sc->twin[3 * (size_t)o + qx];
         if (tw == LS_EDGE_NONE) return tx;
         o = tw / 3u;
@@ -1783,11 +1788,36 @@ static ls_real walk_again(const sctx *sc, const sedge *ed, ls_real tr, ls_real t
  * of t0 (the whole-segment walk's, most often at an end vertex that a face
  * around it hides), and one stopped by the cap goes on from where it
  * stopped. */
+/* A segment's first walk from the face an earlier segment's walk found
+ * holding an end vertex of both (wend), when the segment's part in the
+ * image has that end: no sample, no walk_locate and one walk, not two, most
+ * often over the whole segment; what it proves is the first [wta, wtb]. */
+static void walk_cached(const sctx *sc, sedge *ed)
+{
+    uint32_t nx, nin, v = LS_EDGE_NONE;
+    ls_real ts = (ls_real)0, tg = ed->tend, r;
+    if (ed->va != LS_EDGE_NONE && ed->tbeg == (ls_real)0 && sc->wend[ed->va] != 0) {
+        v = ed->va;
+    } else if (ed->vb != LS_EDGE_NONE && ed->tend == (ls_real)1 && sc->wend[ed->vb] != 0) {
+        v = ed->vb;
+        ts = (ls_real)1;
+        tg = ed->tbeg;
+    }
+    if (v == LS_EDGE_NONE) return;
+    r = walk_reach(sc, ed, sc->wend[v] - 1u, 3u, ts, tg, NULL, 0, &nx, &nin);
+    if (r == ts) return;
+    ed->wta = ts < r ? ts : r;
+    ed->wtb = ts < r ? r : ts;
+    ed->wnext = ts < r ? nx : LS_EDGE_NONE; /* the cap's way on is forwards */
+    ed->wnin = nin;
+}
+
 LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
 {
     ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, reach, tb, w[9];
     uint32_t id, nx, nin;
     if (sc->twin == NULL) return 0;
+    if (ed->wta > ed->wtb) walk_cached(sc, ed); /* the first walk */
     if (t0 >= ed->wta) {
         if (t1 <= ed->wtb) return 1; /* proven by an earlier walk */
         if (ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
@@ -2400,6 +2430,7 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
     ls_size_add(&s, slots, sizeof(uint32_t)); /* cact */
     ls_size_add(&s, 4u * slots + 2u, sizeof(ls_real));
     ls_size_add(&s, 1, sizeof(spiece));
+    ls_size_add(&s, (size_t)vertex_count, sizeof(uint32_t)); /* wend */
     return ls_size_get(&s, bytes);
 }
 
@@ -2721,7 +2752,8 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     sc->cact = sc->cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc->split = sc->cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
     sc->piece = sc->split ? (spiece *)ls_arena_scratch(arena, 1, sizeof(spiece)) : NULL;
-    if (sc->piece == NULL) return LS_ERR_NOMEM;
+    sc->wend = sc->piece ? (uint32_t *)ls_arena_alloc_zero(arena, (size_t)vertex_count, sizeof(uint32_t)) : NULL;
+    if (sc->wend == NULL) return LS_ERR_NOMEM;
     memset(sc->piece, 0, sizeof *sc->piece); /* once: integrate sets, per sub-piece, what it reads */
     bin_pass(sc, keep, nkeep, offs, ent);
     sc->offs = offs;
