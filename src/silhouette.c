@@ -1777,81 +1777,79 @@ static ls_real walk_again(const sctx *sc, const sedge *ed, ls_real tr, ls_real t
     return walk_reach(sc, ed, id, 3u, tr, tg, w, 0, next, nin);
 }
 
-/* Whether the whole run [t0, t1] is hidden: a quick proof that skips a run
- * whose every sub-piece the candidate sweep would find hidden; 0 leaves the
- * run to it. A walk starts from the triangle the forward drew at the
- * sample under the run's middle (walk_locate finds the face holding the
- * middle from there), goes back towards t0 and on along the segment as far
- * as it can: what it proves is kept as [wta, wtb] (joined to the earlier
- * proof when they meet), so that the runs that follow (in order along the
- * segment) inside it cost nothing, even when the walk back stopped short
- * of t0 (the whole-segment walk's, most often at an end vertex that a face
- * around it hides), and one stopped by the cap goes on from where it
- * stopped. */
-/* A segment's first walk from the face an earlier segment's walk found
- * holding an end vertex of both (wend), when the segment's part in the
- * image has that end: no sample, no walk_locate and one walk, not two, most
- * often over the whole segment; what it proves is the first [wta, wtb]. */
-static void walk_cached(const sctx *sc, sedge *ed)
+/* Whether the segment's part in the image, [tbeg, tend], is hidden: a
+ * quick proof that skips a segment whose every sub-piece the candidate
+ * sweep would find hidden (most silhouette segments: two thirds of the
+ * armadillo's); 0 leaves it to the runs. A walk starts from the face that
+ * an earlier segment's walk found holding an end vertex of both (wend),
+ * when the part has that end: one walk towards the other end, with no
+ * sample and no walk_locate; else, or for what that one leaves, from the
+ * triangle the forward drew at the sample under the middle (walk_locate
+ * finds the face holding the middle from there), back towards tbeg and on
+ * towards tend, each way going on once across a farther surface
+ * (walk_again). What it proves is kept as [wta, wtb], which spares the
+ * runs inside it (run_hidden). New walks from the runs found too few
+ * hidden ones to pay (44.11M -> 42.96M instructions a view of the
+ * armadillo without them). */
+LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
 {
-    uint32_t nx, nin, v = LS_EDGE_NONE;
-    ls_real ts = (ls_real)0, tg = ed->tend, r;
-    if (ed->va != LS_EDGE_NONE && ed->tbeg == (ls_real)0 && sc->wend[ed->va] != 0) {
+    ls_real t0 = ed->tbeg, t1 = ed->tend, tm = (t0 + t1) * (ls_real)0.5, ts = (ls_real)0, tb, reach, w[9];
+    uint32_t id, nx, nin, v = LS_EDGE_NONE;
+    if (sc->twin == NULL) return 0;
+    if (ed->va != LS_EDGE_NONE && t0 == (ls_real)0 && sc->wend[ed->va] != 0) {
         v = ed->va;
-    } else if (ed->vb != LS_EDGE_NONE && ed->tend == (ls_real)1 && sc->wend[ed->vb] != 0) {
+    } else if (ed->vb != LS_EDGE_NONE && t1 == (ls_real)1 && sc->wend[ed->vb] != 0) {
         v = ed->vb;
         ts = (ls_real)1;
-        tg = ed->tbeg;
     }
-    if (v == LS_EDGE_NONE) return;
-    r = walk_reach(sc, ed, sc->wend[v] - 1u, 3u, ts, tg, NULL, 0, &nx, &nin);
-    if (r == ts) return;
-    ed->wta = ts < r ? ts : r;
-    ed->wtb = ts < r ? r : ts;
-    ed->wnext = ts < r ? nx : LS_EDGE_NONE; /* the cap's way on is forwards */
-    ed->wnin = nin;
-}
-
-LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
-{
-    ls_real t0 = run->t[0], t1 = run->t[run->n], tm = (t0 + t1) * (ls_real)0.5, reach, tb, w[9];
-    uint32_t id, nx, nin;
-    if (sc->twin == NULL) return 0;
-    if (ed->wta > ed->wtb) walk_cached(sc, ed); /* the first walk */
-    if (t0 >= ed->wta) {
-        if (t1 <= ed->wtb) return 1; /* proven by an earlier walk */
-        if (ed->wnext != LS_EDGE_NONE && ed->wtb >= t0) { /* a capped walk goes on */
-            reach = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
-            ed->wtb = reach;
-            ed->wnext = nx;
+    if (v != LS_EDGE_NONE) {
+        reach = walk_reach(sc, ed, sc->wend[v] - 1u, 3u, ts, ts == (ls_real)0 ? t1 : t0, NULL, 0, &nx, &nin);
+        if (reach != ts) {
+            ed->wta = ts < reach ? ts : reach;
+            ed->wtb = ts < reach ? reach : ts;
+            ed->wnext = ts < reach ? nx : LS_EDGE_NONE; /* the cap's way on is forwards */
             ed->wnin = nin;
-            if (t1 <= reach) return 1;
+            if (ed->wta <= t0 && t1 <= ed->wtb) return 1;
         }
     }
     id = walk_start(sc, ed, tm, tm, w);
     if (id == LS_EDGE_NONE) return 0;
     tb = walk_reach(sc, ed, id, 3u, tm, t0, w, 0, &nx, &nin);
     /* that walk passed its first step's walk_front at tm unless it returned tm */
-    reach = walk_reach(sc, ed, id, 3u, tm, ed->tend, w, tb != tm, &nx, &nin);
+    reach = walk_reach(sc, ed, id, 3u, tm, t1, w, tb != tm, &nx, &nin);
     /* once each way (more found next to nothing) */
     if (tb != tm && tb > t0) tb = walk_again(sc, ed, tb, t0, &id, &id);
-    if (reach != tm && reach < ed->tend && nx == LS_EDGE_NONE) reach = walk_again(sc, ed, reach, ed->tend, &nx, &nin);
+    if (reach != tm && reach < t1 && nx == LS_EDGE_NONE) reach = walk_again(sc, ed, reach, t1, &nx, &nin);
     if (!(reach > tb)) return 0;
-    if (reach >= ed->wta && tb <= ed->wtb) { /* meets the earlier proof: both */
+    if (reach >= ed->wta && tb <= ed->wtb) { /* meets the cached walk's proof: both */
         if (ed->wta < tb) tb = ed->wta;
         if (ed->wtb > reach) {
             reach = ed->wtb;
             nx = ed->wnext;
             nin = ed->wnin;
         }
-    } else if (!(reach > t1) && ed->wtb > t1) {
-        return 0; /* the earlier proof serves the runs beyond this one, this one's not */
     }
     ed->wta = tb;
     ed->wtb = reach;
     ed->wnext = nx;
     ed->wnin = nin;
     return tb <= t0 && t1 <= reach;
+}
+
+/* Whether the whole run [t0, t1] lies in what the segment's walk proved
+ * hidden (walk_segment), a walk stopped by the cap going on from where it
+ * stopped when the run starts inside. */
+LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
+{
+    ls_real t0 = run->t[0], t1 = run->t[run->n];
+    uint32_t nx, nin;
+    if (t0 < ed->wta) return 0;
+    if (t1 <= ed->wtb) return 1;
+    if (ed->wnext == LS_EDGE_NONE || ed->wtb < t0) return 0;
+    ed->wtb = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
+    ed->wnext = nx;
+    ed->wnin = nin;
+    return t1 <= ed->wtb;
 }
 
 /* Whether triangle g, every corner in front of the eye, with corner k at
@@ -2212,13 +2210,11 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     end_make(sc, v[0], v[1], &ends[0]);
     end_make(sc, v[2], v[3], &ends[1]);
     if (!(ea->c[3] > (ls_real)0) || !(eb->c[3] > (ls_real)0)) return;
-    run.n = 0;
-    run.tile = 0;
     ed.ft = ft;
     ed.fu = fu;
     ed.va = ea->clipped ? LS_EDGE_NONE : ea->v;
     ed.vb = eb->clipped ? LS_EDGE_NONE : eb->v;
-    ed.wta = (ls_real)1;
+    ed.wta = R_MAX;
     ed.wtb = (ls_real)0;
     ed.wnext = LS_EDGE_NONE;
     ed.wnin = 3u;
@@ -2236,13 +2232,9 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.tend = t1;
     ed.tinv = (ls_real)1 / (t1 - t0);
     ed.fok = 0;
-    /* most silhouette segments are hidden (two thirds of the armadillo's):
-     * a walk over the whole segment first (run_hidden of one run spanning
-     * it), before its pixels are walked; the gradient of a hidden one is 0 */
-    run.n = 1;
-    run.t[0] = t0;
-    run.t[1] = t1;
-    if (run_hidden(sc, &ed, &run)) return;
+    /* a walk over the whole segment first, before its pixels are walked:
+     * the gradient of a hidden one is 0 */
+    if (walk_segment(sc, &ed)) return;
     /* sc->wk (above every window corner's |x| + |y|) for cand_interval's mc (the runs' candidates) */
     ed.tauv = ed.tau + (ls_real)64 * LS_REAL_EPSILON * (sc->wk + ed.ext) * ed.eabs;
     ed.c0v = (ls_real)128 * LS_REAL_EPSILON * sc->wk * (sc->wk + ed.ext);
