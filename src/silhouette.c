@@ -1589,6 +1589,7 @@ static SIL_INLINE int walk_front(const sedge *ed, const ls_real cs[3], const ls_
 }
 
 #define SIL_WALK_CAP 24 /* triangles a walk crosses before it gives up */
+#define SIL_LOCATE_CAP 6 /* and walk_locate (farther from the sample, it seldom gets anywhere) */
 #define SIL_WALK_MARGIN ((ls_real)1 / (ls_real)4096) /* pixels: a walk's points are this far inside */
 
 /* Whether the segment is hidden between ts and tg (either order) behind a
@@ -1647,7 +1648,7 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
 {
     ls_real *num = w, *den = w + 3, *m = w + 6;
     uint32_t step;
-    for (step = 0; step < SIL_WALK_CAP; step++) {
+    for (step = 0; step < SIL_LOCATE_CAP; step++) {
         ls_real worst = (ls_real)0, c[3];
         uint32_t q, qw = 3u, tw;
         if (!walk_face(sc, ed, o) || !walk_sides(sc, ed, o, num, den, m)) return LS_EDGE_NONE;
