@@ -1797,7 +1797,8 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
                 id = sc->wend[ed->vb] - 1u;
             }
         } else {
-            tm = (t0 + t1) * (ls_real)0.5;
+            /* the middle of what the cached walk left */
+            tm = (ed->wta <= t0 ? (ed->wtb > t0 ? ed->wtb : t0) + t1 : t0 + (ed->wta < t1 ? ed->wta : t1)) * (ls_real)0.5;
             id = walk_start(sc, ed, tm, tm, w);
             first = w;
         }
