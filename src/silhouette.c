@@ -1774,13 +1774,13 @@ static uint32_t walk_start(const sctx *sc, const sedge *ed, ls_real tq, ls_real 
  * an earlier segment's walk found holding an end vertex of both (wend),
  * when the part has that end: one walk towards the other end, with no
  * sample and no walk_locate; else, or for what that one leaves, from the
- * triangle the forward drew at the sample under the middle (walk_locate
- * finds the face holding the middle from there), back towards tbeg and on
- * towards tend, each way going on once across a farther surface. What it
- * proves is kept as [wta, wtb] (the two walks' proofs joined when they
- * meet), which spares the runs inside it (run_hidden). New walks from the runs found too few
- * hidden ones to pay (44.11M -> 42.96M instructions a view of the
- * armadillo without them). */
+ * triangle the forward drew at the sample under the middle of what is
+ * left (walk_locate finds the face holding it from there), back towards
+ * tbeg and on towards tend, each way going on once across a farther
+ * surface. What it proves is kept as [wta, wtb] (the two walks' proofs
+ * joined when they meet), which spares the runs and pixels inside it
+ * (run_hidden). New walks from the runs found too few hidden ones to pay
+ * (44.11M -> 42.96M instructions a view of the armadillo without them). */
 LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
 {
     ls_real t0 = ed->tbeg, t1 = ed->tend, tm, r[2], w[9], u[9];
@@ -1835,20 +1835,31 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
     return 0;
 }
 
-/* Whether the whole run [t0, t1] lies in what the segment's walk proved
- * hidden (walk_segment), a walk stopped by the cap going on from where it
- * stopped when the run starts inside. */
-LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, const srun *run)
+/* Whether the whole run lies in what the segment's walk proved hidden
+ * (walk_segment), a walk stopped by the cap going on from where it stopped
+ * when the run starts inside; else the run loses the pixels at either end
+ * that lie inside it: run_pass sweeps each pixel as it would alone. */
+LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, srun *run)
 {
-    ls_real t0 = run->t[0], t1 = run->t[run->n];
     uint32_t nx, nin;
-    if (t0 < ed->wta) return 0;
-    if (t1 <= ed->wtb) return 1;
-    if (ed->wnext == LS_EDGE_NONE || ed->wtb < t0) return 0;
-    ed->wtb = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
-    ed->wnext = nx;
-    ed->wnin = nin;
-    return t1 <= ed->wtb;
+    int j = 0, n = run->n;
+    if (run->t[0] >= ed->wta && run->t[n] > ed->wtb && ed->wnext != LS_EDGE_NONE && ed->wtb >= run->t[0]) {
+        ed->wtb = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
+        ed->wnext = nx;
+        ed->wnin = nin;
+    }
+    while (j < n && run->t[j] >= ed->wta && run->t[j + 1] <= ed->wtb) j++; /* the first pixels */
+    while (n > j && run->t[n - 1] >= ed->wta && run->t[n] <= ed->wtb) n--; /* the last ones */
+    if (j > 0) {
+        int k;
+        for (k = j; k < n; k++) {
+            run->t[k - j] = run->t[k];
+            run->pix[k - j] = run->pix[k];
+        }
+        run->t[n - j] = run->t[n];
+    }
+    run->n = n - j;
+    return run->n == 0;
 }
 
 /* Whether triangle g, every corner in front of the eye, with corner k at
@@ -1913,7 +1924,6 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     const int allfront = sc->allfront;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
-    if (run_hidden(sc, ed, run)) return;
     /* the run's box, grown by the margin */
     fx0 = (float)((xa < xb ? xa : xb) - SIL_MARGIN);
     fx1 = (float)((xa < xb ? xb : xa) + SIL_MARGIN);
@@ -2265,7 +2275,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
         py = cell_of(ed.a[1] + mid * ed.e[1], sc->vis->height);
         tile = (size_t)(py >> sc->tl) * sc->tiles_x + (px >> sc->tl);
         if (run.n > 0 && (tile != run.tile || run.n == SIL_RUN_CAP)) {
-            run_pass(sc, &ed, &run);
+            if (!run_hidden(sc, &ed, &run)) run_pass(sc, &ed, &run);
             run.n = 0;
         }
         if (run.n == 0) {
@@ -2276,7 +2286,7 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
         run.t[++run.n] = tn;
         tcur = tn;
     }
-    if (run.n > 0) run_pass(sc, &ed, &run);
+    if (run.n > 0 && !run_hidden(sc, &ed, &run)) run_pass(sc, &ed, &run);
     ed.ka *= sc->boost;
     ed.kb *= sc->boost;
     window_to_clip(sc, ea->c, nrm[0] * ed.ka, nrm[1] * ed.ka, g);
