@@ -231,8 +231,9 @@ typedef struct sctx {
     struct spiece *piece; /* the sub-piece being integrated: scratch, not integrate's frame (the MCU's stack) */
     ls_real wk;          /* 3 max(|x| + |y|) + width + height over the window positions (tri_sign_front) */
     int shq;             /* 1: SH shading as a quadratic form (sh_quad_init), else ls_shade_point */
+    uint32_t *wend;      /* [V] 1 + a walk face that held the vertex's window point, in front of it, or 0 (walk_reach);
+                          * beside shq, where the MCU's 32-bit build had padding (the job stack) */
     ls_real shm[30];     /* per channel, the 10 entries of M_c / pi (shade.h), upper triangle by rows */
-    uint32_t *wend;      /* [V] 1 + a walk face that held the vertex's window point, in front of it, or 0 (walk_reach) */
 } sctx;
 
 /* One silhouette segment being integrated: window a + t e, t in [0, 1]. */
@@ -249,8 +250,8 @@ typedef struct sedge {
     ls_real za, zb;  /* NDC depth at a and at a + e */
     ls_real tbeg, tend, tinv; /* the segment's part in the image, 1 / its length */
     int fok;         /* 1: the own face's span over [tbeg, tend] is made (span_own: spiece.own) */
-    ls_real wta, wtb; /* earlier walks proved the segment hidden on [wta, wtb] (none: wta > wtb) */
-    uint32_t wnext, wnin; /* where the walk that reached wtb goes on when the cap stopped it (walk_reach), else LS_EDGE_NONE */
+    uint32_t wnext;  /* the half-edge the walk that reached wtb goes on across when the cap stopped it, else LS_EDGE_NONE */
+    ls_real wta, wtb; /* the segment's walks proved it hidden on [wta, wtb] (none: wta > wtb) */
 } sedge;
 
 /* An end of a segment: clip(v) + s (clip(w) - clip(v)) (clipped = 0: vertex v). */
@@ -1677,20 +1678,19 @@ static uint32_t walk_locate(const sctx *sc, const sedge *ed, uint32_t o, ls_real
 /* The walk of walk_hidden (above) from o, which holds the point at ts by
  * the margins of its edges but `in` (its entry edge, 3: none), towards tg:
  * returns the parameter up to which the segment is proven hidden (ts when
- * nothing is). Stopped by SIL_WALK_CAP, it leaves in *next and *nin the
- * face and entry edge to go on from there (else *next = LS_EDGE_NONE).
+ * nothing is). Stopped by SIL_WALK_CAP, it leaves in *next the half-edge
+ * to go on across (3 face + edge), else LS_EDGE_NONE.
  * first: o's walk_sides from walk_locate, or NULL; checked: 1 when an
  * earlier walk_reach from o with first found o in front of the segment at
  * ts (walk_front, its first step), which this one then does not test again.
  * Reaching tg at an end vertex of the segment (t = 0 at va, 1 at vb), it
  * records the face there in sc->wend, for the next segment through it. */
 static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t in, ls_real ts, ls_real tg,
-                          const ls_real *first, int checked, uint32_t *next, uint32_t *nin)
+                          const ls_real *first, int checked, uint32_t *next)
 {
     int up = tg > ts; /* the direction of the walk along t */
     uint32_t step;
     *next = LS_EDGE_NONE;
-    *nin = 3u;
     for (step = 0; step < SIL_WALK_CAP; step++) {
         ls_real own[9], z[3], cs[3], cx[3], tx = tg;
         const ls_real *num = own, *den = own + 3, *m = own + 6;
@@ -1735,8 +1735,7 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
         ts = tx;
         checked = 0;
     }
-    *next = o;
-    *nin = in;
+    *next = 3u * o + in; /* the last crossing's twin */
     return ts;
 }
 
@@ -1785,7 +1784,7 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
 {
     ls_real t0 = ed->tbeg, t1 = ed->tend, tm, r[2], w[9], u[9];
     const ls_real *first = NULL;
-    uint32_t id = LS_EDGE_NONE, nx = LS_EDGE_NONE, nin = 3u, k, pass;
+    uint32_t id = LS_EDGE_NONE, nx = LS_EDGE_NONE, k, pass;
     if (sc->twin == NULL) return 0;
     for (pass = 0; pass < 2u; pass++) {
         if (pass == 0u) { /* the cached start: at va (t = 0), else at vb (t = 1) */
@@ -1807,7 +1806,7 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
             ls_real tg = k ? t1 : t0, tq;
             uint32_t o;
             /* the walk back passed its first step's walk_front at tm unless it returned tm */
-            r[k] = tm == tg ? tg : walk_reach(sc, ed, id, 3u, tm, tg, first, k && r[0] != tm, &nx, &nin);
+            r[k] = tm == tg ? tg : walk_reach(sc, ed, id, 3u, tm, tg, first, k && r[0] != tm, &nx);
             /* stopped short (but by the cap forwards: run_hidden goes on with that one), a walk
              * goes on once from whatever surface the sample 1.5 samples (along the major axis)
              * beyond shows: it most often stops at the contour of the surface it crossed, behind
@@ -1817,7 +1816,7 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
             tq = k ? r[1] + tq : r[0] - tq;
             if (k ? tq > tg : tq < tg) tq = tg;
             o = walk_start(sc, ed, tq, r[k], u);
-            if (o != LS_EDGE_NONE) r[k] = walk_reach(sc, ed, o, 3u, r[k], tg, u, 0, &nx, &nin);
+            if (o != LS_EDGE_NONE) r[k] = walk_reach(sc, ed, o, 3u, r[k], tg, u, 0, &nx);
         }
         if (!(r[1] > r[0])) continue;
         if (!(r[1] >= ed->wta && r[0] <= ed->wtb)) { /* apart from the proof kept (or none): this one */
@@ -1828,7 +1827,6 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
         if (r[1] > ed->wtb) {
             ed->wtb = r[1];
             ed->wnext = nx;
-            ed->wnin = nin;
         }
         if (ed->wta <= t0 && t1 <= ed->wtb) return 1;
     }
@@ -1841,12 +1839,11 @@ LS_NOINLINE static int walk_segment(const sctx *sc, sedge *ed)
  * that lie inside it: run_pass sweeps each pixel as it would alone. */
 LS_NOINLINE static int run_hidden(const sctx *sc, sedge *ed, srun *run)
 {
-    uint32_t nx, nin;
+    uint32_t nx;
     int j = 0, n = run->n;
     if (run->t[0] >= ed->wta && run->t[n] > ed->wtb && ed->wnext != LS_EDGE_NONE && ed->wtb >= run->t[0]) {
-        ed->wtb = walk_reach(sc, ed, ed->wnext, ed->wnin, ed->wtb, ed->tend, NULL, 0, &nx, &nin);
+        ed->wtb = walk_reach(sc, ed, ed->wnext / 3u, ed->wnext % 3u, ed->wtb, ed->tend, NULL, 0, &nx);
         ed->wnext = nx;
-        ed->wnin = nin;
     }
     while (j < n && run->t[j] >= ed->wta && run->t[j + 1] <= ed->wtb) j++; /* the first pixels */
     while (n > j && run->t[n - 1] >= ed->wta && run->t[n] <= ed->wtb) n--; /* the last ones */
@@ -2226,7 +2223,6 @@ static void segment_pass(const sctx *sc, uint32_t ft, uint32_t fu, const uint32_
     ed.wta = R_MAX;
     ed.wtb = (ls_real)0;
     ed.wnext = LS_EDGE_NONE;
-    ed.wnin = 3u;
     ed.ka = (ls_real)0;
     ed.kb = (ls_real)0;
     end_window(sc, ea, ed.a, &ed.za);
