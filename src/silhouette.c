@@ -431,7 +431,7 @@ static SIL_INLINE int tri_sign_front(const sctx *sc, const uint32_t *f, ls_real 
     t2 = V2_HI(pr);
 #else
     int j;
-    for (j = 0; j < 2; j++) { /* (dx, dy) pairs: SSE2 subtracts each in one */
+    for (j = 0; j < 2; j++) { /* the (dx, dy) pairs */
         d1[j] = p1[j] - p0[j];
         d2[j] = p2[j] - p0[j];
     }
@@ -680,9 +680,8 @@ static SIL_INLINE uint32_t box_list(const sctx *sc, uint32_t *list, uint32_t n, 
             if (!box_fbox(&g, box, fb, 1)) continue;
             fbox_tiles(&g, fb, r);
 #endif
-        } else if (!tri_box(sc, f, box) || !box_fbox(&g, box, fb, 0)) {
-            continue;
         } else {
+            if (!tri_box(sc, f, box) || !box_fbox(&g, box, fb, 0)) continue;
             fbox_tiles(&g, fb, r);
         }
         tile_add(&g, r, offs);
@@ -2749,9 +2748,10 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     sc->cact = sc->cord ? (uint32_t *)ls_arena_scratch(arena, slots, sizeof(uint32_t)) : NULL;
     sc->split = sc->cact ? (ls_real *)ls_arena_scratch(arena, 4u * slots + 2u, sizeof(ls_real)) : NULL;
     sc->piece = sc->split ? (spiece *)ls_arena_scratch(arena, 1, sizeof(spiece)) : NULL;
-    sc->wend = sc->piece ? (uint32_t *)ls_arena_alloc_zero(arena, (size_t)vertex_count, sizeof(uint32_t)) : NULL;
+    sc->wend = sc->piece ? (uint32_t *)ls_arena_scratch(arena, (size_t)vertex_count, sizeof(uint32_t)) : NULL;
     if (sc->wend == NULL) return LS_ERR_NOMEM;
     memset(sc->piece, 0, sizeof *sc->piece); /* once: integrate sets, per sub-piece, what it reads */
+    memset(sc->wend, 0, (size_t)vertex_count * sizeof(uint32_t)); /* no walk has reached a vertex yet */
     bin_pass(sc, keep, nkeep, offs, ent);
     sc->offs = offs;
     sc->ent = ent;
