@@ -1186,6 +1186,127 @@ static void silhouette_sh_fast_path(void)
     CHECK(sqrt(d2) <= (sizeof(ls_real) == 4 ? 1e-4 : 1e-9) * sqrt(n2));
 }
 
+/* Valleys: on a closed mesh seen from outside the pass skips the
+ * silhouette edges that are valleys of the surface (the back face's far
+ * corner lies on the eye's side of the front face's plane), which no eye
+ * outside can see. The bunny in perspective at 128^2 (SH, a grey
+ * background, weights varying per pixel and channel) twice: as it is, and
+ * with one small triangle added far outside the image, whose boundary
+ * edges turn the closed-mesh shortcuts off (every silhouette edge swept,
+ * back faces kept as candidates) and change nothing else. The two
+ * gradients of the bunny's vertices agree to rounding, and the valleys
+ * (counted here in world space, from the eye and the faces' normals) are a
+ * good part of the silhouette edges, so the shortcut is exercised. */
+static void silhouette_valleys_hidden(void)
+{
+    static const ls_real sh[27] = {
+        (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
+        (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
+        (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
+    ls_arena arena;
+    ls_mesh m;
+    ls_shade_opts o;
+    size_t i;
+    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, r = 0;
+    static ls_real gimg[4 * 128 * 128];
+    ls_real *gp[2], *nrm, *pos;
+    uint32_t *tri, W = 128, pass, h, contour = 0, valleys = 0, nv, nf;
+    double vol = 0, dmax = 0, gmax = 0;
+    if (!load_bunny(&arena, &m, c, &r)) return;
+    eye[0] = c[0] + (ls_real)0.9 * r;
+    eye[1] = c[1] + (ls_real)0.6 * r;
+    eye[2] = c[2] + (ls_real)2.6 * r;
+    ls_camera_look_at(eye, c, up, view);
+    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
+    ls_mat4_mul(proj, view, mvp);
+    nv = m.vertex_count + 3u;
+    nf = m.face_count + 1u;
+    pos = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
+    tri = (uint32_t *)ls_arena_alloc(&arena, 3 * (size_t)nf, sizeof(uint32_t));
+    nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
+    gp[0] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
+    gp[1] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
+    REQUIRE(gp[1] != NULL);
+    memcpy(pos, m.positions, 3 * (size_t)m.vertex_count * sizeof(ls_real));
+    memcpy(tri, m.triangles, 3 * (size_t)m.face_count * sizeof(uint32_t));
+    for (i = 0; i < 3; i++) { /* the extra triangle: 40 r to the side of the bunny, in front of the eye */
+        pos[3 * (m.vertex_count + i)] = c[0] - 40 * r + (ls_real)(i == 1) * r / 10;
+        pos[3 * (m.vertex_count + i) + 1] = c[1] + (ls_real)(i == 2) * r / 10;
+        pos[3 * (m.vertex_count + i) + 2] = c[2];
+        tri[3 * (size_t)m.face_count + i] = m.vertex_count + (uint32_t)i;
+    }
+    for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
+    for (pass = 0; pass < 2; pass++) {
+        ls_arena_mark mk = ls_arena_save(&arena);
+        uint32_t n = pass == 0 ? m.vertex_count : nv, f = pass == 0 ? m.face_count : nf;
+        ls_edge_table et;
+        ls_vis vis;
+        REQUIRE(ls_shade_vertex_normals(pos, n, tri, f, nrm, NULL) == LS_OK);
+        REQUIRE(ls_edge_table_build(&et, tri, f, n, &arena, NULL) == LS_OK);
+        CHECK_EQ(et.boundary_edges, pass == 0 ? 0u : 3u);
+        REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
+        REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, tri, f, NULL) == LS_OK);
+        ls_shade_opts_init(&o);
+        o.mode = LS_SHADE_SH;
+        o.sh = sh;
+        o.background[0] = (ls_real)0.3;
+        o.background[1] = (ls_real)0.5;
+        o.background[2] = (ls_real)0.2;
+        for (i = 0; i < 3 * (size_t)nv; i++) gp[pass][i] = 0;
+        REQUIRE(ls_silhouette_backward(&vis, &et, tri, f, nrm, n, &o, mvp, 1, gimg, gp[pass], &arena, NULL) == LS_OK);
+        if (pass == 0) { /* the valleys among the silhouette edges, in world space */
+            for (h = 0; h < 3u * m.face_count; h++) {
+                uint32_t tw = et.twin[h], k, a, b, cc, d;
+                double n0[3], n1[3], e1[3], e2[3], side, f0 = 0, f1 = 0;
+                if (tw == LS_EDGE_NONE || tw < h) continue;
+                a = tri[h];
+                b = tri[h % 3u == 2u ? h - 2u : h + 1u];
+                cc = tri[h % 3u == 0u ? h + 2u : h - 1u];
+                d = tri[tw % 3u == 0u ? tw + 2u : tw - 1u];
+                for (k = 0; k < 3; k++) {
+                    e1[k] = (double)pos[3 * b + k] - (double)pos[3 * a + k];
+                    e2[k] = (double)pos[3 * cc + k] - (double)pos[3 * a + k];
+                }
+                n0[0] = e1[1] * e2[2] - e1[2] * e2[1];
+                n0[1] = e1[2] * e2[0] - e1[0] * e2[2];
+                n0[2] = e1[0] * e2[1] - e1[1] * e2[0];
+                for (k = 0; k < 3; k++) e2[k] = (double)pos[3 * d + k] - (double)pos[3 * b + k];
+                for (k = 0; k < 3; k++) e1[k] = (double)pos[3 * a + k] - (double)pos[3 * b + k];
+                n1[0] = e1[1] * e2[2] - e1[2] * e2[1]; /* face (b, a, d) */
+                n1[1] = e1[2] * e2[0] - e1[0] * e2[2];
+                n1[2] = e1[0] * e2[1] - e1[1] * e2[0];
+                side = 0;
+                for (k = 0; k < 3; k++) {
+                    f0 += n0[k] * ((double)eye[k] - (double)pos[3 * a + k]);
+                    f1 += n1[k] * ((double)eye[k] - (double)pos[3 * a + k]);
+                    side += n0[k] * ((double)pos[3 * d + k] - (double)pos[3 * a + k]);
+                }
+                if ((f0 > 0) == (f1 > 0)) continue;
+                contour++;
+                valleys += side > 0; /* d above the face's outward plane (the bunny is wound outward, below) */
+            }
+            for (i = 0; i < m.face_count; i++) { /* signed volume: positive when wound outward */
+                const ls_real *p0 = pos + 3 * (size_t)tri[3 * i], *p1 = pos + 3 * (size_t)tri[3 * i + 1], *p2 = pos + 3 * (size_t)tri[3 * i + 2];
+                vol += (double)p0[0] * ((double)p1[1] * p2[2] - (double)p1[2] * p2[1]) -
+                       (double)p0[1] * ((double)p1[0] * p2[2] - (double)p1[2] * p2[0]) +
+                       (double)p0[2] * ((double)p1[0] * p2[1] - (double)p1[1] * p2[0]);
+            }
+        }
+        ls_arena_restore(&arena, mk);
+    }
+    for (i = 0; i < 3 * (size_t)m.vertex_count; i++) {
+        double d = fabs((double)gp[0][i] - (double)gp[1][i]);
+        dmax = d > dmax ? d : dmax;
+        gmax = fabs((double)gp[1][i]) > gmax ? fabs((double)gp[1][i]) : gmax;
+    }
+    printf("     bunny (%u faces, 128^2 perspective, SH): %u silhouette edges, %u valleys; closed vs opened: max difference "
+           "%.3g of max |g| %.3g\n", m.face_count, contour, valleys, dmax, gmax);
+    CHECK(vol > 0);
+    CHECK(valleys * 10u >= contour && contour > 100u);
+    CHECK(gmax > 0);
+    CHECK(dmax <= (sizeof(ls_real) == 4 ? 1e-4 : 1e-9) * gmax);
+}
+
 /* ---- the pair mode ---- */
 
 /* Pair-mode loss sum w . pair(shade(raster(p))) in mask mode, and (if gp)
@@ -1338,6 +1459,7 @@ int main(void)
     TEST_RUN(silhouette_scratch_sweep);
     TEST_RUN(silhouette_bunny_invariants);
     TEST_RUN(silhouette_sh_fast_path);
+    TEST_RUN(silhouette_valleys_hidden);
     TEST_RUN(pair_backward_matches_its_forward);
     TEST_RUN(pair_error_against_exact);
     free(arena_buf);
