@@ -2346,32 +2346,34 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
  * 4 x 4 determinant of the clip coordinates of the edge's ends and the
  * two opposite corners (convexity does not depend on the view: the sign
  * is det(mvp) times that of the positions' orientation), against the
- * visible orientation -cull, when it exceeds a bound on its rounding (the
- * 2 x 2 minors' expansion: below 4 eps times its permanent). Out of line:
- * its minors stay out of edges_pass's frame (the deep chain's, the MCU's
- * job stack). */
+ * visible orientation -cull, when it exceeds a bound on its rounding: the
+ * 2 x 2 minors' expansion rounds below 4 eps times the permanent of the
+ * absolute entries, which the product of the rows' 1-norms bounds. Out of
+ * line: its minors stay out of edges_pass's frame (the deep chain's, the
+ * MCU's job stack). */
 LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
 {
-    static const unsigned char ci[6] = {0, 0, 0, 1, 1, 2}, cj[6] = {1, 2, 3, 2, 3, 3};
     const ls_real *c = sc->vis->clip;
     const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u), *g = sc->indices + 3 * (size_t)(tw / 3u);
-    uint32_t k = h % 3u, m;
+    uint32_t k = h % 3u;
     const ls_real *p = c + 4 * (size_t)f[k], *q = c + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
     const ls_real *r = c + 4 * (size_t)f[k == 0u ? 2u : k - 1u], *d = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
-    ls_real s[6], sa[6], u[6], ua[6], det, perm, bound;
-    for (m = 0; m < 6u; m++) { /* the minors of rows (p, q) and (r, d) over columns (ci, cj) */
-        ls_real x = p[ci[m]] * q[cj[m]], y = p[cj[m]] * q[ci[m]];
-        s[m] = x - y;
-        sa[m] = r_abs(x) + r_abs(y);
-        x = r[ci[m]] * d[cj[m]];
-        y = r[cj[m]] * d[ci[m]];
-        u[m] = x - y;
-        ua[m] = r_abs(x) + r_abs(y);
-    }
+    /* the minors of rows (p, q) and of rows (r, d) over columns (i, j) */
+    ls_real s01 = p[0] * q[1] - p[1] * q[0], s02 = p[0] * q[2] - p[2] * q[0], s03 = p[0] * q[3] - p[3] * q[0];
+    ls_real s12 = p[1] * q[2] - p[2] * q[1], s13 = p[1] * q[3] - p[3] * q[1], s23 = p[2] * q[3] - p[3] * q[2];
+    ls_real u01 = r[0] * d[1] - r[1] * d[0], u02 = r[0] * d[2] - r[2] * d[0], u03 = r[0] * d[3] - r[3] * d[0];
+    ls_real u12 = r[1] * d[2] - r[2] * d[1], u13 = r[1] * d[3] - r[3] * d[1], u23 = r[2] * d[3] - r[3] * d[2];
     /* Laplace: each minor of (p, q) times its complement's of (r, d) */
-    det = ((s[0] * u[5] - s[1] * u[4]) + (s[2] * u[3] + s[3] * u[2])) - (s[4] * u[1] - s[5] * u[0]);
-    perm = ((sa[0] * ua[5] + sa[1] * ua[4]) + (sa[2] * ua[3] + sa[3] * ua[2])) + (sa[4] * ua[1] + sa[5] * ua[0]);
-    bound = (ls_real)16 * LS_REAL_EPSILON * perm + (ls_real)64 * R_MIN_NORMAL;
+    ls_real det = ((s01 * u23 - s02 * u13) + (s03 * u12 + s12 * u03)) - (s13 * u02 - s23 * u01);
+    ls_real n[4], bound;
+    const ls_real *rows[4];
+    uint32_t i;
+    rows[0] = p;
+    rows[1] = q;
+    rows[2] = r;
+    rows[3] = d;
+    for (i = 0; i < 4u; i++) n[i] = (r_abs(rows[i][0]) + r_abs(rows[i][1])) + (r_abs(rows[i][2]) + r_abs(rows[i][3]));
+    bound = (ls_real)16 * LS_REAL_EPSILON * ((n[0] * n[1]) * (n[2] * n[3])) + (ls_real)64 * R_MIN_NORMAL;
     return sc->cull < 0 ? det > bound : (sc->cull > 0 && det < -bound);
 }
 
