@@ -2342,39 +2342,52 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
  * it entered the solid through a front face strictly before the point.
  * About two fifths of the armadillo's silhouette edges; their sweep found
  * only ulp-wide pieces next to their end vertices (where an occluder of
- * the vertex's fan meets the edge) visible. The test is the sign of the
- * 4 x 4 determinant of the clip coordinates of the edge's ends and the
- * two opposite corners (convexity does not depend on the view: the sign
- * is det(mvp) times that of the positions' orientation), against the
- * visible orientation -cull, when it exceeds a bound on its rounding: the
- * 2 x 2 minors' expansion rounds below 4 eps times the permanent of the
- * absolute entries, which the product of the rows' 1-norms bounds. Out of
- * line: its minors stay out of edges_pass's frame (the deep chain's, the
- * MCU's job stack). */
+ * the vertex's fan meets the edge) visible. The test: the sign of the
+ * 4 x 4 determinant of the clip coordinates of the edge's ends p, q and
+ * the two opposite corners r, d (the corners' orientation in space times
+ * det(mvp): convexity does not depend on the view) against the visible
+ * orientation -cull. With p's row taken from the others scaled by its W
+ * (w_p q - w_q p, ..., which have W = 0 exactly), it is -w_p times the
+ * 3 x 3 determinant of their (X, Y, Z): differences at the mesh's scale,
+ * where the 4 x 4 one cancelled at the scene's (in float it certified
+ * none of the armadillo's valleys). Certain when beyond a bound on the
+ * rows' rounding (each component within 2 eps of its products' sum) and
+ * the determinant's. Out of line: its locals stay out of edges_pass's
+ * frame (the deep chain's, the MCU's job stack). */
 LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
 {
     const ls_real *c = sc->vis->clip;
     const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u), *g = sc->indices + 3 * (size_t)(tw / 3u);
-    uint32_t k = h % 3u;
-    const ls_real *p = c + 4 * (size_t)f[k], *q = c + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
-    const ls_real *r = c + 4 * (size_t)f[k == 0u ? 2u : k - 1u], *d = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
-    /* the minors of rows (p, q) and of rows (r, d) over columns (i, j) */
-    ls_real s01 = p[0] * q[1] - p[1] * q[0], s02 = p[0] * q[2] - p[2] * q[0], s03 = p[0] * q[3] - p[3] * q[0];
-    ls_real s12 = p[1] * q[2] - p[2] * q[1], s13 = p[1] * q[3] - p[3] * q[1], s23 = p[2] * q[3] - p[3] * q[2];
-    ls_real u01 = r[0] * d[1] - r[1] * d[0], u02 = r[0] * d[2] - r[2] * d[0], u03 = r[0] * d[3] - r[3] * d[0];
-    ls_real u12 = r[1] * d[2] - r[2] * d[1], u13 = r[1] * d[3] - r[3] * d[1], u23 = r[2] * d[3] - r[3] * d[2];
-    /* Laplace: each minor of (p, q) times its complement's of (r, d) */
-    ls_real det = ((s01 * u23 - s02 * u13) + (s03 * u12 + s12 * u03)) - (s13 * u02 - s23 * u01);
-    ls_real n[4], bound;
-    const ls_real *rows[4];
-    uint32_t i;
-    rows[0] = p;
-    rows[1] = q;
-    rows[2] = r;
-    rows[3] = d;
-    for (i = 0; i < 4u; i++) n[i] = (r_abs(rows[i][0]) + r_abs(rows[i][1])) + (r_abs(rows[i][2]) + r_abs(rows[i][3]));
-    bound = (ls_real)16 * LS_REAL_EPSILON * ((n[0] * n[1]) * (n[2] * n[3])) + (ls_real)64 * R_MIN_NORMAL;
-    return sc->cull < 0 ? det > bound : (sc->cull > 0 && det < -bound);
+    uint32_t k = h % 3u, i, j;
+    const ls_real *p = c + 4 * (size_t)f[k], *o[3];
+    ls_real m[3][3], u[3][3], e[3][3], det, pu, pe, bound, w = p[3];
+    o[0] = c + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
+    o[1] = c + 4 * (size_t)f[k == 0u ? 2u : k - 1u];
+    o[2] = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
+    if (!(w > (ls_real)0)) return 0;
+    for (i = 0; i < 3u; i++) {
+        for (j = 0; j < 3u; j++) {
+            m[i][j] = w * o[i][j] - o[i][3] * p[j];
+        }
+    }
+    det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])) +
+          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(sc->cull < 0 ? det < (ls_real)0 : det > (ls_real)0)) return 0; /* a ridge (most), or no cull */
+    for (i = 0; i < 3u; i++) {
+        for (j = 0; j < 3u; j++) {
+            u[i][j] = r_abs(m[i][j]);
+            e[i][j] = u[i][j] + (ls_real)2 * LS_REAL_EPSILON * (r_abs(w * o[i][j]) + r_abs(o[i][3] * p[j])); /* and its rounding */
+        }
+    }
+    /* permanents: of |m|, and of |m| grown by the rows' rounding; their
+     * difference bounds what that rounding does to det */
+    pu = (u[0][0] * (u[1][1] * u[2][2] + u[1][2] * u[2][1]) + u[0][1] * (u[1][0] * u[2][2] + u[1][2] * u[2][0])) +
+         u[0][2] * (u[1][0] * u[2][1] + u[1][1] * u[2][0]);
+    pe = (e[0][0] * (e[1][1] * e[2][2] + e[1][2] * e[2][1]) + e[0][1] * (e[1][0] * e[2][2] + e[1][2] * e[2][0])) +
+         e[0][2] * (e[1][0] * e[2][1] + e[1][1] * e[2][0]);
+    bound = (pe - pu) + (ls_real)16 * LS_REAL_EPSILON * pe + (ls_real)64 * R_MIN_NORMAL;
+    /* the 4 x 4 determinant's sign is -det's */
+    return r_abs(det) > bound;
 }
 
 /* choose_cull's count of a sample showing id into cnt: covered, showing
