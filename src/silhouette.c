@@ -2336,7 +2336,8 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
 
 /* Whether silhouette edge h (twin tw, folds) is a valley of the surface,
  * which no eye outside a closed mesh sees: with cull set (choose_cull: a
- * closed mesh, nothing across the near plane, seen from outside), the ray
+ * closed mesh, nothing across the near plane, seen from outside) and the
+ * two faces wound alike (a consistently oriented surface there), the ray
  * to a point of such an edge comes through the solid (the side of the
  * back face's plane away from the eye, which in a valley lies inside), so
  * it entered the solid through a front face strictly before the point.
@@ -2364,7 +2365,9 @@ LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
     o[0] = c + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
     o[1] = c + 4 * (size_t)f[k == 0u ? 2u : k - 1u];
     o[2] = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
-    if (!(w > (ls_real)0)) return 0;
+    /* the faces wound the same way (the twin runs back along the edge): the
+     * edge table pairs the faces of an edge whatever their order */
+    if (!(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;
     for (i = 0; i < 3u; i++) {
         for (j = 0; j < 3u; j++) {
             m[i][j] = w * o[i][j] - o[i][3] * p[j];

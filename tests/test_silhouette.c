@@ -1193,8 +1193,10 @@ static void silhouette_sh_fast_path(void)
  * background, weights varying per pixel and channel) twice: as it is, and
  * with one small triangle added far outside the image, whose boundary
  * edges turn the closed-mesh shortcuts off (every silhouette edge swept,
- * back faces kept as candidates) and change nothing else. The two
- * gradients of the bunny's vertices agree to rounding, and the valleys
+ * back faces kept as candidates) and change nothing else; and a third
+ * time wound the other way (the normals kept), which culls the other
+ * orientation. The gradients of the bunny's vertices agree to rounding,
+ * and the valleys
  * (counted here in world space, from the eye and the faces' normals) are a
  * good part of the silhouette edges, so the shortcut is exercised. */
 static void silhouette_valleys_hidden(void)
@@ -1209,9 +1211,9 @@ static void silhouette_valleys_hidden(void)
     size_t i;
     ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, r = 0;
     static ls_real gimg[4 * 128 * 128];
-    ls_real *gp[2], *nrm, *pos;
-    uint32_t *tri, W = 128, pass, h, contour = 0, valleys = 0, nv, nf;
-    double vol = 0, dmax = 0, gmax = 0;
+    ls_real *gp[3], *nrm, *pos;
+    uint32_t *tri, *flip, W = 128, pass, h, contour = 0, valleys = 0, nv, nf;
+    double vol = 0, dmax = 0, gmax = 0, fmax = 0;
     if (!load_bunny(&arena, &m, c, &r)) return;
     eye[0] = c[0] + (ls_real)0.9 * r;
     eye[1] = c[1] + (ls_real)0.6 * r;
@@ -1226,7 +1228,9 @@ static void silhouette_valleys_hidden(void)
     nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
     gp[0] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
     gp[1] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
-    REQUIRE(gp[1] != NULL);
+    gp[2] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
+    flip = (uint32_t *)ls_arena_alloc(&arena, 3 * (size_t)m.face_count, sizeof(uint32_t));
+    REQUIRE(flip != NULL);
     memcpy(pos, m.positions, 3 * (size_t)m.vertex_count * sizeof(ls_real));
     memcpy(tri, m.triangles, 3 * (size_t)m.face_count * sizeof(uint32_t));
     for (i = 0; i < 3; i++) { /* the extra triangle: 40 r to the side of the bunny, in front of the eye */
@@ -1236,16 +1240,22 @@ static void silhouette_valleys_hidden(void)
         tri[3 * (size_t)m.face_count + i] = m.vertex_count + (uint32_t)i;
     }
     for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
-    for (pass = 0; pass < 2; pass++) {
+    for (i = 0; i < m.face_count; i++) {
+        flip[3 * i] = tri[3 * i];
+        flip[3 * i + 1] = tri[3 * i + 2];
+        flip[3 * i + 2] = tri[3 * i + 1];
+    }
+    for (pass = 0; pass < 3; pass++) {
         ls_arena_mark mk = ls_arena_save(&arena);
-        uint32_t n = pass == 0 ? m.vertex_count : nv, f = pass == 0 ? m.face_count : nf;
+        uint32_t n = pass == 1 ? nv : m.vertex_count, f = pass == 1 ? nf : m.face_count;
+        const uint32_t *fc = pass == 2 ? flip : tri;
         ls_edge_table et;
         ls_vis vis;
         REQUIRE(ls_shade_vertex_normals(pos, n, tri, f, nrm, NULL) == LS_OK);
-        REQUIRE(ls_edge_table_build(&et, tri, f, n, &arena, NULL) == LS_OK);
-        CHECK_EQ(et.boundary_edges, pass == 0 ? 0u : 3u);
+        REQUIRE(ls_edge_table_build(&et, fc, f, n, &arena, NULL) == LS_OK);
+        CHECK_EQ(et.boundary_edges, pass == 1 ? 3u : 0u);
         REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
-        REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, tri, f, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, fc, f, NULL) == LS_OK);
         ls_shade_opts_init(&o);
         o.mode = LS_SHADE_SH;
         o.sh = sh;
@@ -1253,7 +1263,7 @@ static void silhouette_valleys_hidden(void)
         o.background[1] = (ls_real)0.5;
         o.background[2] = (ls_real)0.2;
         for (i = 0; i < 3 * (size_t)nv; i++) gp[pass][i] = 0;
-        REQUIRE(ls_silhouette_backward(&vis, &et, tri, f, nrm, n, &o, mvp, 1, gimg, gp[pass], &arena, NULL) == LS_OK);
+        REQUIRE(ls_silhouette_backward(&vis, &et, fc, f, nrm, n, &o, mvp, 1, gimg, gp[pass], &arena, NULL) == LS_OK);
         if (pass == 0) { /* the valleys among the silhouette edges, in world space */
             for (h = 0; h < 3u * m.face_count; h++) {
                 uint32_t tw = et.twin[h], k, a, b, cc, d;
@@ -1295,16 +1305,18 @@ static void silhouette_valleys_hidden(void)
         ls_arena_restore(&arena, mk);
     }
     for (i = 0; i < 3 * (size_t)m.vertex_count; i++) {
-        double d = fabs((double)gp[0][i] - (double)gp[1][i]);
+        double d = fabs((double)gp[0][i] - (double)gp[1][i]), e = fabs((double)gp[2][i] - (double)gp[1][i]);
         dmax = d > dmax ? d : dmax;
+        fmax = e > fmax ? e : fmax;
         gmax = fabs((double)gp[1][i]) > gmax ? fabs((double)gp[1][i]) : gmax;
     }
-    printf("     bunny (%u faces, 128^2 perspective, SH): %u silhouette edges, %u valleys; closed vs opened: max difference "
-           "%.3g of max |g| %.3g\n", m.face_count, contour, valleys, dmax, gmax);
+    printf("     bunny (%u faces, 128^2 perspective, SH): %u silhouette edges, %u valleys; against opened, max difference: "
+           "closed %.3g, wound the other way %.3g, of max |g| %.3g\n", m.face_count, contour, valleys, dmax, fmax, gmax);
     CHECK(vol > 0);
     CHECK(valleys * 10u >= contour && contour > 100u);
     CHECK(gmax > 0);
     CHECK(dmax <= (sizeof(ls_real) == 4 ? 1e-4 : 1e-9) * gmax);
+    CHECK(fmax <= (sizeof(ls_real) == 4 ? 1e-4 : 1e-9) * gmax);
 }
 
 /* ---- the pair mode ---- */
