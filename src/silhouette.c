@@ -2368,15 +2368,18 @@ LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
     /* the faces wound the same way (the twin runs back along the edge): the
      * edge table pairs the faces of an edge whatever their order */
     if (!(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;
+    SIL_UNROLL
     for (i = 0; i < 3u; i++) {
-        for (j = 0; j < 3u; j++) {
-            m[i][j] = w * o[i][j] - o[i][3] * p[j];
-        }
+        const ls_real *oi = o[i];
+        SIL_UNROLL
+        for (j = 0; j < 3u; j++) m[i][j] = w * oi[j] - oi[3] * p[j];
     }
     det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])) +
           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     if (!(sc->cull < 0 ? det < (ls_real)0 : det > (ls_real)0)) return 0; /* a ridge (most), or no cull */
+    SIL_UNROLL
     for (i = 0; i < 3u; i++) {
+        SIL_UNROLL
         for (j = 0; j < 3u; j++) {
             u[i][j] = r_abs(m[i][j]);
             e[i][j] = u[i][j] + (ls_real)2 * LS_REAL_EPSILON * (r_abs(w * o[i][j]) + r_abs(o[i][3] * p[j])); /* and its rounding */
