@@ -382,6 +382,7 @@ static void mark_edges(rf *c, const ls_edge_table *table)
                 s1 = hsign(a, b, clip + 4 * (size_t)f[(k + 2u) % 3u]);
                 s2 = hsign(a, b, clip + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
                 if (s1 * s2 < 0) continue; /* opposite sides: not a silhouette */
+                if (ls_valley_edge(clip, c->indices, h, tw, c->cull)) continue; /* hidden: the surface there is smooth */
             }
             mark_segment(c, a, b, 1);
         }

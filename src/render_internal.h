@@ -57,6 +57,29 @@ static inline void ls_clip_areas(const ls_real *clip, const uint32_t *f, ls_real
     a[2] = u[0] * v[1] - u[1] * v[0];
 }
 
+/* ls_valley_edge: whether the edge of half-edge h (twin tw: a silhouette,
+ * its faces on one side of its screen line) is a valley of the surface,
+ * which no eye outside a closed mesh sees. cull: the orientation (sign of
+ * the homogeneous determinant of (X, Y, W)) of the faces a closed mesh
+ * seen from outside never shows, as ls_silhouette_backward and the refine
+ * pass choose it (no boundary edge, nothing across the near plane, the
+ * other orientation at most 1/64 of the covered samples); 0: none, and
+ * the answer is 0. With the two faces wound alike (the twin runs back
+ * along the edge), the ray to a point of a valley comes through the solid
+ * (the side of the back face's plane away from the eye, which in a valley
+ * lies inside), so it entered the solid through a front face strictly
+ * before the point. The test: the sign of the 4 x 4 determinant of the
+ * clip coordinates of the edge's ends p, q and the faces' other corners
+ * r, d (the corners' orientation in space times det(mvp): convexity does
+ * not depend on the view) against the visible orientation -cull. With p's
+ * row taken from the others scaled by its W (w_p q - w_q p, ..., W = 0
+ * exactly), it is -w_p times the 3 x 3 determinant of their (X, Y, Z):
+ * differences at the mesh's scale, where the 4 x 4 one cancels at the
+ * scene's (in float it certified none of the armadillo's valleys). 1 only
+ * when beyond a bound on the rows' rounding (each component within 2 eps
+ * of its products' sum) and the determinant's. O(1). (silhouette.c) */
+int ls_valley_edge(const ls_real *clip, const uint32_t *indices, uint32_t h, uint32_t tw, int cull);
+
 /* ls_shade_point: the colour of triangle f at barycentrics b under opts (as
  * ls_shade computes each covered sample). O(lights). (shade.c) */
 void ls_shade_point(const ls_shade_opts *opts, const uint32_t *f, const ls_real *normals, const ls_real b[3],

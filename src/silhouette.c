@@ -2334,31 +2334,12 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
     return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
 }
 
-/* Whether silhouette edge h (twin tw, folds) is a valley of the surface,
- * which no eye outside a closed mesh sees: with cull set (choose_cull: a
- * closed mesh, nothing across the near plane, seen from outside) and the
- * two faces wound alike (a consistently oriented surface there), the ray
- * to a point of such an edge comes through the solid (the side of the
- * back face's plane away from the eye, which in a valley lies inside), so
- * it entered the solid through a front face strictly before the point.
- * About two fifths of the armadillo's silhouette edges; their sweep found
- * only ulp-wide pieces next to their end vertices (where an occluder of
- * the vertex's fan meets the edge) visible. The test: the sign of the
- * 4 x 4 determinant of the clip coordinates of the edge's ends p, q and
- * the two opposite corners r, d (the corners' orientation in space times
- * det(mvp): convexity does not depend on the view) against the visible
- * orientation -cull. With p's row taken from the others scaled by its W
- * (w_p q - w_q p, ..., which have W = 0 exactly), it is -w_p times the
- * 3 x 3 determinant of their (X, Y, Z): differences at the mesh's scale,
- * where the 4 x 4 one cancelled at the scene's (in float it certified
- * none of the armadillo's valleys). Certain when beyond a bound on the
- * rows' rounding (each component within 2 eps of its products' sum) and
- * the determinant's. Out of line: its locals stay out of edges_pass's
- * frame (the deep chain's, the MCU's job stack). */
-LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
+/* ls_valley_edge (render_internal.h). Out of line: its locals stay out of
+ * edges_pass's frame (the deep chain's, the MCU's job stack). */
+LS_NOINLINE int ls_valley_edge(const ls_real *clip, const uint32_t *indices, uint32_t h, uint32_t tw, int cull)
 {
-    const ls_real *c = sc->vis->clip;
-    const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u), *g = sc->indices + 3 * (size_t)(tw / 3u);
+    const ls_real *c = clip;
+    const uint32_t *f = indices + 3 * (size_t)(h / 3u), *g = indices + 3 * (size_t)(tw / 3u);
     uint32_t k = h % 3u, i, j;
     const ls_real *p = c + 4 * (size_t)f[k], *o[3];
     ls_real m[3][3], u[3][3], e[3][3], det, pu, pe, bound, w = p[3];
@@ -2367,7 +2348,7 @@ LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
     o[2] = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
     /* the faces wound the same way (the twin runs back along the edge): the
      * edge table pairs the faces of an edge whatever their order */
-    if (!(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;
+    if (cull == 0 || !(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;
     SIL_UNROLL
     for (i = 0; i < 3u; i++) {
         const ls_real *oi = o[i];
@@ -2376,7 +2357,7 @@ LS_NOINLINE static int valley(const sctx *sc, uint32_t h, uint32_t tw)
     }
     det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])) +
           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if (!(sc->cull < 0 ? det < (ls_real)0 : det > (ls_real)0)) return 0; /* a ridge (most), or no cull */
+    if (!(cull < 0 ? det < (ls_real)0 : det > (ls_real)0)) return 0; /* a ridge (most), or no cull */
     SIL_UNROLL
     for (i = 0; i < 3u; i++) {
         SIL_UNROLL
@@ -2659,7 +2640,7 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
             uint32_t h = 64u * w + low_bit(m), k, tw = table->twin[h], v[4];
             const uint32_t *f;
             m &= m - 1u;
-            if (tw != LS_EDGE_NONE && (!folds(sc, h, tw) || (sc->cull != 0 && valley(sc, h, tw)))) continue;
+            if (tw != LS_EDGE_NONE && (!folds(sc, h, tw) || ls_valley_edge(clip, sc->indices, h, tw, sc->cull))) continue;
             t = h / 3u;
             k = h - 3u * t;
             f = sc->indices + 3 * (size_t)t;

@@ -71,10 +71,16 @@ fi
 
 # 1b. the spread of that run: a fit's Hausdorff maximum follows the last bits
 # of its trajectory (a collapsed ear in one run, 1-3 % in its neighbours), so
-# the same run with the learning rate moved in the 7th digit, both ways:
-# the median of the three must be close and none far off
+# the same run with the learning rate moved in the 7th digit, k x 1e-6 for
+# k = -4..4: their median must be close and none far off. Measured over 30
+# such runs each before and after a change that moved the gradient's last
+# bits (session 13): about 60 % end below 5 %, 23 % above 10 %, none above
+# 21.3 %, with the same spread both times; the median of 9 stays below 10 %
+# but for a few percent of such bit changes (the median of 3 below 5 %, as
+# this test was, failed a third of them)
 hs=$(field "$out/bunny/metrics.json" vertex_hausdorff_rel)
-for lr in 0.0099999 0.0100001; do
+for k in -4 -3 -2 -1 1 2 3 4; do
+    lr=$(awk -v k=$k 'BEGIN { printf "%.8f", 0.01 * (1 + k * 1e-6) }')
     if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --lr $lr --track 0 --quiet -o "$out/bunny_$lr" \
         > "$build/fit_bunny_$lr.log" 2>&1; then
         hs="$hs $(field "$out/bunny_$lr/metrics.json" vertex_hausdorff_rel)"
@@ -82,10 +88,10 @@ for lr in 0.0099999 0.0100001; do
         hs="$hs 1"
     fi
 done
-med=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 2p)
-max=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 3p)
-echo "     bunny 96x96, 200 iterations, lr 0.01 x (1, 1 - 1e-5, 1 + 1e-5): H/diag $hs"
-if [ -n "$med" ] && less "$med" 0.05 && less "$max" 0.25; then ok "fit_bunny_spread (median H/diag $med < 0.05, max $max < 0.25)"
+med=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 5p)
+max=$(echo $hs | tr ' ' '\n' | sort -g | sed -n 9p)
+echo "     bunny 96x96, 200 iterations, lr 0.01 x (1 + k 1e-6), k = 0, -4..4: H/diag $hs"
+if [ -n "$med" ] && less "$med" 0.10 && less "$max" 0.30; then ok "fit_bunny_spread (median H/diag $med < 0.10, max $max < 0.30)"
 else bad "fit_bunny_spread (H/diag $hs)"; fi
 
 # 2. a mesh file and a text scene (cameras, SH lighting, mesh target)
