@@ -38,6 +38,7 @@
 #include <largesteps/math.h>
 #include <largesteps/mesh_io.h>
 #include "../port/posix/ls_posix.h"
+#include "mesh_view.h"
 
 #define IMG 16
 #define NPIX (IMG * IMG)
@@ -898,10 +899,6 @@ static void refine_off_and_determinism(void)
  * across it, tenths). */
 static void refine_skips_valleys(void)
 {
-    static const ls_real sh[27] = {
-        (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
-        (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
-        (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
     enum { W = 128 };
     static ls_real img[2][4 * W * W];
     unsigned char *data = NULL;
@@ -910,47 +907,27 @@ static void refine_skips_valleys(void)
     ls_mesh m;
     ls_shade_opts o;
     ls_refine_info info[2];
-    ls_real lo[3], hi[3], c[3], r = 0, view[16], proj[16], mvp[16], eye[3], up[3] = {0, 1, 0}, *pos, *nrm;
-    uint32_t *tri, k, v, pass, nv, nf, differ = 0;
+    ls_real c[3], r = 0, view[16], mvp[16], *pos, *nrm;
+    uint32_t *tri, pass, nv, nf, differ = 0;
+    int ok;
     double dmax = 0;
     if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
         printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
         return;
     }
     REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
-    k = ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, &arena, &m, NULL) == LS_OK;
+    ok = ls_mesh_read(data, bytes, LS_MESH_FORMAT_OBJ, &arena, &m, NULL) == LS_OK;
     free(data);
-    REQUIRE(k);
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m.positions[k];
-    for (v = 0; v < m.vertex_count; v++)
-        for (k = 0; k < 3; k++) {
-            lo[k] = m.positions[3 * v + k] < lo[k] ? m.positions[3 * v + k] : lo[k];
-            hi[k] = m.positions[3 * v + k] > hi[k] ? m.positions[3 * v + k] : hi[k];
-        }
-    for (k = 0; k < 3; k++) {
-        c[k] = (lo[k] + hi[k]) / 2;
-        r = (hi[k] - lo[k]) / 2 > r ? (hi[k] - lo[k]) / 2 : r;
-    }
-    eye[0] = c[0] + (ls_real)0.9 * r;
-    eye[1] = c[1] + (ls_real)0.6 * r;
-    eye[2] = c[2] + (ls_real)2.6 * r;
-    ls_camera_look_at(eye, c, up, view);
-    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
-    ls_mat4_mul(proj, view, mvp);
+    REQUIRE(ok);
+    mv_frame(&m, c, &r);
+    mv_camera(c, r, view, mvp);
     nv = m.vertex_count + 3u;
     nf = m.face_count + 1u;
     pos = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
     nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
     tri = (uint32_t *)ls_arena_alloc(&arena, 3 * (size_t)nf, sizeof(uint32_t));
     REQUIRE(tri != NULL);
-    memcpy(pos, m.positions, 3 * (size_t)m.vertex_count * sizeof(ls_real));
-    memcpy(tri, m.triangles, 3 * (size_t)m.face_count * sizeof(uint32_t));
-    for (k = 0; k < 3; k++) { /* 40 r to the side of the bunny, in front of the eye */
-        pos[3 * (m.vertex_count + k)] = c[0] - 40 * r + (ls_real)(k == 1) * r / 10;
-        pos[3 * (m.vertex_count + k) + 1] = c[1] + (ls_real)(k == 2) * r / 10;
-        pos[3 * (m.vertex_count + k) + 2] = c[2];
-        tri[3 * (size_t)m.face_count + k] = m.vertex_count + k;
-    }
+    mv_open_far(&m, c, r, pos, tri);
     for (pass = 0; pass < 2; pass++) {
         ls_arena_mark mk = ls_arena_save(&arena);
         uint32_t n = pass == 0 ? m.vertex_count : nv, f = pass == 0 ? m.face_count : nf;
@@ -961,12 +938,7 @@ static void refine_skips_valleys(void)
         CHECK_EQ(et.boundary_edges, pass == 0 ? 0u : 3u);
         REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
         REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, tri, f, NULL) == LS_OK);
-        ls_shade_opts_init(&o);
-        o.mode = LS_SHADE_SH;
-        o.sh = sh;
-        o.background[0] = (ls_real)0.3;
-        o.background[1] = (ls_real)0.5;
-        o.background[2] = (ls_real)0.2;
+        mv_shade_opts(&o);
         REQUIRE(ls_shade(&vis, tri, f, nrm, n, &o, img[pass], NULL) == LS_OK);
         REQUIRE(ls_refine_shade(&vis, &et, tri, f, nrm, n, &o, 4, img[pass], &arena, &info[pass], NULL) == LS_OK);
         ls_arena_restore(&arena, mk);

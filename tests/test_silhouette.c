@@ -33,6 +33,7 @@
 #include <largesteps/math.h>
 #include <largesteps/mesh_io.h>
 #include "../port/posix/ls_posix.h"
+#include "mesh_view.h"
 
 #define IMG 12
 #define MAXV 170
@@ -1040,8 +1041,6 @@ static int load_bunny(ls_arena *arena, ls_mesh *m, ls_real c[3], ls_real *r)
 {
     unsigned char *data = NULL;
     size_t bytes = 0;
-    ls_real lo[3], hi[3];
-    uint32_t v, k;
     int ok;
     if (ls_posix_read_file("fixtures/meshes/bunny.obj", &data, &bytes) != LS_OK) {
         printf("     (fixtures/meshes/bunny.obj not found: skipped)\n");
@@ -1052,17 +1051,7 @@ static int load_bunny(ls_arena *arena, ls_mesh *m, ls_real c[3], ls_real *r)
     free(data);
     CHECK(ok);
     if (!ok) return 0;
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->positions[k];
-    for (v = 0; v < m->vertex_count; v++)
-        for (k = 0; k < 3; k++) {
-            lo[k] = m->positions[3 * v + k] < lo[k] ? m->positions[3 * v + k] : lo[k];
-            hi[k] = m->positions[3 * v + k] > hi[k] ? m->positions[3 * v + k] : hi[k];
-        }
-    *r = 0;
-    for (k = 0; k < 3; k++) {
-        c[k] = (lo[k] + hi[k]) / 2;
-        *r = (hi[k] - lo[k]) / 2 > *r ? (hi[k] - lo[k]) / 2 : *r;
-    }
+    mv_frame(m, c, r);
     return 1;
 }
 
@@ -1131,28 +1120,19 @@ static void silhouette_bunny_invariants(void)
  * two differ by the quadrature tolerance and rounding only. */
 static void silhouette_sh_fast_path(void)
 {
-    static const ls_real sh[27] = {
-        (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
-        (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
-        (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
     ls_arena arena;
     ls_mesh m;
     ls_vis vis;
     ls_edge_table et;
     ls_shade_opts o;
     size_t i;
-    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, r = 0;
+    ls_real view[16], mvp[16], c[3], r = 0;
     static ls_real gimg[4 * 64 * 64];
     ls_real *gp[2], *nrm, *ones;
     double d2 = 0, n2 = 0;
     uint32_t W = 64, pass;
     if (!load_bunny(&arena, &m, c, &r)) return;
-    eye[0] = c[0] + (ls_real)0.9 * r;
-    eye[1] = c[1] + (ls_real)0.6 * r;
-    eye[2] = c[2] + (ls_real)2.6 * r;
-    ls_camera_look_at(eye, c, up, view);
-    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
-    ls_mat4_mul(proj, view, mvp);
+    mv_camera(c, r, view, mvp);
     nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
     ones = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
     gp[0] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
@@ -1165,12 +1145,7 @@ static void silhouette_sh_fast_path(void)
     for (i = 0; i < 3 * (size_t)m.vertex_count; i++) ones[i] = 1;
     for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
     for (pass = 0; pass < 2; pass++) {
-        ls_shade_opts_init(&o);
-        o.mode = LS_SHADE_SH;
-        o.sh = sh;
-        o.background[0] = (ls_real)0.3;
-        o.background[1] = (ls_real)0.5;
-        o.background[2] = (ls_real)0.2;
+        mv_shade_opts(&o);
         o.vertex_colors = pass == 0 ? NULL : ones; /* pass 1: the general path */
         for (i = 0; i < 3 * (size_t)m.vertex_count; i++) gp[pass][i] = 0;
         REQUIRE(ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, 1, gimg,
@@ -1201,26 +1176,20 @@ static void silhouette_sh_fast_path(void)
  * good part of the silhouette edges, so the shortcut is exercised. */
 static void silhouette_valleys_hidden(void)
 {
-    static const ls_real sh[27] = {
-        (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
-        (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
-        (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
     ls_arena arena;
     ls_mesh m;
     ls_shade_opts o;
     size_t i;
-    ls_real view[16], proj[16], mvp[16], eye[3], c[3], up[3] = {0, 1, 0}, r = 0;
+    ls_real view[16], mvp[16], eye[3], c[3], r = 0;
     static ls_real gimg[4 * 128 * 128];
     ls_real *gp[3], *nrm, *pos;
     uint32_t *tri, *flip, W = 128, pass, h, contour = 0, valleys = 0, nv, nf;
     double vol = 0, dmax = 0, gmax = 0, fmax = 0;
     if (!load_bunny(&arena, &m, c, &r)) return;
-    eye[0] = c[0] + (ls_real)0.9 * r;
+    mv_camera(c, r, view, mvp);
+    eye[0] = c[0] + (ls_real)0.9 * r; /* mv_camera's */
     eye[1] = c[1] + (ls_real)0.6 * r;
     eye[2] = c[2] + (ls_real)2.6 * r;
-    ls_camera_look_at(eye, c, up, view);
-    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
-    ls_mat4_mul(proj, view, mvp);
     nv = m.vertex_count + 3u;
     nf = m.face_count + 1u;
     pos = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
@@ -1231,14 +1200,7 @@ static void silhouette_valleys_hidden(void)
     gp[2] = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)nv, sizeof(ls_real));
     flip = (uint32_t *)ls_arena_alloc(&arena, 3 * (size_t)m.face_count, sizeof(uint32_t));
     REQUIRE(flip != NULL);
-    memcpy(pos, m.positions, 3 * (size_t)m.vertex_count * sizeof(ls_real));
-    memcpy(tri, m.triangles, 3 * (size_t)m.face_count * sizeof(uint32_t));
-    for (i = 0; i < 3; i++) { /* the extra triangle: 40 r to the side of the bunny, in front of the eye */
-        pos[3 * (m.vertex_count + i)] = c[0] - 40 * r + (ls_real)(i == 1) * r / 10;
-        pos[3 * (m.vertex_count + i) + 1] = c[1] + (ls_real)(i == 2) * r / 10;
-        pos[3 * (m.vertex_count + i) + 2] = c[2];
-        tri[3 * (size_t)m.face_count + i] = m.vertex_count + (uint32_t)i;
-    }
+    mv_open_far(&m, c, r, pos, tri);
     for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
     for (i = 0; i < m.face_count; i++) {
         flip[3 * i] = tri[3 * i];
@@ -1256,12 +1218,7 @@ static void silhouette_valleys_hidden(void)
         CHECK_EQ(et.boundary_edges, pass == 1 ? 3u : 0u);
         REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
         REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, fc, f, NULL) == LS_OK);
-        ls_shade_opts_init(&o);
-        o.mode = LS_SHADE_SH;
-        o.sh = sh;
-        o.background[0] = (ls_real)0.3;
-        o.background[1] = (ls_real)0.5;
-        o.background[2] = (ls_real)0.2;
+        mv_shade_opts(&o);
         for (i = 0; i < 3 * (size_t)nv; i++) gp[pass][i] = 0;
         REQUIRE(ls_silhouette_backward(&vis, &et, fc, f, nrm, n, &o, mvp, 1, gimg, gp[pass], &arena, NULL) == LS_OK);
         if (pass == 0) { /* the valleys among the silhouette edges, in world space */

@@ -15,6 +15,7 @@
 #include <time.h>
 #include <largesteps.h>
 #include "ls_posix.h"
+#include "mesh_view.h"
 
 static double now_ms(void)
 {
@@ -29,10 +30,6 @@ typedef struct row {
     double fwd, loss, bwd, sil_exact, sil_mask, pair;
 } row;
 
-static const ls_real sh_coef[27] = {
-    (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
-    (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
-    (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
 
 static int bench_mesh(const char *name, const char *path, const char *alt, row *rows, int *nrows)
 {
@@ -41,9 +38,9 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
     ls_arena arena;
     ls_mesh m;
     ls_edge_table et;
-    ls_real lo[3], hi[3], c[3], r = 0, eye[3], up[3] = {0, 1, 0}, view[16], proj[16], mvp[16];
+    ls_real c[3], r = 0, view[16], mvp[16];
     ls_real *nrm, *img, *tgt, *gimg, *gp, *gn, *pimg, *gin;
-    uint32_t i, k, ri;
+    uint32_t i, ri;
     static const uint32_t res[2] = {128, 512};
     if (ls_posix_read_data(path, &data, &bytes) != LS_OK && (alt == NULL || ls_posix_read_data(alt, &data, &bytes) != LS_OK)) {
         printf("bench_gradient: cannot read %s\n", path);
@@ -53,23 +50,8 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
     if (buf == NULL || ls_arena_init(&arena, buf, cap) != LS_OK) return 0;
     if (ls_mesh_read(data, bytes, LS_MESH_FORMAT_AUTO, &arena, &m, NULL) != LS_OK) return 0;
     free(data);
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m.positions[k];
-    for (i = 0; i < m.vertex_count; i++)
-        for (k = 0; k < 3; k++) {
-            ls_real v = m.positions[3 * i + k];
-            lo[k] = v < lo[k] ? v : lo[k];
-            hi[k] = v > hi[k] ? v : hi[k];
-        }
-    for (k = 0; k < 3; k++) {
-        c[k] = (lo[k] + hi[k]) / 2;
-        r = (hi[k] - lo[k]) / 2 > r ? (hi[k] - lo[k]) / 2 : r;
-    }
-    eye[0] = c[0] + (ls_real)0.9 * r;
-    eye[1] = c[1] + (ls_real)0.6 * r;
-    eye[2] = c[2] + (ls_real)2.6 * r;
-    ls_camera_look_at(eye, c, up, view);
-    ls_camera_perspective((ls_real)0.8, LS_FOV_Y, 1, (ls_real)0.1 * r, 10 * r, proj);
-    ls_mat4_mul(proj, view, mvp);
+    mv_frame(&m, c, &r);
+    mv_camera(c, r, view, mvp);
     if (ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) != LS_OK) return 0;
     nrm = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
     gp = (ls_real *)ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
@@ -92,7 +74,7 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
         for (i = 0; i < 4 * npx; i++) tgt[i] = (ls_real)(i % 4 == 3 ? 1 : 0.3);
         ls_shade_opts_init(&o);
         o.mode = LS_SHADE_SH;
-        o.sh = sh_coef;
+        o.sh = mv_sh;
         memset(rw, 0, sizeof *rw);
         rw->mesh = name;
         rw->res = W;

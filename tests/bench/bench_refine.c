@@ -21,6 +21,7 @@
 #include <time.h>
 #include <largesteps.h>
 #include "ls_posix.h"
+#include "mesh_view.h"
 
 static double now_ms(void)
 {
@@ -29,10 +30,6 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static const ls_real sh_coef[27] = {
-    (ls_real)0.8, (ls_real)0.1, (ls_real)0.3, (ls_real)-0.2, (ls_real)0.05, 0, (ls_real)-0.1, (ls_real)0.02, (ls_real)0.07,
-    (ls_real)0.7, (ls_real)0.2, (ls_real)0.25, (ls_real)-0.1, 0, (ls_real)0.04, (ls_real)-0.08, (ls_real)0.01, (ls_real)0.05,
-    (ls_real)0.6, (ls_real)0.15, (ls_real)0.35, (ls_real)-0.15, (ls_real)0.03, (ls_real)0.02, (ls_real)-0.12, 0, (ls_real)0.06};
 
 int main(int argc, char **argv)
 {
@@ -76,7 +73,7 @@ int main(int argc, char **argv)
         return 1;
     ls_shade_opts_init(&o);
     o.mode = LS_SHADE_SH;
-    o.sh = sh_coef;
+    o.sh = mv_sh;
     o.background[0] = o.background[1] = o.background[2] = (ls_real)0.2;
     (void)ls_camera_fibonacci_dirs(views, dirs);
     for (v = 0; v < views; v++) (void)ls_camera_framed_view(&fr, dirs + 3u * v, NULL, mvps + 16u * v);
