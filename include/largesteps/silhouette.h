@@ -20,7 +20,14 @@
  *     face front-, the other back-facing; orientation-independent test).
  *     Also, for every triangle cut by the near plane, the cut (the side of
  *     its clipped polygon on the plane) is a segment of that face with
- *     nothing behind it on the face's side.
+ *     nothing behind it on the face's side. For a closed mesh seen from
+ *     outside (as in 2.) the silhouette edges that are valleys of the
+ *     surface (the back face's far corner on the eye's side of the front
+ *     face's plane, the two faces wound alike) are left out: the ray to
+ *     such an edge arrives through the solid, so a front face hides it
+ *     (41 % of the armadillo's silhouette edges in the fit's views). Like
+ *     the back-face culling, this assumes no inside-out fold: in a tangled
+ *     mesh a valley can show.
  *  2. Candidate bins: every triangle's window polygon (clipped at the near
  *     plane) is binned by its box into square tiles (count, prefix sum,
  *     fill; triangles in index order) of 2, 4 or 8 pixels: 2 below 1/4
