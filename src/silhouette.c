@@ -2338,14 +2338,13 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
  * edges_pass's frame (the deep chain's, the MCU's job stack). */
 LS_NOINLINE int ls_valley_edge(const ls_real *clip, const uint32_t *indices, uint32_t h, uint32_t tw, int cull)
 {
-    const ls_real *c = clip;
     const uint32_t *f = indices + 3 * (size_t)(h / 3u), *g = indices + 3 * (size_t)(tw / 3u);
     uint32_t k = h % 3u, i, j;
-    const ls_real *p = c + 4 * (size_t)f[k], *o[3];
+    const ls_real *p = clip + 4 * (size_t)f[k], *o[3];
     ls_real m[3][3], u[3][3], e[3][3], det, pu, pe, bound, w = p[3];
-    o[0] = c + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
-    o[1] = c + 4 * (size_t)f[k == 0u ? 2u : k - 1u];
-    o[2] = c + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
+    o[0] = clip + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
+    o[1] = clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u];
+    o[2] = clip + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
     /* the faces wound the same way (the twin runs back along the edge): the
      * edge table pairs the faces of an edge whatever their order */
     if (cull == 0 || !(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;

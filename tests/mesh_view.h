@@ -6,6 +6,7 @@
 #ifndef LS_TEST_MESH_VIEW_H
 #define LS_TEST_MESH_VIEW_H
 
+#include <string.h>
 #include <largesteps.h>
 
 /* SH coefficients, 9 per channel (R, G, B): a warm key light from above. */
