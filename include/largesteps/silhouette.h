@@ -30,8 +30,8 @@
  *     mesh a valley can show.
  *  2. Candidate bins: every triangle's window polygon (clipped at the near
  *     plane) is binned by its box into square tiles (count, prefix sum,
- *     fill; triangles in index order) of 2, 4 or 8 pixels: 2 below 1/4
- *     covered pixel per triangle, 8 from 4 up (counted on every 4th sample
+ *     fill; triangles in index order) of 2, 4 or 8 pixels: 2 below 1/8
+ *     covered pixel per triangle, 8 from 1/2 up (counted on every 4th sample
  *     row), so small triangles meet few candidates per run and large ones
  *     few tiles. For a closed mesh seen from outside
  *     (no boundary edge, nothing across the near plane, fewer than 1/64 of
@@ -82,9 +82,12 @@
  *  5. g_P = dL/dI_P (RGBA) dotted with df; the sums over the pieces go to a
  *     and b (times the multiplier `boost`), then through the window ->
  *     clip -> positions chain: x = (X/W + 1) width / 2, y = (1 - Y/W) height / 2.
- * Half-edges are visited in index order, then the near-plane cuts in
- * triangle order, and each segment's pieces in order along it: the gradient
- * is the same bits on every run and platform.
+ * Silhouette edges are integrated in the order of the Morton code of their
+ * window midpoint's 4 x 4-pixel cell, then of their half-edge (nearby
+ * edges share bins, triangles and pixels while these are cached; in
+ * half-edge order when there are more than T / 2 of them), then the
+ * near-plane cuts in triangle order, and each segment's pieces in order
+ * along it: the gradient is the same bits on every run and platform.
  *
  * Near plane: an edge with an endpoint behind Z = -W is clipped there in
  * clip space (p + s (q - p), s = (Z_p + W_p) / ((Z_p + W_p) - (Z_q + W_q)));
