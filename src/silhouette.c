@@ -2658,29 +2658,31 @@ static uint64_t edge_key(const sctx *sc, uint32_t h, uint32_t v0, uint32_t v1)
     return ((uint64_t)m << 32) | h;
 }
 
-/* Sorts a[0..n) increasingly in place: heap sort (no recursion, no memory;
- * the keys all differ, so any correct sort gives the same array). */
-static void sort_u64(uint64_t *a, uint32_t n)
+/* Sorts a[0..n) by their high 32 bits (the keys of edge_key, whose low
+ * bits, the half-edges, are in increasing order on entry), through tmp[n]:
+ * LSD radix sort by 7-bit digits, stable, as many passes as the largest
+ * key has digits (2 for the cells of a 512^2 image); every entry differs,
+ * so this is the one increasing order. Out of line: its counts stay off
+ * the deep chain's frames (the MCU's stack). */
+LS_NOINLINE static void sort_keys(uint64_t *a, uint64_t *tmp, uint32_t n)
 {
-    uint32_t i, end, r, c;
-    for (i = n / 2u, end = n; end > 1u;) {
-        uint64_t v;
-        if (i > 0) {
-            r = --i;
-        } else {
-            v = a[0]; /* the largest left goes last */
-            a[0] = a[--end];
-            a[end] = v;
-            r = 0;
+    uint32_t cnt[128], i, b, shift, sum;
+    uint64_t top = 0, *src = a, *dst = tmp, *sw;
+    for (i = 0; i < n; i++) top |= a[i];
+    for (shift = 32u; shift < 64u && (top >> shift) != 0; shift += 7u) {
+        memset(cnt, 0, sizeof cnt);
+        for (i = 0; i < n; i++) cnt[(src[i] >> shift) & 127u]++;
+        for (b = 0, sum = 0; b < 128u; b++) {
+            uint32_t c = cnt[b];
+            cnt[b] = sum;
+            sum += c;
         }
-        v = a[r];
-        for (c = 2u * r + 1u; c < end; r = c, c = 2u * r + 1u) { /* sift v down from r */
-            if (c + 1u < end && a[c + 1u] > a[c]) c++;
-            if (!(a[c] > v)) break;
-            a[r] = a[c];
-        }
-        a[r] = v;
+        for (i = 0; i < n; i++) dst[cnt[(src[i] >> shift) & 127u]++] = src[i];
+        sw = src;
+        src = dst;
+        dst = sw;
     }
+    if (src != a) memcpy(a, src, (size_t)n * sizeof *a);
 }
 
 /* Whether marked edge h (twin tw) is integrated: a boundary edge, or a
@@ -2712,10 +2714,11 @@ static SIL_INLINE void edge_segment(const sctx *sc, uint32_t h, uint32_t tw, uin
  * order of edge_key (the summation order): nearby edges one after the
  * other share their tiles' bins, triangles, walks and pixels while these
  * are in the caches (3-5 % faster than half-edge order on the armadillo at
- * 512^2). The keys go to ord, which holds cap of them (setup_pass's free
- * list); more edges than that (a tangle) are integrated in half-edge order:
- * a choice made by the mesh and view alone, the same on every target. Its
- * own frame (the stack limit on every target). */
+ * 512^2). The keys go to ord, which holds 2 cap of them (setup_pass's free
+ * list: cap keys and sort_keys's copy); more edges than cap (a tangle)
+ * are integrated in half-edge order: a choice made by the mesh and view
+ * alone, the same on every target. Its own frame (the stack limit on every
+ * target). */
 LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, const uint64_t *bits, uint64_t *ord,
                                    uint32_t cap)
 {
@@ -2738,7 +2741,7 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
         if (n <= cap) break;
     }
     if (n > cap) return;
-    sort_u64(ord, n);
+    sort_keys(ord, ord + cap, n);
     for (i = 0; i < n; i++) {
         uint32_t h = (uint32_t)ord[i], tw = table->twin[h];
         const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
@@ -2891,7 +2894,7 @@ LS_NOINLINE static ls_status setup_pass(sctx *out, const ls_edge_table *table, u
     sc->offs = offs;
     sc->ent = ent;
     *bitsp = bits;
-    *ordp = (uint64_t *)(void *)keep; /* free from here on: edges_pass's order (T / 2 entries; 8-byte aligned) */
+    *ordp = (uint64_t *)(void *)keep; /* free from here on: edges_pass's order (2 (T / 4) entries; 8-byte aligned) */
     *out = own;
     return LS_OK;
 }
@@ -2932,7 +2935,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
         ls_arena_restore(arena, mark);
         return st;
     }
-    edges_pass(&sc, table, bits, ord, triangle_count / 2u);
+    edges_pass(&sc, table, bits, ord, triangle_count / 4u);
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
