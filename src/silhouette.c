@@ -2700,14 +2700,15 @@ static SIL_INLINE int edge_live(const sctx *sc, uint32_t h, uint32_t tw, uint32_
            clip[4 * (size_t)*v1 + 2] + clip[4 * (size_t)*v1 + 3] >= (ls_real)0;
 }
 
-/* segment_pass of edge h (twin tw), from v0 to v1. */
-static SIL_INLINE void edge_segment(const sctx *sc, uint32_t h, uint32_t tw, uint32_t v0, uint32_t v1)
+/* segment_pass of edge h (twin tw), from its face's corner k = h % 3 to the next. */
+static SIL_INLINE void edge_segment(const sctx *sc, uint32_t h, uint32_t tw)
 {
     uint32_t t = h / 3u, k = h % 3u, v[4];
-    v[0] = v[3] = v0;
-    v[1] = v[2] = v1;
+    const uint32_t *f = sc->indices + 3 * (size_t)t;
+    v[0] = v[3] = f[k];
+    v[1] = v[2] = f[k == 2u ? 0u : k + 1u];
     segment_pass(sc, t, tw == LS_EDGE_NONE ? LS_EDGE_NONE : tw / 3u, v,
-                 sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)t + (k == 0u ? 2u : k - 1u)]);
+                 sc->vis->clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
 }
 
 /* Every silhouette edge (next_edge's marks, edge_live), integrated in the
@@ -2723,7 +2724,8 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
                                    uint32_t cap)
 {
     uint32_t w, n = 0, i, v0, v1, pass;
-    for (pass = 0; pass < 2u; pass++) { /* keys (and, when they do not fit, integration) */
+    /* pass 0 lists the keys; pass 1 (only when they do not fit) integrates in half-edge order */
+    for (pass = 0; pass < 2u; pass++) {
         for (w = 0; w <= 3 * (size_t)sc->triangle_count / 64u; w++) {
             uint64_t m = bits[w];
             while (m != 0) {
@@ -2731,7 +2733,7 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
                 m &= m - 1u;
                 if (!edge_live(sc, h, tw, &v0, &v1)) continue;
                 if (pass == 1u) {
-                    edge_segment(sc, h, tw, v0, v1);
+                    edge_segment(sc, h, tw);
                 } else {
                     if (n < cap) ord[n] = edge_key(sc, h, v0, v1);
                     n++;
@@ -2743,10 +2745,8 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     if (n > cap) return;
     sort_keys(ord, ord + cap, n);
     for (i = 0; i < n; i++) {
-        uint32_t h = (uint32_t)ord[i], tw = table->twin[h];
-        const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
-        uint32_t k = h % 3u;
-        edge_segment(sc, h, tw, f[k], f[k == 2u ? 0u : k + 1u]);
+        uint32_t h = (uint32_t)ord[i];
+        edge_segment(sc, h, table->twin[h]);
     }
 }
 
