@@ -134,6 +134,19 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
 #define SIL_INLINE inline
 #define SIL_SPECIALIZE 0
 #endif
+/* Cache hints (a fast path, off with LS_FAST_PATHS, as on the MCU, which has
+ * no data cache): the work per silhouette edge is thousands of instructions,
+ * more than the processor looks ahead, so the scattered loads of the next
+ * edges (their vertices, forward sample, pixels; candidates' vertices) are
+ * started by hand (fetch_edge, fetch_walk). A hint changes no result. */
+#if (defined(__GNUC__) || defined(__clang__)) && LS_FAST_PATHS
+#define SIL_FETCH 1
+#define SIL_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define SIL_FETCH 0
+#define SIL_PREFETCH(p) ((void)(p))
+#endif
+#define SIL_AHEAD 8u /* edges_pass: fetch_edge this many edges ahead, fetch_walk half as many */
 #if defined(__GNUC__) && !defined(__clang__) && LS_FAST_PATHS
 #define SIL_UNROLL _Pragma("GCC unroll 4")
 #else
@@ -1920,6 +1933,8 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     const int allfront = sc->allfront;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
+    /* the pixels' image gradient, read by the quadrature after the candidate search */
+    for (j = 0; SIL_FETCH && j < run->n; j++) SIL_PREFETCH(sc->gimg + 4 * run->pix[j]);
     /* the run's box, grown by the margin */
     fx0 = (float)((xa < xb ? xa : xb) - SIL_MARGIN);
     fx1 = (float)((xa < xb ? xb : xa) + SIL_MARGIN);
@@ -1992,6 +2007,13 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
             in = n >= 3 && cand_interval(ed, x, y, n, front, t0, t1, sp, &ns, &lo, &hi);
         }
         if (!in) continue;
+        if (SIL_FETCH) { /* a candidate may be the surface behind: the quadrature reads its corners */
+            int q;
+            for (q = 0; q < 3; q++) {
+                SIL_PREFETCH(sc->vis->clip + 4 * (size_t)f[q]);
+                if (sc->normals != NULL) SIL_PREFETCH(sc->normals + 3 * (size_t)f[q]);
+            }
+        }
         sc->cid[ncand] = id;
         sc->chi[ncand] = hi;
         sc->clo[ncand] = lo;
@@ -2711,6 +2733,57 @@ static SIL_INLINE void edge_segment(const sctx *sc, uint32_t h, uint32_t tw)
                  sc->vis->clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
 }
 
+/* Edge h's window midpoint: the sample and the pixel under it (fetch_edge). */
+static SIL_INLINE void edge_mid(const sctx *sc, const uint32_t *f, uint32_t k, size_t *sample, size_t *pixel)
+{
+    const ls_real *a = sc->win + 2 * (size_t)f[k], *b = sc->win + 2 * (size_t)f[k == 2u ? 0u : k + 1u];
+    const ls_vis *vis = sc->vis;
+    ls_real x = (a[0] + b[0]) * (ls_real)0.5, y = (a[1] + b[1]) * (ls_real)0.5, ss = (ls_real)vis->ss;
+    *sample = (size_t)cell_of(y * ss, vis->sh) * vis->sw + cell_of(x * ss, vis->sw);
+    *pixel = (size_t)cell_of(y, vis->height) * vis->width + cell_of(x, vis->width);
+}
+
+/* Cache hints for edge h, SIL_AHEAD edges before segment_pass takes it:
+ * its face's corners (clip, normals, depth, walk starts, gradient), the
+ * forward's sample under its midpoint (walk_start) and that pixel's image
+ * gradient. Inlined (SIL_INLINE): a call that only prefetches counts as
+ * pure to GCC, which drops it. */
+static SIL_INLINE void fetch_edge(const sctx *sc, uint32_t h)
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
+    uint32_t k = h % 3u, q;
+    size_t sample, pixel;
+    edge_mid(sc, f, k, &sample, &pixel);
+    SIL_PREFETCH(sc->vis->tri + sample);
+    SIL_PREFETCH(sc->vis->depth + sample);
+    SIL_PREFETCH(sc->gimg + 4 * pixel);
+    for (q = 0; q < 3u; q++) {
+        SIL_PREFETCH(sc->vis->clip + 4 * (size_t)f[q]);
+        if (sc->normals != NULL) SIL_PREFETCH(sc->normals + 3 * (size_t)f[q]);
+    }
+    for (q = 0; q < 2u; q++) {
+        uint32_t v = f[(k + q) % 3u];
+        SIL_PREFETCH(sc->gp + 3 * (size_t)v);
+        SIL_PREFETCH(sc->zv + v);
+        SIL_PREFETCH(sc->wend + v);
+    }
+}
+
+/* Cache hints for the face the forward drew under edge h's midpoint (the
+ * sample fetch_edge fetched): where its walk starts (walk_start). */
+static SIL_INLINE void fetch_walk(const sctx *sc, uint32_t h)
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
+    size_t sample, pixel;
+    uint32_t id;
+    edge_mid(sc, f, h % 3u, &sample, &pixel);
+    id = sc->vis->tri[sample];
+    if (id == 0 || id > sc->triangle_count || sc->twin == NULL) return;
+    SIL_PREFETCH(sc->indices + 3 * (size_t)(id - 1u));
+    SIL_PREFETCH(sc->twin + 3 * (size_t)(id - 1u));
+    SIL_PREFETCH(sc->tbox + 4 * (size_t)(id - 1u));
+}
+
 /* Every silhouette edge (next_edge's marks, edge_live), integrated in the
  * order of edge_key (the summation order): nearby edges one after the
  * other share their tiles' bins, triangles, walks and pixels while these
@@ -2746,6 +2819,8 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     sort_keys(ord, ord + cap, n);
     for (i = 0; i < n; i++) {
         uint32_t h = (uint32_t)ord[i];
+        if (SIL_FETCH && i + SIL_AHEAD < n) fetch_edge(sc, (uint32_t)ord[i + SIL_AHEAD]);
+        if (SIL_FETCH && i + SIL_AHEAD / 2u < n) fetch_walk(sc, (uint32_t)ord[i + SIL_AHEAD / 2u]);
         edge_segment(sc, h, table->twin[h]);
     }
 }
