@@ -1915,6 +1915,23 @@ LS_NOINLINE static int end_face_misses(const sctx *sc, const sedge *ed, const ui
     return 0;
 }
 
+/* Whether every corner of triangle f, all in front of the eye, lies on one
+ * side of the segment's line by cand_interval's margin for such corners
+ * (tauv; not when cloc): its first test, which then rejects the triangle. */
+static SIL_INLINE uint32_t one_side(const sctx *sc, const sedge *ed, const uint32_t *f)
+{
+    uint32_t q, up = 1, dn = 1;
+    SIL_UNROLL
+    for (q = 0; q < 3u; q++) {
+        const ls_real *p = sc->win + 2 * (size_t)f[q];
+        /* cand_interval's expression, so the same bits */
+        ls_real rx = p[0] - ed->a[0], ry = p[1] - ed->a[1], sd = ed->e[0] * ry - ed->e[1] * rx;
+        up &= (uint32_t)(sd > ed->tauv);
+        dn &= (uint32_t)(sd < -ed->tauv);
+    }
+    return up | dn;
+}
+
 /* The pieces of a run: the candidates of the tile's bin whose box meets
  * the run's box, the parameters where their polygon edges cross the
  * segment (visibility and the surface behind are constant between two of
@@ -1929,7 +1946,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     ls_real *sp = sc->split, t0 = run->t[0], t1 = run->t[run->n];
     ls_real xa = ed->a[0] + t0 * ed->e[0], xb = ed->a[0] + t1 * ed->e[0];
     ls_real ya = ed->a[1] + t0 * ed->e[1], yb = ed->a[1] + t1 * ed->e[1];
-    uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0, va = ed->va, vb = ed->vb;
+    uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0, nkeep = 0, nend = 0, va = ed->va, vb = ed->vb;
     const int allfront = sc->allfront;
     float fx0, fx1, fy0, fy1;
     int j, sorted;
@@ -1974,23 +1991,36 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     /* va and vb in every lane; the corners' vector has a 0 in its last lane, masked off */
     const __m128i eva = _mm_set1_epi32((int)va), evb = _mm_set1_epi32((int)vb);
 #endif
+    /* the hits sorted without a branch per hit (which have an end vertex,
+     * or every corner on one side, follows no pattern): own faces dropped,
+     * faces with an end vertex listed in cord (free until the candidates
+     * are recorded) for the wedge test, the others kept in cact unless
+     * one_side rejects them; the candidates are the same in any order */
     for (k = 0; k < nhit; k++) {
-        uint32_t id = sc->cact[k];
-        const uint32_t *f;
-        ls_real lo, hi;
-        int in, front, end;
-        if (id == ed->ft || id == ed->fu) continue;
-        f = sc->indices + 3 * (size_t)id;
+        uint32_t id = sc->cact[k], end, skip;
+        const uint32_t *f = sc->indices + 3 * (size_t)id;
 #if SIL_SSE2
-        {
-            __m128i fv = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)(const void *)f), _mm_cvtsi32_si128((int)f[2]));
-            end = _mm_movemask_ps(_mm_castsi128_ps(_mm_or_si128(_mm_cmpeq_epi32(fv, eva), _mm_cmpeq_epi32(fv, evb)))) & 7;
-        }
+        __m128i fv = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)(const void *)f), _mm_cvtsi32_si128((int)f[2]));
+        end = _mm_movemask_ps(_mm_castsi128_ps(_mm_or_si128(_mm_cmpeq_epi32(fv, eva), _mm_cmpeq_epi32(fv, evb)))) & 7 ? 1u : 0u;
 #else
         end = ((f[0] == va) | (f[0] == vb)) | ((f[1] == va) | (f[1] == vb)) | ((f[2] == va) | (f[2] == vb));
 #endif
-        /* the call only for a face with an end vertex (about a third of the hits; 87 % of those miss) */
-        if (end && end_face_misses(sc, ed, f)) continue;
+        skip = (uint32_t)((id == ed->ft) | (id == ed->fu)); /* own face */
+        sc->cord[nend] = id;
+        nend += (skip ^ 1u) & end;
+        skip |= end;
+        /* (where code size counts, cand_interval alone rejects them) */
+        if (SIL_SPECIALIZE && !ed->cloc && tri_front(sc, allfront, f)) skip |= one_side(sc, ed, f);
+        sc->cact[nkeep] = id;
+        nkeep += skip ^ 1u;
+    }
+    for (k = 0; k < nend + nkeep; k++) {
+        uint32_t id = k < nend ? sc->cord[k] : sc->cact[k - nend];
+        const uint32_t *f = sc->indices + 3 * (size_t)id;
+        ls_real lo, hi;
+        int in, front;
+        /* (about a third of the hits have an end vertex; 87 % of those miss) */
+        if (k < nend && end_face_misses(sc, ed, f)) continue;
         front = tri_front(sc, allfront, f);
         if (SIL_SPECIALIZE && front) {
             /* corners of its own, which never reach memory, and the triangle copy */
@@ -2014,6 +2044,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
                 if (sc->normals != NULL) SIL_PREFETCH(sc->normals + 3 * (size_t)f[q]);
             }
         }
+        /* cord[ncand]: ncand <= k, so an end face not read yet is not overwritten */
         sc->cid[ncand] = id;
         sc->chi[ncand] = hi;
         sc->clo[ncand] = lo;
