@@ -131,13 +131,14 @@
  *
  * Left to do (issue 9):
  *  - a one-call view forward + backward (render.h) for the fit;
- *  - speed: the armadillo (52k faces) at 512^2 costs 0.52-0.61 x the
- *    forward's time (target 0.5 x; README); about a seventh of it is
- *    O(triangles) (orientations, boxes, bins, the edge scan), the rest
- *    the visible runs' candidate search and quadrature (about half), the
- *    walks (a seventh) and the segments' own work; the profile is flat,
- *    and what moved it last was memory locality (the edge order), not
- *    instructions (34.1M a view over the fit's 16 cameras, up from 33.7M);
+ *  - speed: the armadillo (52k faces) at 512^2 costs 0.49-0.51 x the
+ *    forward's time in interleaved runs, about 0.51 on a quiet machine
+ *    (target 0.5 x; README); a sixth of it is O(triangles) (orientations,
+ *    boxes, bins, the edge scan), the rest the visible runs' candidate
+ *    search, visibility and quadrature (about half), the walks (an
+ *    eighth) and the segments' own work; what moved it last was memory
+ *    (the edge order, then cache hints ahead of each edge), not
+ *    instructions (36.9M a view over the fit's 16 cameras);
  *  - interpenetrating triangles (intersection curves are not mesh edges)
  *    are not handled; depth ties within 64 eps are neither hiding nor behind.
  */
