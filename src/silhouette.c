@@ -1762,6 +1762,13 @@ typedef struct srun {
     int n;
 } srun;
 
+/* The forward's sample under window point (x, y) (walk_start, the hints). */
+static SIL_INLINE size_t sample_under(const ls_vis *vis, ls_real x, ls_real y)
+{
+    ls_real ss = (ls_real)vis->ss;
+    return (size_t)cell_of(y * ss, vis->sh) * vis->sw + cell_of(x * ss, vis->sw);
+}
+
 /* The walk face holding the segment's point at t by the margins (its
  * walk_sides in w), located from the triangle the forward drew at the
  * sample under the point at tq; LS_EDGE_NONE when that sample shows none
@@ -1769,12 +1776,11 @@ typedef struct srun {
 static uint32_t walk_start(const sctx *sc, const sedge *ed, ls_real tq, ls_real t, ls_real w[9])
 {
     const ls_vis *vis = sc->vis;
-    ls_real ss = (ls_real)vis->ss;
-    uint32_t sx = cell_of((ed->a[0] + tq * ed->e[0]) * ss, vis->sw), sy = cell_of((ed->a[1] + tq * ed->e[1]) * ss, vis->sh);
-    uint32_t id = vis->tri[(size_t)sy * vis->sw + sx];
+    size_t s = sample_under(vis, ed->a[0] + tq * ed->e[0], ed->a[1] + tq * ed->e[1]);
+    uint32_t id = vis->tri[s];
     if (id == 0 || id - 1u == ed->ft || id - 1u == ed->fu) return LS_EDGE_NONE;
     /* the surface drawn there behind the segment's depth: no walk in front starts there */
-    if (vis->depth[(size_t)sy * vis->sw + sx] > ed->za + tq * (ed->zb - ed->za)) return LS_EDGE_NONE;
+    if (vis->depth[s] > ed->za + tq * (ed->zb - ed->za)) return LS_EDGE_NONE;
     return walk_locate(sc, ed, id - 1u, t, w);
 }
 
@@ -2764,14 +2770,12 @@ static SIL_INLINE void edge_segment(const sctx *sc, uint32_t h, uint32_t tw)
                  sc->vis->clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u]);
 }
 
-/* Edge h's window midpoint: the sample and the pixel under it (fetch_edge). */
-static SIL_INLINE void edge_mid(const sctx *sc, const uint32_t *f, uint32_t k, size_t *sample, size_t *pixel)
+/* Window midpoint m of edge h, at its face f's corner k = h % 3 (the hints). */
+static SIL_INLINE void edge_mid(const sctx *sc, const uint32_t *f, uint32_t k, ls_real m[2])
 {
     const ls_real *a = sc->win + 2 * (size_t)f[k], *b = sc->win + 2 * (size_t)f[k == 2u ? 0u : k + 1u];
-    const ls_vis *vis = sc->vis;
-    ls_real x = (a[0] + b[0]) * (ls_real)0.5, y = (a[1] + b[1]) * (ls_real)0.5, ss = (ls_real)vis->ss;
-    *sample = (size_t)cell_of(y * ss, vis->sh) * vis->sw + cell_of(x * ss, vis->sw);
-    *pixel = (size_t)cell_of(y, vis->height) * vis->width + cell_of(x, vis->width);
+    m[0] = (a[0] + b[0]) * (ls_real)0.5;
+    m[1] = (a[1] + b[1]) * (ls_real)0.5;
 }
 
 /* Cache hints for edge h, SIL_AHEAD edges before segment_pass takes it:
@@ -2782,12 +2786,15 @@ static SIL_INLINE void edge_mid(const sctx *sc, const uint32_t *f, uint32_t k, s
 static SIL_INLINE void fetch_edge(const sctx *sc, uint32_t h)
 {
     const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
+    const ls_vis *vis = sc->vis;
     uint32_t k = h % 3u, q;
-    size_t sample, pixel;
-    edge_mid(sc, f, k, &sample, &pixel);
-    SIL_PREFETCH(sc->vis->tri + sample);
-    SIL_PREFETCH(sc->vis->depth + sample);
-    SIL_PREFETCH(sc->gimg + 4 * pixel);
+    ls_real m[2];
+    size_t sample;
+    edge_mid(sc, f, k, m);
+    sample = sample_under(vis, m[0], m[1]);
+    SIL_PREFETCH(vis->tri + sample);
+    SIL_PREFETCH(vis->depth + sample);
+    SIL_PREFETCH(sc->gimg + 4 * ((size_t)cell_of(m[1], vis->height) * vis->width + cell_of(m[0], vis->width)));
     for (q = 0; q < 3u; q++) {
         SIL_PREFETCH(sc->vis->clip + 4 * (size_t)f[q]);
         if (sc->normals != NULL) SIL_PREFETCH(sc->normals + 3 * (size_t)f[q]);
@@ -2805,10 +2812,10 @@ static SIL_INLINE void fetch_edge(const sctx *sc, uint32_t h)
 static SIL_INLINE void fetch_walk(const sctx *sc, uint32_t h)
 {
     const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
-    size_t sample, pixel;
+    ls_real m[2];
     uint32_t id;
-    edge_mid(sc, f, h % 3u, &sample, &pixel);
-    id = sc->vis->tri[sample];
+    edge_mid(sc, f, h % 3u, m);
+    id = sc->vis->tri[sample_under(sc->vis, m[0], m[1])];
     if (id == 0 || id > sc->triangle_count || sc->twin == NULL) return;
     SIL_PREFETCH(sc->indices + 3 * (size_t)(id - 1u));
     SIL_PREFETCH(sc->twin + 3 * (size_t)(id - 1u));
