@@ -276,9 +276,19 @@ typedef struct endp {
 
 /* |x| by clearing the sign bit, with no branch (the margins and bounds take
  * many; -0 and +0 are the same to them). Not LS_RFABS: that is an out-of-line
- * call, and in these loops it made the armadillo's pass 10-15 % slower. */
+ * call, and in these loops it made the armadillo's pass 10-15 % slower. On
+ * the host (LS_FAST_PATHS) the compiler's built-in, which clears the bit in
+ * the vector register: GCC moved the integer form out to a general register
+ * and back, 0.7M more instructions a view (armadillo 512^2). */
 static ls_real r_abs(ls_real x)
 {
+#if (defined(__GNUC__) || defined(__clang__)) && LS_FAST_PATHS
+#if LS_REAL_IS_FLOAT
+    return __builtin_fabsf(x);
+#else
+    return __builtin_fabs(x);
+#endif
+#else
 #if LS_REAL_IS_FLOAT
     uint32_t u;
     memcpy(&u, &x, sizeof u);
@@ -290,6 +300,7 @@ static ls_real r_abs(ls_real x)
 #endif
     memcpy(&x, &u, sizeof x);
     return x;
+#endif
 }
 
 /* The point of triangle f on the ray through window (xw, yw): barycentrics
@@ -2109,6 +2120,14 @@ static int clip_rect(const sctx *sc, const ls_real a[2], const ls_real e[2], ls_
     q[2] = a[1];
     p[3] = e[1];
     q[3] = sc->height - a[1];
+    /* both ends inside the image (most segments): q >= 0 and q >= p for
+     * every k, so no q / p moves [*t0, *t1] = [0, 1] (a q / p of p > 0 is
+     * then at least 1, one of p < 0 at most 0): the same answer without the
+     * four divisions (a fast path: code size counts on the MCU) */
+    if (LS_FAST_PATHS && *t0 == (ls_real)0 && *t1 == (ls_real)1 &&
+        (((q[0] >= (ls_real)0) & (q[0] >= p[0])) & ((q[1] >= (ls_real)0) & (q[1] >= p[1]))) &
+            (((q[2] >= (ls_real)0) & (q[2] >= p[2])) & ((q[3] >= (ls_real)0) & (q[3] >= p[3]))))
+        return 1;
     for (k = 0; k < 4; k++) {
         if (p[k] == (ls_real)0) {
             if (q[k] < (ls_real)0) return 0;
@@ -2458,25 +2477,27 @@ static SIL_INLINE void cull_count(const sctx *sc, const signed char *sign, uint3
  * behind one, and are left out of the bins. Seen from outside means: the
  * samples showing the other orientation are fewer than 1/64 of those
  * showing this one (the snapped forward shows a few back faces at the rim;
- * an eye inside the mesh sees almost only back faces), counted on every 4th
- * sample row, as choose_tiles counts (the choice never changes what is
- * integrated, only which triangles are tested). sign: per-triangle
- * orientations (tri_sign), or NULL (the sizing query: slower, no memory).
- * Returns the covered samples of those rows, for choose_tiles (counted
- * alone, lim = 0, when nothing can be culled). */
+ * an eye inside the mesh sees almost only back faces), counted on every
+ * 4th sample row, every 8th from 256 rows, every 16th from 512 (the
+ * choice never changes what is integrated, only which triangles are
+ * tested; the armadillo at 512^2 spent 0.05 ms a view on every 4th).
+ * sign: per-triangle orientations (tri_sign), or NULL (the sizing query:
+ * slower, no memory). Returns the covered samples estimated from those
+ * rows, for choose_tiles (counted alone, lim = 0, when nothing can be
+ * culled). */
 static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed char *sign)
 {
     const ls_vis *vis = sc->vis;
     const uint32_t *tri = vis->tri;
     uint64_t cnt[3] = {0, 0, 0}, q[2]; /* covered, positive, negative */
-    uint32_t v, x, y, k, lim = sc->triangle_count;
+    uint32_t v, x, y, k, lim = sc->triangle_count, step = vis->sh < 256u ? 4u : (vis->sh < 512u ? 8u : 16u);
     sc->cull = 0;
     if (table->boundary_edges != 0 || sc->behind != 0) lim = 0;
     for (v = 0; sign == NULL && v < vis->vertex_count; v++) { /* with sign, sc->behind counted them */
         const ls_real *cl = vis->clip + 4 * (size_t)v;
         if (!(cl[2] + cl[3] >= (ls_real)0)) lim = 0;
     }
-    for (y = 0; y < vis->sh; y += 4u) {
+    for (y = 0; y < vis->sh; y += step) {
         const uint32_t *row = tri + (size_t)y * vis->sw;
         /* samples by fours, most of which show nothing: two 8-byte loads test them */
         for (x = 0; x + 4u <= vis->sw; x += 4u) {
@@ -2490,7 +2511,7 @@ static uint64_t choose_cull(sctx *sc, const ls_edge_table *table, const signed c
     /* with lim = 0, both are 0: no culling */
     if (cnt[2] < cnt[1] / 64u) sc->cull = -1;
     if (cnt[1] < cnt[2] / 64u) sc->cull = 1;
-    return cnt[0];
+    return cnt[0] * step;
 }
 
 /* Candidate slots of a view: a piece's candidates come from one tile's bin,
@@ -2541,8 +2562,7 @@ static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const
 }
 
 /* The bins' tile side, 2^tl pixels: 2, 4 or 8 by the covered pixels per
- * triangle (cov: the covered samples on every 4th row, choose_cull's
- * count): small triangles want small tiles (fewer candidates per run),
+ * triangle (cov: choose_cull's estimate of the covered samples): small triangles want small tiles (fewer candidates per run),
  * large ones large tiles (fewer entries per triangle, fewer and longer
  * runs). The thresholds, 1/8 and 1/2 covered pixel per triangle, are the
  * measured crossovers on the armadillo at 128^2 to 512^2 and the bunny at
@@ -2553,7 +2573,7 @@ static void choose_tiles(sctx *sc, uint64_t cov)
 {
     const ls_vis *vis = sc->vis;
     uint64_t ts = (uint64_t)sc->triangle_count * vis->ss * vis->ss;
-    cov *= 4u; /* covered samples, estimated; ts: triangles x samples per pixel */
+    /* ts: triangles x samples per pixel */
     sc->tl = 8u * cov < ts ? SIL_TILE_LOG2 : (2u * cov < ts ? SIL_TILE_LOG2 + 1u : SIL_TILE_LOG2 + 2u);
     sc->tiles_x = (vis->width + (1u << sc->tl) - 1u) >> sc->tl;
     sc->tiles_y = (vis->height + (1u << sc->tl) - 1u) >> sc->tl;
