@@ -2842,6 +2842,26 @@ static SIL_INLINE void fetch_walk(const sctx *sc, uint32_t h)
     SIL_PREFETCH(sc->tbox + 4 * (size_t)(id - 1u));
 }
 
+/* Cache hint for the row of marked edge h's twin face (fetch_fold reads it). */
+static SIL_INLINE void fetch_twin(const sctx *sc, const ls_edge_table *table, uint32_t h)
+{
+    uint32_t tw = table->twin[h];
+    if (tw != LS_EDGE_NONE) SIL_PREFETCH(sc->indices + 3 * (size_t)(tw / 3u));
+}
+
+/* Cache hints for marked edge h's fold and valley tests (edge_live) and
+ * key: the corners of its faces (the twin's row fetched earlier). */
+static SIL_INLINE void fetch_fold(const sctx *sc, const ls_edge_table *table, uint32_t h)
+{
+    const uint32_t *f = sc->indices + 3 * (size_t)(h / 3u);
+    uint32_t tw = table->twin[h], q;
+    for (q = 0; q < 3u; q++) {
+        SIL_PREFETCH(sc->vis->clip + 4 * (size_t)f[q]);
+        SIL_PREFETCH(sc->win + 2 * (size_t)f[q]);
+    }
+    if (tw != LS_EDGE_NONE) SIL_PREFETCH(sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)(tw / 3u) + (tw % 3u == 0u ? 2u : tw % 3u - 1u)]);
+}
+
 /* Every silhouette edge (next_edge's marks, edge_live), integrated in the
  * order of edge_key (the summation order): nearby edges one after the
  * other share their tiles' bins, triangles, walks and pixels while these
@@ -2854,26 +2874,43 @@ static SIL_INLINE void fetch_walk(const sctx *sc, uint32_t h)
 LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, const uint64_t *bits, uint64_t *ord,
                                    uint32_t cap)
 {
-    uint32_t w, n = 0, i, v0, v1, pass;
-    /* pass 0 lists the keys; pass 1 (only when they do not fit) integrates in half-edge order */
-    for (pass = 0; pass < 2u; pass++) {
-        for (w = 0; w <= 3 * (size_t)sc->triangle_count / 64u; w++) {
-            uint64_t m = bits[w];
-            while (m != 0) {
-                uint32_t h = 64u * w + low_bit(m), tw = table->twin[h];
-                m &= m - 1u;
-                if (!edge_live(sc, h, tw, &v0, &v1)) continue;
-                if (pass == 1u) {
-                    edge_segment(sc, h, tw);
-                } else {
-                    if (n < cap) ord[n] = edge_key(sc, h, v0, v1);
-                    n++;
+    uint32_t w, n = 0, nm = 0, i, v0, v1;
+    uint64_t b;
+    /* where there are hints, the marked half-edges first, in order, into ord
+     * when they fit (a few per cent of the edges): their tests then read
+     * corners fetched ahead, as the edges' own work does (5,694 a view of
+     * the armadillo at 512^2, each test waiting on four scattered rows) */
+    for (w = 0; SIL_FETCH && w <= 3 * (size_t)sc->triangle_count / 64u; w++)
+        for (b = bits[w]; b != 0; b &= b - 1u, nm++)
+            if (nm < cap) ord[nm] = 64u * w + low_bit(b);
+    if (SIL_FETCH && nm <= cap) { /* the live ones' keys, in place (n <= i) */
+        for (i = 0; i < nm; i++) {
+            uint32_t h = (uint32_t)ord[i], tw;
+            if (i + 2u * SIL_AHEAD < nm) fetch_twin(sc, table, (uint32_t)ord[i + 2u * SIL_AHEAD]);
+            if (i + SIL_AHEAD < nm) fetch_fold(sc, table, (uint32_t)ord[i + SIL_AHEAD]);
+            tw = table->twin[h];
+            if (edge_live(sc, h, tw, &v0, &v1)) ord[n++] = edge_key(sc, h, v0, v1);
+        }
+    } else {
+        uint32_t pass;
+        /* pass 0 lists the keys; pass 1 (only when they do not fit) integrates in half-edge order */
+        for (pass = 0; pass < 2u; pass++) {
+            for (w = 0; w <= 3 * (size_t)sc->triangle_count / 64u; w++) {
+                for (b = bits[w]; b != 0; b &= b - 1u) {
+                    uint32_t h = 64u * w + low_bit(b), tw = table->twin[h];
+                    if (!edge_live(sc, h, tw, &v0, &v1)) continue;
+                    if (pass == 1u) {
+                        edge_segment(sc, h, tw);
+                    } else {
+                        if (n < cap) ord[n] = edge_key(sc, h, v0, v1);
+                        n++;
+                    }
                 }
             }
+            if (n <= cap) break;
         }
-        if (n <= cap) break;
+        if (n > cap) return;
     }
-    if (n > cap) return;
     sort_keys(ord, ord + cap, n);
     for (i = 0; i < n; i++) {
         uint32_t h = (uint32_t)ord[i];
