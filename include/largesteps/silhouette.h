@@ -129,18 +129,19 @@
  * two tiles): mispredictions were a quarter of the pass's time on the fit's
  * meshes (callgrind's branch simulation), and selects gave the same bits.
  *
- * Left to do (issue 9):
- *  - a one-call view forward + backward (render.h) for the fit;
- *  - speed: the armadillo (52k faces) at 512^2 costs 0.49-0.51 x the
- *    forward's time in interleaved runs, about 0.51 on a quiet machine
- *    (target 0.5 x; README); a sixth of it is O(triangles) (orientations,
- *    boxes, bins, the edge scan), the rest the visible runs' candidate
- *    search, visibility and quadrature (about half), the walks (an
- *    eighth) and the segments' own work; what moved it last was memory
- *    (the edge order, then cache hints ahead of each edge), not
- *    instructions (36.9M a view over the fit's 16 cameras);
- *  - interpenetrating triangles (intersection curves are not mesh edges)
- *    are not handled; depth ties within 64 eps are neither hiding nor behind.
+ * Speed (README): the armadillo (52k faces) at 512^2 costs 0.44-0.49 x
+ * the forward's time (15 runs of bench_gradient; target 0.5 x); a sixth of
+ * it is O(triangles) (orientations, boxes, bins), the rest the visible
+ * runs' candidate search, visibility and quadrature (about half), the
+ * walks (an eighth), the marked edges' tests and the segments' own work;
+ * what moved it last was memory (the edge order, cache hints ahead of each
+ * edge and of each marked edge's tests) and GCC's code for |x| (36.4M
+ * instructions a view over the fit's 16 cameras).
+ *
+ * Not handled: interpenetrating triangles (intersection curves are not
+ * mesh edges); depth ties within 64 eps are neither hiding nor behind. The
+ * fit sequences forward, loss and backward itself (fit.c); there is no
+ * one-call view forward + backward for other callers.
  */
 #ifndef LARGESTEPS_SILHOUETTE_H
 #define LARGESTEPS_SILHOUETTE_H
