@@ -1348,12 +1348,12 @@ static int window_hold(const sctx *sc, const uint32_t *f, const ls_real *x, cons
  * holds t are tested exactly (window_hold for a triangle in front of the
  * eye; else the quick polygon test, then the clip barycentrics and depth),
  * those whose interval ended before t are dropped from the list
- * (the parameters tested increase); unsorted: the list holds candidates not
- * begun yet (sc->clo by candidate), skipped. The answer does not depend on the
+ * (the parameters tested increase; run_pass adds them as their intervals
+ * begin). The answer does not depend on the
  * order of the list (ties of the surface behind keep the smaller triangle),
  * so an occluder found is moved to the front, where the next point tests it
  * first. */
-static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, uint32_t *nact, uint32_t *beh)
+static int visibility(const sctx *sc, const sedge *ed, ls_real t, uint32_t *nact, uint32_t *beh)
 {
     ls_real b[3], zc, tol, best = (ls_real)0;
     ls_real xw = ed->a[0] + t * ed->e[0], yw = ed->a[1] + t * ed->e[1];
@@ -1372,7 +1372,6 @@ static int visibility(const sctx *sc, const sedge *ed, ls_real t, int unsorted, 
             continue;
         }
         i++;
-        if (unsorted && sc->clo[k] > t) continue; /* not begun */
         f = sc->indices + 3 * (size_t)id;
         /* each path its own corners: the front one's never reach memory */
         if (tri_front(sc, allfront, f)) { /* tri_poly's corners from sc->win */
@@ -1765,7 +1764,6 @@ static ls_real walk_reach(const sctx *sc, const sedge *ed, uint32_t o, uint32_t 
 /* A run of the segment through one bin tile: its pieces, one per pixel,
  * [t[i], t[i + 1]] in pixel pix[i]. */
 #define SIL_RUN_CAP 8
-#define SIL_FEW 24u /* more candidates and crossings than this in a run: sorted sweep */
 typedef struct srun {
     ls_real t[SIL_RUN_CAP + 1];
     size_t pix[SIL_RUN_CAP];
@@ -1966,7 +1964,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     uint32_t ncand = 0, ns = 0, nact = 0, next = 0, i = 0, nhit = 0, nkeep = 0, nend = 0, va = ed->va, vb = ed->vb;
     const int allfront = sc->allfront;
     float fx0, fx1, fy0, fy1;
-    int j, sorted;
+    int j;
     /* the pixels' image gradient, read by the quadrature after the candidate search */
     for (j = 0; SIL_FETCH && j < run->n; j++) SIL_PREFETCH(sc->gimg + 4 * run->pix[j]);
     /* the run's box, grown by the margin */
@@ -2069,13 +2067,10 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
         ncand++;
     }
     sort_splits(sp, ns);
-    sorted = ncand > SIL_FEW && ns > SIL_FEW;
-    if (sorted) { /* many candidates and sub-pieces: activated in order of their starts */
-        sort_keyed(sc->clo, sc->cord, ncand);
-    } else { /* all active from the start (visibility skips those not begun) */
-        for (nact = 0; nact < ncand; nact++) sc->cact[nact] = nact;
-        next = ncand;
-    }
+    /* the candidates activated in order of their starts, even a few: with
+     * all active from the start, half the visibility tests skipped one not
+     * begun yet (2.6 % slower on the armadillo at 512^2, paired) */
+    sort_keyed(sc->clo, sc->cord, ncand);
     for (j = 0; j < run->n; j++) {
         ls_real a = run->t[j], b = run->t[j + 1], plo = a, phi = a;
         uint32_t pbeh = 0;
@@ -2088,7 +2083,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
             if (hi > lo) {
                 ls_real mid = (lo + hi) * (ls_real)0.5;
                 while (next < ncand && !(sc->clo[next] > mid)) sc->cact[nact++] = sc->cord[next++];
-                if (visibility(sc, ed, mid, !sorted, &nact, &beh)) {
+                if (visibility(sc, ed, mid, &nact, &beh)) {
                     /* a split whose crossing changed neither side (an edge farther than the surface
                      * behind, or of an occluder elsewhere) joins the two sub-pieces: one integrand */
                     if (pend && (beh != pbeh || phi != lo)) integrate(sc, ed, plo, phi, pbeh, run->pix[j]);
