@@ -129,14 +129,15 @@
  * two tiles): mispredictions were a quarter of the pass's time on the fit's
  * meshes (callgrind's branch simulation), and selects gave the same bits.
  *
- * Speed (README): the armadillo (52k faces) at 512^2 costs 0.44-0.49 x
- * the forward's time (15 runs of bench_gradient; target 0.5 x); a sixth of
+ * Speed (README): the armadillo (52k faces) at 512^2 costs 0.43-0.49 x
+ * the forward's time (30 runs of bench_gradient; target 0.5 x); a sixth of
  * it is O(triangles) (orientations, boxes, bins), the rest the visible
  * runs' candidate search, visibility and quadrature (about half), the
  * walks (an eighth), the marked edges' tests and the segments' own work;
  * what moved it last was memory (the edge order, cache hints ahead of each
- * edge and of each marked edge's tests) and GCC's code for |x| (36.4M
- * instructions a view over the fit's 16 cameras).
+ * edge and of each marked edge's tests), GCC's code for |x| and the
+ * candidates' activation in order (36.2M instructions a view over the
+ * fit's 16 cameras).
  *
  * Not handled: interpenetrating triangles (intersection curves are not
  * mesh edges); depth ties within 64 eps are neither hiding nor behind. The
