@@ -2069,7 +2069,7 @@ static void run_pass(const sctx *sc, sedge *ed, const srun *run)
     sort_splits(sp, ns);
     /* the candidates activated in order of their starts, even a few: with
      * all active from the start, half the visibility tests skipped one not
-     * begun yet (2.6 % slower on the armadillo at 512^2, paired) */
+     * begun yet (2-2.6 % slower on the armadillo at 512^2, paired) */
     sort_keyed(sc->clo, sc->cord, ncand);
     for (j = 0; j < run->n; j++) {
         ls_real a = run->t[j], b = run->t[j + 1], plo = a, phi = a;
@@ -2557,13 +2557,14 @@ static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const
 }
 
 /* The bins' tile side, 2^tl pixels: 2, 4 or 8 by the covered pixels per
- * triangle (cov: choose_cull's estimate of the covered samples): small triangles want small tiles (fewer candidates per run),
- * large ones large tiles (fewer entries per triangle, fewer and longer
- * runs). The thresholds, 1/8 and 1/2 covered pixel per triangle, are the
- * measured crossovers on the armadillo at 128^2 to 512^2 and the bunny at
- * 64^2 and 128^2 (the choice changes no bit, only which triangles are
- * tested). 2 x 2 is the smallest, so sizes counted with 2 x 2 tiles (the
- * bounds below) hold for every choice. */
+ * triangle (cov: choose_cull's estimate of the covered samples): small
+ * triangles want small tiles (fewer candidates per run), large ones large
+ * tiles (fewer entries per triangle, fewer and longer runs). The
+ * thresholds, 1/8 and 1/2 covered pixel per triangle, are the measured
+ * crossovers on the armadillo at 128^2 to 512^2 and the bunny at 64^2 and
+ * 128^2 (the choice changes no bit, only which triangles are tested).
+ * 2 x 2 is the smallest, so sizes counted with 2 x 2 tiles (the bounds
+ * below) hold for every choice. */
 static void choose_tiles(sctx *sc, uint64_t cov)
 {
     const ls_vis *vis = sc->vis;
@@ -2874,7 +2875,7 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     /* where there are hints, the marked half-edges first, in order, into ord
      * when they fit (a few per cent of the edges): their tests then read
      * corners fetched ahead, as the edges' own work does (5,694 a view of
-     * the armadillo at 512^2, each test waiting on four scattered rows) */
+     * the armadillo at 512^2, each test reading four scattered rows) */
     for (w = 0; SIL_FETCH && w <= 3 * (size_t)sc->triangle_count / 64u; w++)
         for (b = bits[w]; b != 0; b &= b - 1u, nm++)
             if (nm < cap) ord[nm] = 64u * w + low_bit(b);
