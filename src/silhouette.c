@@ -2115,14 +2115,6 @@ static int clip_rect(const sctx *sc, const ls_real a[2], const ls_real e[2], ls_
     q[2] = a[1];
     p[3] = e[1];
     q[3] = sc->height - a[1];
-    /* both ends inside the image (most segments): q >= 0 and q >= p for
-     * every k, so no q / p moves [*t0, *t1] = [0, 1] (a q / p of p > 0 is
-     * then at least 1, one of p < 0 at most 0): the same answer without the
-     * four divisions (a fast path: code size counts on the MCU) */
-    if (LS_FAST_PATHS && *t0 == (ls_real)0 && *t1 == (ls_real)1 &&
-        (((q[0] >= (ls_real)0) & (q[0] >= p[0])) & ((q[1] >= (ls_real)0) & (q[1] >= p[1]))) &
-            (((q[2] >= (ls_real)0) & (q[2] >= p[2])) & ((q[3] >= (ls_real)0) & (q[3] >= p[3]))))
-        return 1;
     for (k = 0; k < 4; k++) {
         if (p[k] == (ls_real)0) {
             if (q[k] < (ls_real)0) return 0;
@@ -2386,6 +2378,14 @@ LS_NOINLINE static void cut_pass(const sctx *sc, uint32_t t)
     if (n == 4) segment_pass(sc, t, LS_EDGE_NONE, ends, sc->vis->clip + 4 * (size_t)f[front - 1]);
 }
 
+/* The vertex of half-edge h's face that is not on h (its corner (h + 2) % 3):
+ * for a twin, the far corner the fold and valley tests read. */
+static SIL_INLINE uint32_t far_vertex(const uint32_t *indices, uint32_t h)
+{
+    uint32_t k = h % 3u;
+    return indices[3 * (size_t)(h / 3u) + (k == 0u ? 2u : k - 1u)];
+}
+
 /* Whether interior edge h (twin tw) is a silhouette: its two faces lie on
  * the same side of its screen line (one front-, one back-facing). Certain
  * orientations (tri_sign) decide at once: the face across the edge has the
@@ -2395,15 +2395,14 @@ static int folds(const sctx *sc, uint32_t h, uint32_t tw)
 {
     uint32_t ft = h / 3u, fu = tw / 3u;
     int s1 = sc->sign[ft], s2 = sc->sign[fu]; /* NOLINT(bugprone-signed-char-misuse,cert-str34-c): small integers (-2..2), not characters */
-    const uint32_t *f, *g;
+    const uint32_t *f;
     const ls_real *c;
     ls_real sc_, sd_;
     if ((s1 == 2 || s1 == -2) && (s2 == 2 || s2 == -2)) return s1 == -s2;
     f = sc->indices + 3 * (size_t)ft;
-    g = sc->indices + 3 * (size_t)fu;
     c = sc->vis->clip;
-    sc_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)f[(h % 3u + 2u) % 3u]);
-    sd_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)g[(tw % 3u + 2u) % 3u]);
+    sc_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)far_vertex(sc->indices, h));
+    sd_ = hdet(c + 4 * (size_t)f[h % 3u], c + 4 * (size_t)f[(h % 3u + 1u) % 3u], c + 4 * (size_t)far_vertex(sc->indices, tw));
     return (sc_ > (ls_real)0 && sd_ > (ls_real)0) || (sc_ < (ls_real)0 && sd_ < (ls_real)0);
 }
 
@@ -2417,7 +2416,7 @@ LS_NOINLINE int ls_valley_edge(const ls_real *clip, const uint32_t *indices, uin
     ls_real m[3][3], u[3][3], e[3][3], det, pu, pe, bound, w = p[3];
     o[0] = clip + 4 * (size_t)f[k == 2u ? 0u : k + 1u];
     o[1] = clip + 4 * (size_t)f[k == 0u ? 2u : k - 1u];
-    o[2] = clip + 4 * (size_t)g[tw % 3u == 0u ? 2u : tw % 3u - 1u];
+    o[2] = clip + 4 * (size_t)far_vertex(indices, tw);
     /* the faces wound the same way (the twin runs back along the edge): the
      * edge table pairs the faces of an edge whatever their order */
     if (cull == 0 || !(w > (ls_real)0) || g[tw % 3u] != f[k == 2u ? 0u : k + 1u]) return 0;
@@ -2855,7 +2854,7 @@ static SIL_INLINE void fetch_fold(const sctx *sc, const ls_edge_table *table, ui
         SIL_PREFETCH(sc->vis->clip + 4 * (size_t)f[q]);
         SIL_PREFETCH(sc->win + 2 * (size_t)f[q]);
     }
-    if (tw != LS_EDGE_NONE) SIL_PREFETCH(sc->vis->clip + 4 * (size_t)sc->indices[3 * (size_t)(tw / 3u) + (tw % 3u == 0u ? 2u : tw % 3u - 1u)]);
+    if (tw != LS_EDGE_NONE) SIL_PREFETCH(sc->vis->clip + 4 * (size_t)far_vertex(sc->indices, tw));
 }
 
 /* Every silhouette edge (next_edge's marks, edge_live), integrated in the

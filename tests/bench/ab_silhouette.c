@@ -6,7 +6,8 @@
  * there) before each pass, A and B in alternating order.
  * Usage: ab_silhouette MESH [REPS [RES]]. Prints the minima, the medians and
  * the median of the per-repetition ratios B/A, and each build's minimum over
- * the forward's. */
+ * the forward's, and whether the two gradients have the same bits (exit 1
+ * when they differ: a change meant to move no bit did). */
 #define _POSIX_C_SOURCE 200112L
 #include <stdio.h>
 #include <stdlib.h>
@@ -44,7 +45,7 @@ int main(int argc, char **argv)
     unsigned char *data = NULL, *buf;
     size_t bytes = 0, cap = (size_t)768 << 20, npx, i;
     uint32_t reps = argc > 2 ? (uint32_t)atoi(argv[2]) : 40, res = argc > 3 ? (uint32_t)atoi(argv[3]) : 512, r;
-    ls_real c[3], radius = 0, view[16], mvp[16], loss = 0, *nrm, *img, *tgt, *gimg, *gp, *gn;
+    ls_real c[3], radius = 0, view[16], mvp[16], loss = 0, *nrm, *img, *tgt, *gimg, *gp, *gn, *grad[2];
     ls_arena arena;
     ls_mesh m;
     ls_edge_table et;
@@ -67,7 +68,9 @@ int main(int argc, char **argv)
     img = ls_arena_alloc(&arena, 4 * npx, sizeof(ls_real));
     tgt = ls_arena_alloc(&arena, 4 * npx, sizeof(ls_real));
     gimg = ls_arena_alloc(&arena, 4 * npx, sizeof(ls_real));
-    if (gimg == NULL || ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) != LS_OK ||
+    grad[0] = ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    grad[1] = ls_arena_alloc(&arena, 3 * (size_t)m.vertex_count, sizeof(ls_real));
+    if (gimg == NULL || grad[1] == NULL || ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) != LS_OK ||
         ls_vis_init(&vis, &arena, res, res, 1, m.vertex_count) != LS_OK)
         return 1;
     for (i = 0; i < 4 * npx; i++) tgt[i] = (ls_real)(i % 4 == 3 ? 1 : 0.3);
@@ -103,6 +106,7 @@ int main(int argc, char **argv)
                             NULL) != LS_OK)
                 return 1;
             t[which] = now_ms() - t0;
+            memcpy(grad[which], gp, sizeof(ls_real) * 3 * m.vertex_count);
         }
         ta[r] = t[0];
         tb[r] = t[1];
@@ -116,5 +120,10 @@ int main(int argc, char **argv)
            " | forward min %.3f ms: A/fwd %.3f, B/fwd %.3f\n",
            ta[0], ta[reps / 2], tb[0], tb[reps / 2], tb[0] / ta[0], ratio[reps / 2], ratio[reps / 4],
            ratio[3 * reps / 4], tf[0], ta[0] / tf[0], tb[0] / tf[0]);
+    if (memcmp(grad[0], grad[1], sizeof(ls_real) * 3 * m.vertex_count) != 0) {
+        printf("gradients of A and B differ\n");
+        return 1;
+    }
+    printf("gradients of A and B: the same bits\n");
     return 0;
 }
