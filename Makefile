@@ -178,8 +178,13 @@ CFLAGS_TEST  += -I$(PORT_DIR) -DLS_PORT_CORTEX_M4=1
 LDFLAGS      += -nostartfiles --specs=nosys.specs -L$(PORT_DIR) -T$(PROFILE).ld -Wl,--gc-sections
 endif
 
-LIB_SRC  := $(sort $(wildcard src/*.c))
-LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/src/%.o)
+# The library's sources, one folder per layer, lowest first: a file includes
+# only headers of its own layer or lower ones (tests/tools/layers.sh checks it).
+# Objects keep flat names (the size and stack checks key on the module name).
+LAYERS   := base sparse geometry param render io fit
+LIB_SRC  := $(foreach l,$(LAYERS),$(sort $(wildcard src/$(l)/*.c)))
+LIB_OBJ  := $(addprefix $(BUILD)/obj/src/,$(notdir $(LIB_SRC:.c=.o)))
+vpath %.c $(LAYERS:%=src/%)
 PORT_SRC := $(filter-out $(PORT_DIR)/main.c,$(sort $(wildcard $(PORT_DIR)/*.c)))
 PORT_OBJ := $(PORT_SRC:$(PORT_DIR)/%.c=$(BUILD)/obj/port/%.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
@@ -226,7 +231,7 @@ $(CONFIG_H): FORCE
 	  '#define LS_REAL_IS_FLOAT $(REAL_IS_FLOAT)' '#define LS_SUMS_DOUBLE $(SUMS_DOUBLE)' '#endif' > $@.tmp
 	@if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 
-$(BUILD)/obj/src/%.o: src/%.c $(CONFIG_H)
+$(BUILD)/obj/src/%.o: %.c $(CONFIG_H)
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_LIB) $(CALLGRAPH) -MMD -MP -c $< -o $@
 

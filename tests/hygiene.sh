@@ -60,7 +60,7 @@ if [ "$is_gcc" = 1 ] && [ "$san" != 1 ]; then
     o0="$probe_dir/O0"
     mkdir -p "$o0"
     $cc -std=c99 -O0 -fcallgraph-info -c tests/tools/probe_bad.c -o "$o0/probe_bad.o"
-    for src in src/*.c; do
+    for src in src/*/*.c; do
         $cc -std=c99 -O0 -fcallgraph-info -Iinclude -I"$build/include" -c "$src" -o "$o0/lib_$(basename "$src" .c).o"
     done
     if python3 tests/tools/callgraph.py recursion "$o0/probe_bad.ci" >/dev/null 2>&1; then

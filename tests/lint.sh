@@ -11,7 +11,7 @@ dir=build/lint
 mkdir -p "$dir/include/largesteps"
 printf '#ifndef LARGESTEPS_CONFIG_H\n#define LARGESTEPS_CONFIG_H\n#define LS_REAL_IS_FLOAT %s\n#endif\n' 0 > "$dir/include/largesteps/config.h"
 INC="-Iinclude -I$dir/include"
-SRC=$(ls src/*.c)
+SRC=$(ls src/*/*.c)
 probe=tests/tools/lint_probe.c
 
 need() { command -v "$1" >/dev/null 2>&1 || { bad "$2 ($1 is not installed: .ci/run installs it)"; return 1; }; }
@@ -53,6 +53,19 @@ if need scan-build lint_scan_build; then
             bad "lint_scan_build" "$(printf '%s\n' "$out" | grep -E 'warning|bug' | head -n 40)"
         fi
     fi
+fi
+
+# Layering (tests/tools/layers.sh): first shown a copy of the tree with an
+# upward include planted (the lowest layer including the fit), which it must report.
+plant="$dir/layers-probe"
+rm -rf "$plant" && mkdir -p "$plant" && cp -R Makefile src include "$plant/"
+printf '#include <largesteps/fit.h>\n' >> "$plant/src/base/sort.c"
+if sh tests/tools/layers.sh "$plant" >/dev/null 2>&1; then
+    bad "lint_layers (does not report the upward include planted in $plant/src/base/sort.c)"
+elif out=$(sh tests/tools/layers.sh . 2>&1); then
+    ok "lint_layers (src/: $(sed -n 's/^LAYERS *:= *//p' Makefile), lowest first)"
+else
+    bad "lint_layers" "$out"
 fi
 
 echo "lint: $pass passed, $fail failed"

@@ -218,7 +218,7 @@ static int seg_tri(const ls_real *p, const ls_real *q, const ls_real *a, const l
     return 1;
 }
 
-/* Self-intersecting face pairs, checked here independently of src/tangle.c:
+/* Self-intersecting face pairs, checked here independently of src/geometry/tangle.c:
  * candidate pairs from the BVH's box-overlap iterator, then edge-triangle
  * crossings in double. Pairs sharing an edge are skipped; pairs sharing one
  * vertex are tested with the edges opposite it. */
@@ -280,7 +280,7 @@ static long self_intersections(const ls_mesh *m)
     return n;
 }
 
-/* The same count by src/tangle.c (ls_tangle), printed beside ours. */
+/* The same count by src/geometry/tangle.c (ls_tangle), printed beside ours. */
 static long tangle_count(const ls_mesh *m)
 {
     size_t need = 0;

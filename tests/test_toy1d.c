@@ -11,7 +11,7 @@
 #define N 32
 #define ITERS 200
 
-/* The step sizes, written here independently of src/toy1d.c's table. */
+/* The step sizes, written here independently of src/param/toy1d.c's table. */
 static const struct {
     const char *name;
     int kind; /* 0 naive, 1 regularized, 2 large steps */

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """gen_math_coeffs.py - derive the constants, tables and polynomial coefficients
-of src/math_*.c.
+of src/base/math_*.c.
 
 Everything here is computed from first principles with mpmath (apt-get install
 python3-mpmath) at 120 decimal digits:
@@ -16,7 +16,7 @@ python3-mpmath) at 120 decimal digits:
     rounded polynomial is re-measured on a dense grid and printed as log2.
 
 Usage: python3 tests/tools/gen_math_coeffs.py > /tmp/coeffs.txt
-The output is C text pasted into src/math_trig.c and src/math_explog.c.
+The output is C text pasted into src/base/math_trig.c and src/base/math_explog.c.
 Nothing is copied from an existing libm; re-running reproduces every digit.
 """
 from mpmath import mp, mpf

@@ -1,4 +1,4 @@
-/* src/math_explog.c - exp, log, log10, pow in double and float.
+/* src/base/math_explog.c - exp, log, log10, pow in double and float.
  *
  * exp: x = k ln2/N + r (N = 64, float 32) with a three-part ln2/N so that the
  * reduction is exact, exp(r) - 1 by a minimax polynomial, times 2^(j/N) from

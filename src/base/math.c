@@ -1,4 +1,4 @@
-/* src/math.c - exact helpers of the math module: rounding to integral values,
+/* src/base/math.c - exact helpers of the math module: rounding to integral values,
  * sign and classification by bit inspection, saturating float-to-integer
  * conversions. No floating-point arithmetic beyond comparisons and casts of
  * in-range values, so the results cannot depend on compiler flags.

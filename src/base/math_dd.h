@@ -1,4 +1,4 @@
-/* src/math_dd.h - private helpers of the math module: bit access and
+/* src/base/math_dd.h - private helpers of the math module: bit access and
  * error-free transformations (double-double and float-float arithmetic).
  *
  * Every helper uses only IEEE +, -, * in a fixed order, so results are the same

@@ -1,4 +1,4 @@
-/* src/math_trig.c - sin, cos, sincos, atan, atan2 in double and float.
+/* src/base/math_trig.c - sin, cos, sincos, atan, atan2 in double and float.
  *
  * Argument reduction for sin/cos: below 2^20 (float 2^10) by subtracting
  * n pi/2 with pi/2 split into chunks whose products with n are exact (152
