@@ -8,6 +8,7 @@
 #   make run                print the library's configuration
 #   make install PREFIX=... install the library, headers, config.h and a pkg-config file
 #   make bench              benchmarks (tables in build/bench/)
+#   make bench-fit          the fit suite: default fits on 14 public targets (build/bench/fit_suite.md)
 #   make cross              every emulated target (aarch64, armhf, riscv64, s390x,
 #                           i686; float and double) under qemu-user: tests + digest
 #   make m4                 the Cortex-M4 port under qemu-system-arm (mps2-an386):
@@ -212,7 +213,7 @@ LIB      := $(BUILD)/liblargesteps.a
 PORTLIB  := $(BUILD)/liblargesteps-posix.a
 CLI      := $(BUILD)/largesteps
 
-.PHONY: all lib check test run install bench tradeoffs clean lint cross m4 size size-update digest-update FORCE
+.PHONY: all lib check test run install bench bench-fit tradeoffs clean lint cross m4 size size-update digest-update FORCE
 .DEFAULT_GOAL := all
 
 ifeq ($(HOSTED),1)
@@ -363,6 +364,13 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 	BUILD=$(BUILD) sh tests/bench/run_fit.sh
 
+
+# The fit suite (tests/bench/fit_suite.txt): `largesteps fit` with default
+# options on every target and 5 runs each with the learning rate moved in the
+# 6th digit; table in $(BUILD)/bench/fit_suite.md. CGAL's meshes come from
+# Debian's libcgal-demo; about 25 minutes on two cores.
+bench-fit: all
+	BUILD=$(BUILD) sh tests/bench/fit_suite.sh
 
 # The Cortex-M4 part of the trade study (tests/bench/m4_tradeoffs.c), built
 # with TARGET=cortex-m4 and run by `make tradeoffs` under QEMU with -icount.

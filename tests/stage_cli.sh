@@ -95,7 +95,7 @@ if [ -n "$med" ] && less "$med" 0.10 && less "$max" 0.30; then ok "fit_bunny_spr
 else bad "fit_bunny_spread (H/diag $hs)"; fi
 
 # 2. a mesh file and a text scene (cameras, SH lighting, mesh target)
-check fit_mesh_file "$ls" fit fixtures/meshes/elephant.obj --iters 10 --res 32 --views 4 --level 2 --remesh none --quiet -o "$out/elephant"
+check fit_mesh_file "$ls" fit fixtures/meshes/elephant.obj --init-sphere --iters 10 --res 32 --views 4 --level 2 --remesh none --quiet -o "$out/elephant"
 mkdir -p "$out/scene"
 cp fixtures/meshes/bunny.obj "$out/scene/"
 cat > "$out/scene/scene.txt" <<'EOF'

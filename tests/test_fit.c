@@ -295,6 +295,120 @@ static void fit_remesh_in_the_loop(void)
     CHECK_STATUS(ls_fit_remesh(&fit, &arena, (ls_real)0.5, (ls_real)0.8, &info, &d), LS_ERR_INVALID);
 }
 
+/* The guard (config.guard): a rollback puts back what the steps after the
+ * save changed, so the same steps then give the same bits; ls_fit_tangle
+ * counts what ls_tangle counts on ls_fit_mesh's result (a mesh with a
+ * vertex pushed through the far side), in the fit's own memory. */
+static void fit_guard_rolls_back_and_counts(void)
+{
+    ls_arena arena, other;
+    ls_fit_config c;
+    ls_fit_views views;
+    ls_fit fit;
+    ls_mesh init, cur;
+    ls_diag d;
+    ls_tangle_report mine, ref;
+    ls_remesh_info info;
+    ls_real *pos;
+    uint64_t at_save, after;
+    uint32_t it, k;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES / 2) == LS_OK);
+    REQUIRE(ls_arena_init(&other, buf + BUF_BYTES / 2, BUF_BYTES / 2) == LS_OK);
+    initial_sphere(&arena, &init, (ls_real)0.6);
+    for (k = 0; k < 3; k++) init.positions[k] *= (ls_real)-1.6; /* vertex 0 through the far side */
+    config_for(&c, LS_FIT_LARGE_STEPS);
+    views.count = NV;
+    views.mvp = &mvps[0][0];
+    views.targets = (const ls_real *const *)targets;
+    REQUIRE(ls_fit_init(&fit, &c, &views, &init, &arena, &d) == LS_OK);
+    CHECK_STATUS(ls_fit_tangle(&fit, &mine, &d), LS_ERR_INVALID); /* no guard */
+    CHECK_STATUS(ls_fit_save(&fit), LS_ERR_INVALID);
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES / 2) == LS_OK);
+    initial_sphere(&arena, &init, (ls_real)0.6);
+    for (k = 0; k < 3; k++) init.positions[k] *= (ls_real)-1.6;
+    c.guard = 2;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &views, &init, &arena, &d), LS_ERR_INVALID);
+    c.guard = 1;
+    REQUIRE(ls_fit_init(&fit, &c, &views, &init, &arena, &d) == LS_OK);
+    CHECK_STATUS(ls_fit_rollback(&fit), LS_ERR_INVALID); /* nothing saved */
+    for (it = 0; it < 3; it++) REQUIRE(ls_fit_step(&fit, NULL, &d) == LS_OK);
+    /* the count, against ls_tangle on the current mesh in other memory */
+    CHECK_STATUS(ls_fit_tangle(&fit, &mine, &d), LS_OK);
+    pos = (ls_real *)ls_arena_alloc(&other, 3u * fit.vertex_count, sizeof(ls_real));
+    REQUIRE(pos != NULL && ls_fit_mesh(&fit, pos, &cur) == LS_OK);
+    REQUIRE(ls_tangle(&cur, NULL, &other, &ref, &d) == LS_OK);
+    printf("     ls_fit_tangle %u pairs (%u faces), ls_tangle %u (%u)\n", (unsigned)mine.intersecting_pairs,
+           (unsigned)mine.intersecting_faces, (unsigned)ref.intersecting_pairs, (unsigned)ref.intersecting_faces);
+    CHECK(ref.intersecting_pairs > 0);
+    CHECK_EQ(mine.intersecting_pairs, ref.intersecting_pairs);
+    CHECK_EQ(mine.intersecting_faces, ref.intersecting_faces);
+    /* save, 5 steps, rollback: the saved state; 5 steps again: the same bits */
+    REQUIRE(ls_fit_save(&fit) == LS_OK);
+    at_save = test_hash_reals(fit.params, 3u * fit.vertex_count + 3u, TEST_HASH_SEED) ^
+              test_hash_reals(fit.optim.m2, 3u * fit.vertex_count + 3u, TEST_HASH_SEED + 1u) ^
+              test_hash_reals(fit.x, 3u * fit.vertex_count, TEST_HASH_SEED + 2u);
+    for (it = 0; it < 5; it++) REQUIRE(ls_fit_step(&fit, NULL, &d) == LS_OK);
+    after = test_hash_reals(fit.params, 3u * fit.vertex_count + 3u, TEST_HASH_SEED);
+    CHECK_STATUS(ls_fit_rollback(&fit), LS_OK);
+    CHECK_EQ(fit.iteration, 3);
+    CHECK_EQ(fit.optim.step, 3);
+    CHECK(at_save == (test_hash_reals(fit.params, 3u * fit.vertex_count + 3u, TEST_HASH_SEED) ^
+                      test_hash_reals(fit.optim.m2, 3u * fit.vertex_count + 3u, TEST_HASH_SEED + 1u) ^
+                      test_hash_reals(fit.x, 3u * fit.vertex_count, TEST_HASH_SEED + 2u)));
+    for (it = 0; it < 5; it++) REQUIRE(ls_fit_step(&fit, NULL, &d) == LS_OK);
+    CHECK(after == test_hash_reals(fit.params, 3u * fit.vertex_count + 3u, TEST_HASH_SEED));
+    /* a remesh empties the checkpoint */
+    REQUIRE(ls_fit_remesh(&fit, &arena, (ls_real)0.5, (ls_real)0.8, &info, &d) == LS_OK);
+    CHECK_STATUS(ls_fit_rollback(&fit), LS_ERR_INVALID);
+}
+
+/* LS_FIT_MEAN_PROJECT: the step of u has no mean on any axis (the
+ * translation block moves the mesh as a whole); it needs that block. */
+static void fit_mean_mode_projects(void)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views views;
+    ls_fit fit;
+    ls_mesh init;
+    ls_diag d;
+    ls_real *before;
+    double mean[3] = {0, 0, 0}, scale = 0;
+    uint32_t i, k, n;
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    initial_sphere(&arena, &init, (ls_real)0.6);
+    for (i = 0; i < init.vertex_count; i++) init.positions[3u * i] += (ls_real)0.2; /* off centre: a mean gradient */
+    config_for(&c, LS_FIT_LARGE_STEPS);
+    views.count = NV;
+    views.mvp = &mvps[0][0];
+    views.targets = (const ls_real *const *)targets;
+    c.mean_mode = LS_FIT_MEAN_PROJECT;
+    c.use_translation = 0;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &views, &init, &arena, &d), LS_ERR_INVALID);
+    c.use_translation = 1;
+    c.mean_mode = 2;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &views, &init, &arena, &d), LS_ERR_INVALID);
+    c.mean_mode = LS_FIT_MEAN_PROJECT;
+    REQUIRE(ls_fit_init(&fit, &c, &views, &init, &arena, &d) == LS_OK);
+    n = fit.vertex_count;
+    before = (ls_real *)malloc(3u * n * sizeof(ls_real));
+    REQUIRE(before != NULL);
+    memcpy(before, fit.params, 3u * n * sizeof(ls_real));
+    REQUIRE(ls_fit_step(&fit, NULL, &d) == LS_OK);
+    for (i = 0; i < n; i++)
+        for (k = 0; k < 3; k++) {
+            double du = (double)fit.params[3u * i + k] - (double)before[3u * i + k];
+            mean[k] += du / n;
+            if (fabs(du) > scale) scale = fabs(du);
+        }
+    printf("     largest |du| %.3g; mean du %.3g %.3g %.3g; translation step %.3g %.3g %.3g\n", scale, mean[0], mean[1],
+           mean[2], (double)fit.params[3u * n], (double)fit.params[3u * n + 1u], (double)fit.params[3u * n + 2u]);
+    CHECK(scale > 0);
+    for (k = 0; k < 3; k++) CHECK(fabs(mean[k]) <= 1e-4 * scale);
+    CHECK(fabs((double)fit.params[3u * n]) > 0); /* the translation moved instead */
+    free(before);
+}
+
 typedef struct fit_job {
     ls_fit fit;
     ls_fit_config c;
@@ -319,16 +433,21 @@ static void fit_memory_query_is_exact(void)
     ls_arena marena, scratch;
     sweep_job sj;
     uint32_t method;
-    for (method = LS_FIT_LARGE_STEPS; method <= LS_FIT_LAPLACIAN; method += 2) {
+    static const uint32_t variants[3] = {LS_FIT_LARGE_STEPS, LS_FIT_LAPLACIAN, 3u}; /* 3: large steps, guard */
+    uint32_t k;
+    for (k = 0; k < 3; k++) {
+        method = variants[k];
         REQUIRE(ls_arena_init(&marena, mesh_buf.bytes, sizeof mesh_buf.bytes) == LS_OK);
         initial_sphere(&marena, &job.init, (ls_real)0.6);
-        config_for(&job.c, method);
+        config_for(&job.c, method == 3u ? LS_FIT_LARGE_STEPS : method);
+        job.c.guard = method == 3u;
         job.c.width = job.c.height = 16;
         job.views.count = NV;
         job.views.mvp = &mvps[0][0];
         job.views.targets = (const ls_real *const *)targets;
         memset(&sj, 0, sizeof sj);
-        sj.name = method == LS_FIT_LARGE_STEPS ? "fit_init (large steps)" : "fit_init (laplacian)";
+        sj.name = method == LS_FIT_LARGE_STEPS ? "fit_init (large steps)"
+                : method == 3u                  ? "fit_init (large steps, guard)" : "fit_init (laplacian)";
         sj.run = fit_run;
         sj.state_hash = fit_hash;
         sj.ctx = &job;
@@ -353,6 +472,8 @@ int main(void)
     TEST_RUN(fit_baselines_run);
     TEST_RUN(fit_rejects_bad_input);
     TEST_RUN(fit_remesh_in_the_loop);
+    TEST_RUN(fit_guard_rolls_back_and_counts);
+    TEST_RUN(fit_mean_mode_projects);
     TEST_RUN(fit_memory_query_is_exact);
     for (v = 0; v < NV; v++) free(targets[v]);
     free(buf);

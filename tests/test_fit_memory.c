@@ -34,9 +34,13 @@ static void make_problem(void)
     for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.6;
 }
 
+/* 1: the runs below hold a checkpoint and check self-intersections. */
+static uint32_t guard_on;
+
 static void config(ls_fit_config *c, uint32_t method, uint32_t solver)
 {
     ls_fit_config_default(c);
+    c->guard = guard_on;
     c->method = method;
     c->solver = solver;
     c->width = c->height = RES;
@@ -86,6 +90,16 @@ static int run(ls_fit *fit, ls_arena *arena, int job, ls_real **pos)
                 return 1;
             }
         }
+        if (guard_on && it % 5 == 0) { /* the guard's calls use the reserve only */
+            ls_tangle_report t;
+            st = ls_fit_tangle(fit, &t, &d);
+            if (st == LS_OK) st = ls_fit_save(fit);
+            if (st != LS_OK || t.intersecting_pairs != 0) {
+                printf("     guard before %u: %s, %u pairs\n", (unsigned)it, ls_status_name(st), (unsigned)t.intersecting_pairs);
+                return 1;
+            }
+        }
+        if (guard_on && it == 17 && ls_fit_rollback(fit) != LS_OK) return 1; /* back to 15 */
         st = ls_fit_step(fit, NULL, &d);
         if (st != LS_OK) {
             printf("     step %u: %s %s\n", (unsigned)it, ls_status_name(st), d.what);
@@ -149,6 +163,15 @@ static void job_runs_in_exactly_its_bytes(uint32_t method, uint32_t solver)
 }
 
 static void job_large_steps(void) { job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT); }
+/* The checkpoint and the self-intersection check (config.guard) inside the
+ * job's bytes, with either solver. */
+static void job_with_guard(void)
+{
+    guard_on = 1;
+    job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
+    job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_CG);
+    guard_on = 0;
+}
 static void job_cg_and_baseline(void)
 {
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_CG);
@@ -366,6 +389,7 @@ int main(void)
     TEST_RUN(make_problem);
     TEST_RUN(job_large_steps);
     TEST_RUN(job_cg_and_baseline);
+    TEST_RUN(job_with_guard);
     TEST_RUN(job_one_byte_less_fails_at_init);
     TEST_RUN(remesh_beyond_capacity);
     TEST_RUN(bad_capacities);

@@ -83,6 +83,7 @@
 #include <largesteps/optim.h>
 #include <largesteps/param.h>
 #include <largesteps/remesh.h>
+#include <largesteps/tangle.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -98,6 +99,14 @@ extern "C" {
 #define LS_FIT_SILHOUETTE_EXACT 0u /* ls_silhouette_backward: exact for a box pixel filter */
 #define LS_FIT_SILHOUETTE_PAIR  1u /* ls_pair_forward/backward: nvdiffrast-style blending of pixel pairs (S = 1) */
 #define LS_FIT_SILHOUETTE_NONE  2u /* no silhouette term: interior shading gradients only */
+
+/* The mean (rigid translation) mode of the large-steps gradient dL/du.
+ * M^-1 amplifies it the most (1 / (1 - alpha), or 1 in the lambda form
+ * against 1 + lambda mu for the other modes), so under UniformAdam's one
+ * maximum it can take the whole step and the mesh jitters as a block. */
+#define LS_FIT_MEAN_KEEP    0u /* the paper's: u moves the mean like any other mode */
+#define LS_FIT_MEAN_PROJECT 1u /* its per-axis mean taken out of dL/du: the translation block
+                                  (use_translation, required) alone moves the mesh as a whole */
 
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
@@ -120,6 +129,9 @@ typedef struct ls_fit_config {
     uint32_t aa;              /* adaptive supersampling of silhouette pixels (raster_refine.h): A x A
                                * sub-samples there, forward and interior gradient; A <= ss (0 default)
                                * is off; at most LS_REFINE_MAX; not with the pair mode */
+    uint32_t mean_mode;       /* large steps: LS_FIT_MEAN_* */
+    uint32_t guard;           /* 1: the fit holds a checkpoint (ls_fit_save, ls_fit_rollback) and the
+                               * memory of its self-intersection check (ls_fit_tangle); 0: neither */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -197,6 +209,11 @@ typedef struct ls_fit {
     ls_arena job;             /* ls_fit_init_job: the reservation; its first job_fit_bytes hold the fit's
                                  block, the rest is the remesher's work (job.peak: its high-water mark) */
     size_t job_fit_bytes;
+    ls_real *saved;           /* guard: the checkpoint [params | m1 | m2 | x] (else NULL) */
+    uint32_t saved_valid;     /* guard: 1 when the checkpoint holds a state of this mesh */
+    uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */
+    uint32_t saved_iteration;
+    ls_real saved_last_scale[LS_OPTIM_MAX_BLOCKS];
 } ls_fit;
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
@@ -302,6 +319,23 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
  * ls_fit_mesh), and the run can go on. */
 ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
                         ls_diag *diag);
+
+/* ls_fit_tangle: the self-intersections of the current mesh (x = M^-1 u
+ * plus the translation; ls_tangle without a reference) into *out. Needs
+ * config.guard (its memory is the block's reserved scratch: nothing is
+ * allocated). The fit is not changed (as ls_fit_mesh). O(F log F + k).
+ * Errors: LS_ERR_INVALID (NULL, no guard), the solve's. */
+ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
+
+/* ls_fit_save: the checkpoint takes what ls_fit_step changes: x, the
+ * parameters (u or x, and the translation), the optimizer's moments and step
+ * count, and the iteration count. ls_fit_rollback puts them back, so the
+ * steps after it repeat the ones after the save bit for bit (the learning
+ * rate, config.optim.lr of fit->optim, is the caller's to change). A remesh
+ * empties the checkpoint. Needs config.guard. O(n). Errors: LS_ERR_INVALID
+ * (NULL, no guard; rollback: no checkpoint since init or the last remesh). */
+ls_status ls_fit_save(ls_fit *fit);
+ls_status ls_fit_rollback(ls_fit *fit);
 
 /* ls_fit_mesh: the current mesh: x = M^{-1} u (large steps; one solve) plus
  * the translation, times S (caller units), written into positions

@@ -82,7 +82,14 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     memset(&e, 0, sizeof e);
     /* learning rates are in units of the initial mesh's radius (fit.h): the
      * icosphere on the target's bounding sphere, as largesteps fit */
-    if (ls_job_fit(p, &c, iters, budget_ms, remesh, nremesh, 0, 0, NULL, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
+    ls_job_schedule s;
+    uint32_t k;
+    ls_job_schedule_default(&s);
+    s.iterations = iters;
+    s.time_budget_ms = budget_ms;
+    s.remesh_count = nremesh < LS_JOB_MAX_REMESH ? nremesh : LS_JOB_MAX_REMESH;
+    for (k = 0; k < s.remesh_count; k++) s.remesh_at[k] = remesh[k];
+    if (ls_job_fit(p, &c, &s, 0, 0, NULL, arena, &r) && ls_job_metrics(p, &r.result, arena, &d, &t)) {
         e.ok = 1;
         e.h = (double)d.vertex_hausdorff;
         e.h_rel = (double)d.vertex_hausdorff_rel;

@@ -33,9 +33,9 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, iters, level, target_ss, quiet, track, init_smooth;
+    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere;
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
-    uint32_t remesh_count, remesh_at[LS_JOB_MAX_REMESH];
+    ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
     ls_fit_config cfg;
 } fit_args;
@@ -64,9 +64,20 @@ static int usage(FILE *f)
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (default 3)\n"
+            "  --guard N          every N iterations (default 25) check the mesh for self-intersections;\n"
+            "                     new ones roll the fit back to the last check, remesh it and lower lr\n"
+            "  --guard-lr F       the learning rate's factor at a roll-back (default 0.7)\n"
+            "  --guard-remesh F   a roll-back remeshes to F x the mean edge (default 1; 0: no remesh)\n"
+            "  --no-guard         no checks (the paper's loop)\n"
+            "  --perturb K        learning rate x (1 + K 1e-6): a robustness check, is the result stable\n"
+            "                     under a change in the 6th digit? (default 0)\n"
             "  --shading S        sh (default) | mask\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
             "                     default 200,500; 'none' for no remeshing)\n"
+            "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5)\n"
+            "  --remesh-lr F      learning rate x F at each remesh (0 < F <= 1; default 0.8)\n"
+            "  --mean M           keep (default: the paper's) | project: the mean of dL/du taken out, the\n"
+            "                     translation alone moves the mesh as a whole\n"
             "  --max-vertices N   the job's capacity (memory is reserved once for it, ls_fit_job_bytes):\n"
             "                     vertices of any mesh and of the remesher (default (V0 + 64) 4^remeshes x 2)\n"
             "  --max-faces N      faces of any mesh (default: the most N vertices allow)\n"
@@ -76,12 +87,16 @@ static int usage(FILE *f)
             "  --init-coarse E    initial mesh: the target remeshed to edge E x its bounding-box diagonal\n"
             "                     and smoothed (keeps the target's genus; e.g. 0.05); default: the icosphere\n"
             "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
+            "                     a target of genus > 0 starts this way by itself (--init-coarse 0.03)\n"
+            "  --init-sphere      start from the icosphere whatever the target's genus\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
             "  --quiet            no progress line\n"
-            "  -o DIR             output directory (created if missing)\n");
+            "  -o DIR             output directory (created if missing)\n"
+            "exit status: 0 done, 1 failed, 2 bad arguments, 3 done but the result self-intersects (its\n"
+            "  files are written, metrics.json has \"self_intersecting\": true)\n");
     return f == stderr ? 2 : 0;
 }
 
@@ -108,13 +123,11 @@ static int parse_args(int argc, char **argv, fit_args *a)
     uint32_t optimizer = LS_OPTIM_UNIFORM_ADAM;
     ls_real lr = (ls_real)0.01;
     int lr_set = 0;
+    uint32_t perturb = 0;
     memset(a, 0, sizeof *a);
     a->views = 16;
     a->res = 128;
-    a->iters = 800; /* 400 and 100, 250 twice as long: a lower spread of H over perturbed runs (README) */
-    a->remesh_count = 2;
-    a->remesh_at[0] = 200;
-    a->remesh_at[1] = 500;
+    ls_job_schedule_default(&a->sched);
     a->level = 3;
     a->init_smooth = 10;
     a->target_ss = 4;
@@ -132,6 +145,14 @@ static int parse_args(int argc, char **argv, fit_args *a)
             a->cfg.use_translation = 0;
             continue;
         }
+        if (strcmp(o, "--no-guard") == 0) {
+            a->sched.guard_every = 0;
+            continue;
+        }
+        if (strcmp(o, "--init-sphere") == 0) {
+            a->init_sphere = 1;
+            continue;
+        }
         if (strcmp(o, "--quiet") == 0) {
             a->quiet = 1;
             continue;
@@ -146,7 +167,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         if (strcmp(o, "-o") == 0) a->out = v;
         else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
         else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
-        else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->iters);
+        else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--init-coarse") == 0) ok = parse_real(v, &a->init_edge) && a->init_edge > 0 && a->init_edge <= 1;
         else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
@@ -165,10 +186,20 @@ static int parse_args(int argc, char **argv, fit_args *a)
                               : strcmp(v, "none") == 0 ? LS_FIT_SILHOUETTE_NONE : 99u;
             ok = a->cfg.silhouette != 99u;
         }
-        else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->remesh_at, &a->remesh_count);
+        else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->sched.remesh_at, &a->sched.remesh_count);
+        else if (strcmp(o, "--remesh-h") == 0) ok = parse_real(v, &a->sched.remesh_h) && a->sched.remesh_h > 0 && a->sched.remesh_h <= 1;
+        else if (strcmp(o, "--remesh-lr") == 0) ok = parse_real(v, &a->sched.remesh_lr) && a->sched.remesh_lr > 0 && a->sched.remesh_lr <= 1;
+        else if (strcmp(o, "--mean") == 0) {
+            a->cfg.mean_mode = strcmp(v, "keep") == 0 ? LS_FIT_MEAN_KEEP : strcmp(v, "project") == 0 ? LS_FIT_MEAN_PROJECT : 99u;
+            ok = a->cfg.mean_mode != 99u;
+        }
         else if (strcmp(o, "--lambda") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA;
         else if (strcmp(o, "--alpha") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA;
         else if (strcmp(o, "--lr") == 0) ok = parse_real(v, &lr), lr_set = 1;
+        else if (strcmp(o, "--guard-lr") == 0) ok = parse_real(v, &a->sched.guard_lr) && a->sched.guard_lr > 0;
+        else if (strcmp(o, "--guard-remesh") == 0) ok = parse_real(v, &a->sched.guard_remesh) && a->sched.guard_remesh >= 0;
+        else if (strcmp(o, "--guard") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.guard_every);
+        else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
         else if (strcmp(o, "--reg") == 0) ok = parse_real(v, &a->cfg.reg_weight);
         else if (strcmp(o, "--boost") == 0) ok = parse_real(v, &a->cfg.boost);
         else if (strcmp(o, "--method") == 0) {
@@ -197,7 +228,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
     if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
     if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
     (void)ls_optim_config_default(optimizer, &a->cfg.optim);
-    a->cfg.optim.lr = lr; /* in units of the initial mesh's radius (fit.h) */
+    /* in units of the initial mesh's radius (fit.h); --perturb moves it in the 6th digit */
+    a->cfg.optim.lr = lr * ((ls_real)1 + (ls_real)perturb * (ls_real)1e-6);
     (void)lr_set;
     a->cfg.width = a->cfg.height = a->res;
     return 1;
@@ -315,15 +347,15 @@ static int write_json(FILE *f, void *ctx)
     fprintf(f, ",\n  \"iterations\": %u, \"remeshes\": %u, \"vertices\": %u, \"faces\": %u,\n",
             (unsigned)j->r->iterations, (unsigned)j->r->remeshes, (unsigned)j->r->result.vertex_count,
             (unsigned)j->r->result.face_count);
+    fprintf(f, "  \"rollbacks\": %u,\n", (unsigned)j->r->rollbacks);
     fprintf(f, "  \"final_loss\": %.9g,\n", j->r->iterations > 0 ? (double)j->r->loss[j->r->iterations - 1] : 0.0);
     fprintf(f, "  \"ms_per_iteration\": {\"total\": %.4f, \"render\": %.4f, \"shading_backward\": %.4f, "
                "\"silhouettes\": %.4f, \"solves\": %.4f, \"optimizer\": %.4f},\n",
             j->r->total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
             (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
-    if (j->d != NULL) {
-        ls_report_json_distance(f, j->d);
-        ls_report_json_tangle(f, "tangle", j->t, 1);
-    }
+    if (j->d != NULL) ls_report_json_distance(f, j->d);
+    fprintf(f, "  \"self_intersecting\": %s,\n", j->t->intersecting_pairs > 0 ? "true" : "false");
+    ls_report_json_tangle(f, "tangle", j->t, 1);
     fprintf(f, "  \"fit_bytes\": %llu, \"job_bytes\": %llu, \"peak_bytes\": %llu\n}\n",
             (unsigned long long)j->r->fit_bytes, (unsigned long long)j->r->job_bytes, (unsigned long long)j->r->peak_used);
     return !ferror(f);
@@ -358,7 +390,16 @@ int ls_cmd_fit(int argc, char **argv)
     o.level = a.level;
     o.init_edge = (double)a.init_edge;
     o.init_smooth = a.init_smooth;
+    o.init_auto = !a.init_sphere;
     if (!ls_job_load(&p, &o, &arena)) return 1;
+    if (p.auto_coarse)
+        printf("the target has genus %d, which a sphere cannot reach: starting from the target remeshed to %g of its "
+               "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
+               (int)p.target_genus, LS_JOB_AUTO_EDGE, LS_JOB_AUTO_EDGE);
+    else if (p.have_mesh && a.init_edge == 0 && (p.target_genus > 0 || p.target_components > 1))
+        fprintf(stderr, "largesteps fit: warning: the target has %s%u components; the icosphere is one genus-0 surface "
+                        "and cannot match it (--init-coarse 0.03 starts from the target's own topology)\n",
+                p.target_genus > 0 ? "genus > 0 and " : "", (unsigned)p.target_components);
     printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
            p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
            (unsigned)p.initial.vertex_count, (unsigned)p.views, (unsigned)p.width, (unsigned)p.height);
@@ -372,8 +413,8 @@ int ls_cmd_fit(int argc, char **argv)
     st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
     if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     tty = isatty(1);
-    if (!ls_job_fit(&p, &a.cfg, a.iters, 0, a.remesh_at, a.remesh_count, a.quiet ? 0 : tty ? 2 : 1,
-                    a.track > 0 ? a.track : a.iters + 1u, &a.cap, &arena, &run))
+    if (!ls_job_fit(&p, &a.cfg, &a.sched, a.quiet ? 0 : tty ? 2 : 1,
+                    a.track > 0 ? a.track : a.sched.iterations + 1u, &a.cap, &arena, &run))
         return 1;
     {
         const ls_fit_timing *t = &run.timing;
@@ -400,8 +441,11 @@ int ls_cmd_fit(int argc, char **argv)
         have_metrics = ls_job_metrics(&p, &run.result, &arena, &dist, &tangle);
         if (!have_metrics) return 1;
         ls_report_text_distance(stdout, &dist);
-        ls_report_text_tangle(stdout, "result", &tangle);
+    } else {
+        st = ls_tangle(&run.result, NULL, &arena, &tangle, &d);
+        if (st != LS_OK) return ls_job_fail("checking the result for self-intersections", st, &d), 1;
     }
+    ls_report_text_tangle(stdout, "result", &tangle);
     {
         log_data l;
         json_data j;
@@ -431,5 +475,12 @@ int ls_cmd_fit(int argc, char **argv)
     printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json}\n",
            run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out);
     free(work);
+    if (tangle.intersecting_pairs > 0) { /* never a silent tangle: the last line and the exit status */
+        fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
+                        "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
+                (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0], (unsigned)tangle.first_pair[1],
+                a.sched.guard_every > 0 ? a.sched.guard_every / 2u + 1u : 25u);
+        return 3;
+    }
     return 0;
 }

@@ -139,6 +139,8 @@ static void run_setting(const tr_setting *s, const ls_job_options *base, const c
     ls_distance_report dist;
     ls_tangle_report tangle;
     ls_fit_config c = s->cfg;
+    ls_job_schedule sched;
+    uint32_t k;
     size_t used;
     memset(row, 0, sizeof *row);
     snprintf(row->mesh, sizeof row->mesh, "%s", mesh_name);
@@ -156,7 +158,11 @@ static void run_setting(const tr_setting *s, const ls_job_options *base, const c
     }
     used = ls_arena_used(arena);
     ls_arena_reset_peak(arena);
-    if (ls_job_fit(&p, &c, s->iters, 0, s->remesh_at, s->remesh_count, 0, 0, NULL, arena, &r)) {
+    ls_job_schedule_default(&sched);
+    sched.iterations = s->iters;
+    sched.remesh_count = s->remesh_count < LS_JOB_MAX_REMESH ? s->remesh_count : LS_JOB_MAX_REMESH;
+    for (k = 0; k < sched.remesh_count; k++) sched.remesh_at[k] = s->remesh_at[k];
+    if (ls_job_fit(&p, &c, &sched, 0, 0, NULL, arena, &r)) {
         double it = r.iterations > 0 ? (double)r.iterations : 1.0;
         row->peak_mib = (double)(arena->peak - used) / 1048576.0;
         row->iterations = r.iterations;

@@ -290,6 +290,15 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     } else if (!load_targets(p, &scene, o->target, arena)) {
         return 0;
     }
+    if (p->have_mesh) { /* what a sphere can reach */
+        ls_arena_mark mark = ls_arena_save(arena);
+        ls_mesh_report rep;
+        if (ls_mesh_validate(&p->target, arena, &rep) == LS_OK) {
+            p->target_genus = rep.has_genus ? rep.genus : -1;
+            p->target_components = rep.components;
+        }
+        ls_arena_restore(arena, mark);
+    }
     if (is_scene && scene.initial == LS_SCENE_INITIAL_MESH) {
         char path[4096];
         join_path(o->target, scene.initial_mesh, path, sizeof path);
@@ -297,6 +306,9 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         if (st != LS_OK) return ls_job_fail(path, st, &d);
     } else if (o->init_edge > 0 && p->have_mesh) {
         if (!coarse_initial(p, o->init_edge, o->init_smooth, arena)) return 0;
+    } else if (o->init_auto && p->have_mesh && !is_scene && p->target_genus > 0) {
+        p->auto_coarse = 1;
+        if (!coarse_initial(p, LS_JOB_AUTO_EDGE, o->init_smooth, arena)) return 0;
     } else {
         /* an icosphere on the target's bounding sphere */
         st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);
@@ -334,9 +346,11 @@ static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elaps
     return 1;
 }
 
-int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_capacity *given, ls_arena *arena,
+int ls_job_capacity(const ls_job_problem *p, const ls_job_schedule *s, const ls_fit_capacity *given, ls_arena *arena,
                     ls_fit_capacity *cap)
 {
+    const uint32_t remeshes = s->remesh_count;
+    const double growth = 1.0 / ((double)s->remesh_h * (double)s->remesh_h);
     ls_arena_mark mark = ls_arena_save(arena);
     ls_mesh_report rep;
     uint64_t n = (uint64_t)p->initial.vertex_count + 64u, f, z;
@@ -344,7 +358,7 @@ int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_cap
     ls_status st = ls_mesh_validate(&p->initial, arena, &rep);
     ls_arena_restore(arena, mark);
     if (st != LS_OK) return ls_job_fail("validating the initial mesh", st, NULL);
-    for (r = 0; r < remeshes && n < ((uint64_t)1 << 31); r++) n *= 4u;
+    for (r = 0; r < remeshes && n < ((uint64_t)1 << 31); r++) n = (uint64_t)((double)n * growth) + 1u;
     n *= 2u;
     if (n > ((uint64_t)1 << 31)) n = (uint64_t)1 << 31;
     f = (int64_t)(2u * n) > 2 * rep.euler ? (uint64_t)((int64_t)(2u * n) - 2 * rep.euler) : 0u; /* F = 2 V - 2 chi - B */
@@ -368,10 +382,41 @@ static int capacity_fail(const char *what, ls_status st, const ls_diag *d)
     return 0;
 }
 
-int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every,
-               const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r)
+/* Self-intersecting pairs of the fit's current mesh (ls_fit_tangle). */
+static int fit_pairs(ls_fit *fit, uint32_t *pairs)
 {
+    ls_tangle_report t;
+    ls_diag d;
+    ls_status st;
+    ls_diag_clear(&d);
+    st = ls_fit_tangle(fit, &t, &d);
+    if (st != LS_OK) return ls_job_fail("self-intersection check", st, &d);
+    *pairs = t.intersecting_pairs;
+    return 1;
+}
+
+void ls_job_schedule_default(ls_job_schedule *s)
+{
+    memset(s, 0, sizeof *s);
+    s->iterations = 800; /* 400 and 100, 250 twice as long: a lower spread of H over perturbed runs */
+    s->remesh_count = 2;
+    s->remesh_at[0] = 200;
+    s->remesh_at[1] = 500;
+    s->remesh_h = (ls_real)0.5;
+    s->remesh_lr = (ls_real)0.8;
+    /* the guard: checks every 25 iterations (about 1 % of the time of a step each);
+     * a roll-back remeshes at the mean edge and steps on at 0.7 x the learning rate */
+    s->guard_every = 25;
+    s->guard_lr = (ls_real)0.7;
+    s->guard_remesh = (ls_real)1;
+}
+
+int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_schedule *s, int progress,
+               uint32_t track_every, const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r)
+{
+    const uint32_t iterations = s->iterations, remesh_count = s->remesh_count;
+    const uint32_t *remesh_at = s->remesh_at;
+    const double time_budget_ms = s->time_budget_ms;
     uint32_t track_cap = track_every > 0 && p->have_mesh ? iterations / track_every + 2u : 0u;
     ls_fit_config c = *cfg;
     ls_fit_views fv;
@@ -381,12 +426,14 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
     ls_diag d;
     ls_real *pos;
     uint32_t it, next = 0;
+    uint32_t saved_pairs = 0;
     double t0;
     ls_status st;
     memset(r, 0, sizeof *r);
     ls_diag_clear(&d);
     c.width = p->width;
     c.height = p->height;
+    c.guard = s->guard_every > 0 ? 1u : 0u;
     c.shading = p->shading;
     r->loss = (ls_real *)ls_arena_alloc(arena, iterations + 1u, sizeof(ls_real));
     r->ms = (double *)ls_arena_alloc(arena, iterations + 1u, sizeof(double));
@@ -404,7 +451,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
     if (capacity != NULL) {
         /* the whole job in one block of exactly the query's bytes */
         void *mem;
-        if (!ls_job_capacity(p, remesh_count, capacity, arena, &r->capacity)) return 0;
+        if (!ls_job_capacity(p, s, capacity, arena, &r->capacity)) return 0;
         st = ls_fit_job_bytes(&c, &fv, &p->initial, &r->capacity, arena, &r->job_bytes, &d);
         if (st != LS_OK) return capacity_fail("sizing the fit", st, &d);
         mem = ls_arena_alloc(arena, r->job_bytes, 1);
@@ -427,7 +474,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
             uint32_t before = fit.vertex_count;
             size_t held = fit.block.capacity;
             if (capacity != NULL) ls_arena_reset_peak(&fit.job);
-            st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, (ls_real)0.5, (ls_real)0.8, &ri, &d);
+            st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &d);
             if (st != LS_OK) return capacity_fail("remeshing", st, &d);
             next++;
             if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
@@ -445,6 +492,28 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
             r->track_total_ms += ls_job_now_ms() - t1;
             t0 += ls_job_now_ms() - t1; /* the measurement is not the fit's time */
         }
+        if (s->guard_every > 0 && (it % s->guard_every == 0 || !fit.saved_valid)) {
+            uint32_t pairs;
+            if (!fit_pairs(&fit, &pairs)) return 0;
+            if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
+                uint32_t back = fit.saved_iteration;
+                (void)ls_fit_rollback(&fit);
+                r->rollbacks++;
+                if (s->guard_remesh > 0) {
+                    ls_remesh_info ri;
+                    st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, s->guard_remesh, (ls_real)1, &ri, &d);
+                    if (st != LS_OK) return capacity_fail("remeshing after a roll-back", st, &d);
+                }
+                fit.optim.config.lr *= s->guard_lr;
+                if (progress)
+                    printf("%sself-intersections at iteration %u (%u pairs): back to iteration %u%s, lr x %g\n",
+                           progress == 2 ? "\n" : "", (unsigned)it, (unsigned)pairs, (unsigned)back,
+                           s->guard_remesh > 0 ? ", remeshed" : "", (double)s->guard_lr);
+            } else {
+                (void)ls_fit_save(&fit);
+                saved_pairs = pairs;
+            }
+        }
         st = ls_fit_step(&fit, &mon, &d);
         if (st != LS_OK) {
             fprintf(stderr, "largesteps: iteration %u: ", (unsigned)it);
@@ -461,6 +530,14 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t itera
             fflush(stdout);
         }
         if (time_budget_ms > 0 && r->ms[it] >= time_budget_ms) break;
+    }
+    if (s->guard_every > 0 && fit.saved_valid && fit.saved_iteration < fit.iteration) { /* the last stretch */
+        uint32_t pairs;
+        if (!fit_pairs(&fit, &pairs)) return 0;
+        if (pairs > saved_pairs) {
+            (void)ls_fit_rollback(&fit);
+            r->rollbacks++;
+        }
     }
     if (progress == 2) printf("\n");
     if (track_cap > 0 && r->iterations > 0 && !track(p, &fit, r->iterations, r->ms[r->iterations - 1], arena, r)) return 0;

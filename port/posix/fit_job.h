@@ -22,7 +22,13 @@ typedef struct ls_job_options {
                                edge length (x its bounding-box diagonal) and smoothed by init_smooth
                                Taubin steps, of the target's genus; 0: the icosphere */
     uint32_t init_smooth;
+    uint32_t init_auto;     /* 1 (mesh targets, init_edge 0): a target of genus > 0 starts from
+                               the target remeshed coarse (LS_JOB_AUTO_EDGE), as init_edge would */
 } ls_job_options;
+
+/* The coarse start's edge (x the target's bounding-box diagonal) when the
+ * target's genus asks for it. */
+#define LS_JOB_AUTO_EDGE 0.03
 
 typedef struct ls_job_problem {
     uint32_t views, width, height;
@@ -35,6 +41,9 @@ typedef struct ls_job_problem {
     ls_camera_framing framing;
     ls_mesh initial;         /* the initial mesh */
     const char *name;        /* for reports */
+    int32_t target_genus;    /* mesh targets: the genus (-1: not an oriented 2-manifold) */
+    uint32_t target_components;
+    int auto_coarse;         /* the coarse start was chosen for the target's genus */
 } ls_job_problem;
 
 typedef struct ls_job_run {
@@ -51,6 +60,7 @@ typedef struct ls_job_run {
     size_t peak_used;        /* with a capacity: the most the fit held at once (its block, plus the
                                 remesher's work during a remesh) */
     ls_fit_capacity capacity;/* with a capacity: the one used */
+    uint32_t rollbacks;      /* guard: roll-backs to the last check */
     uint32_t remesh_live_max;/* the most live vertices of the remesher, over the remeshes */
     uint32_t factor_nnz;     /* nnz(L) of the final fit's LDL^T factor (0 without) */
     uint32_t tracked;        /* distance samples taken (track_every > 0) */
@@ -68,19 +78,42 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena);
 ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, ls_real **rgba, ls_arena *arena,
                         ls_diag *d);
 
-/* The capacity of a job of `remeshes` remeshes from p->initial (fit.h),
- * each field of `given` that is not 0 kept: vertices (V + 64) 4^remeshes x 2
- * (each remesh halves the mean edge: about 4x the vertices, 3.5x measured
- * on the bunny; the remesher splits before it collapses), faces the most a
+
+/* The run's schedule: iterations (stopping early once time_budget_ms > 0 is
+ * exceeded) and the remeshes: before each listed iteration the mesh is
+ * remeshed to remesh_h x its mean edge and the learning rate multiplied by
+ * remesh_lr (ls_fit_remesh). */
+typedef struct ls_job_schedule {
+    uint32_t iterations;
+    double time_budget_ms;
+    uint32_t remesh_count, remesh_at[LS_JOB_MAX_REMESH];
+    ls_real remesh_h, remesh_lr;
+    uint32_t guard_every;    /* > 0: every guard_every iterations the mesh is checked for
+                                self-intersections (ls_fit_tangle); more than at the last check
+                                roll the fit back to it (ls_fit_rollback), remesh it to
+                                guard_remesh x its mean edge (when > 0) and multiply the
+                                learning rate by guard_lr */
+    ls_real guard_lr;
+    ls_real guard_remesh;
+} ls_job_schedule;
+
+/* The program's default schedule: 800 iterations, remeshes before 200 and
+ * 500 at the method's h = 1/2 the mean edge and lr x 0.8. */
+void ls_job_schedule_default(ls_job_schedule *s);
+
+/* The capacity of a job on schedule s from p->initial (fit.h), each field
+ * of `given` that is not 0 kept: vertices (V + 64) (1 / remesh_h^2)^remeshes
+ * x 2 (a remesh to h x the mean edge multiplies the vertices by about
+ * 1 / h^2: 3.5x measured on the bunny at h = 1/2; the remesher splits before
+ * it collapses), faces the most a
  * mesh of that many vertices with the initial mesh's Euler characteristic
  * has, and 6 log2(N) factor entries per vertex (AMD's fill per vertex: 16
  * on the 1.8k-vertex bunny, 46 on a 10k icosphere, 93 at 655k). Validates
  * the initial mesh in arena's scratch. */
-int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_capacity *given, ls_arena *arena,
+int ls_job_capacity(const ls_job_problem *p, const ls_job_schedule *s, const ls_fit_capacity *given, ls_arena *arena,
                     ls_fit_capacity *cap);
 
-/* Runs the fit from p->initial: `iterations` iterations (stopping early when
- * time_budget_ms > 0 is exceeded), remeshing before the listed iterations;
+/* Runs the fit from p->initial on schedule s;
  * progress: 0 none, 1 lines, 2 a line updated in place. With track_every > 0
  * and a target mesh, the dense distances to the target are measured every
  * track_every iterations and at the end (their time is not counted in the
@@ -88,9 +121,8 @@ int ls_job_capacity(const ls_job_problem *p, uint32_t remeshes, const ls_fit_cap
  * else (fields 0: ls_job_capacity's) the whole job in one block of
  * ls_fit_job_bytes from `arena` (ls_fit_init_job). The run's arrays and
  * result are left in the arena (roll back with a mark to reuse it). */
-int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, uint32_t iterations, double time_budget_ms,
-               const uint32_t *remesh_at, uint32_t remesh_count, int progress, uint32_t track_every,
-               const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r);
+int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_schedule *s, int progress,
+               uint32_t track_every, const ls_fit_capacity *capacity, ls_arena *arena, ls_job_run *r);
 
 /* Distances (both ways, vertex and dense samples) and tangling of a result
  * against the problem's target mesh. */

@@ -111,6 +111,9 @@ static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, con
     if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;
     if (c->power > 2u || !finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return LS_ERR_INVALID;
     if (c->aa > LS_REFINE_MAX || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)) return LS_ERR_INVALID;
+    if (c->guard > 1u) return LS_ERR_INVALID;
+    if (c->mean_mode > LS_FIT_MEAN_PROJECT || (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation))
+        return LS_ERR_INVALID;
     if (m->vertex_count == 0 || m->face_count == 0 || m->vertex_count > (UINT32_MAX - 3u) / 3u) return LS_ERR_INVALID;
     return LS_OK;
 }
@@ -166,6 +169,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_gimage */
     }
     ls_size_add(&s, 16u * (size_t)views, sizeof(ls_real)); /* mvp */
+    if (c->guard) ls_size_add(&s, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real)); /* saved */
     return ls_size_get(&s, bytes);
 }
 
@@ -211,6 +215,23 @@ static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t 
     ls_size_add(&snap, 3u * (size_t)n + 3u, sizeof(ls_real)); /* m2 */
     ls_size_max(&pass, &snap);
     ls_size_add_size(&s, &pass);
+    if (c->guard) { /* ls_fit_tangle: the positions, then the solve's warm start (CG) or the check */
+        ls_size check, warm;
+        ls_status st2 = ls_tangle_bytes(f, &e);
+        if (st2 != LS_OK) return st2;
+        ls_size_init(&check);
+        ls_size_add(&check, 3u * (size_t)n, sizeof(ls_real));
+        ls_size_init(&warm);
+        ls_size_add(&warm, e, 1);
+        if (c->solver == LS_PARAM_CG) {
+            ls_size cgw;
+            ls_size_init(&cgw);
+            ls_size_add(&cgw, 3u * (size_t)n, sizeof(ls_real));
+            ls_size_max(&warm, &cgw);
+        }
+        ls_size_add_size(&check, &warm);
+        ls_size_max(&s, &check);
+    }
     return ls_size_get(&s, bytes);
 }
 
@@ -329,6 +350,10 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
         if (fit->pair_gimage == NULL) return 0;
     }
     fit->mvp = (ls_real *)ls_arena_alloc(a, 16u * (size_t)fit->views.count, sizeof(ls_real));
+    if (fit->config.guard) {
+        fit->saved = (ls_real *)ls_arena_alloc(a, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real));
+        if (fit->saved == NULL) return 0;
+    }
     return fit->mvp != NULL;
 }
 
@@ -357,6 +382,8 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
     if (mem == NULL) return LS_ERR_NOMEM;
     fit->config = *config;
     fit->views = *views;
+    fit->saved = NULL;
+    fit->saved_valid = 0;
     fit->scale = scale;
     fit->radius = radius;
     n = initial->vertex_count;
@@ -525,6 +552,18 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
  * loss, dL/dx in fit->gx and the optimizer's gradient in fit->grad. Writes
  * only working arrays, the loss fields and the timing (the caller restores
  * those on failure). */
+/* g [3 n] loses its per-axis mean (sums in vertex order). */
+static void remove_mean(ls_real *g, uint32_t n)
+{
+    uint32_t i, k;
+    for (k = 0; k < 3; k++) {
+        ls_real s = (ls_real)0;
+        for (i = 0; i < n; i++) s += g[3u * i + k];
+        s /= (ls_real)n;
+        for (i = 0; i < n; i++) g[3u * i + k] -= s;
+    }
+}
+
 static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monitor, ls_diag *diag)
 {
     const ls_fit_config *c = &fit->config;
@@ -572,6 +611,7 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     t0 = now(monitor);
     if (c->method == LS_FIT_LARGE_STEPS) {
         st = ls_param_adjoint(&fit->param, fit->gx, fit->grad);
+        if (st == LS_OK && c->mean_mode == LS_FIT_MEAN_PROJECT) remove_mean(fit->grad, n);
     } else {
         memcpy(fit->grad, fit->gx, 3u * (size_t)n * sizeof(ls_real));
     }
@@ -700,6 +740,72 @@ static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
         for (i = 0; i < n; i++)
             for (k = 0; k < 3; k++) positions[3u * i + k] += fit->params[3u * n + k];
     }
+    return LS_OK;
+}
+
+ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_real *pos;
+    ls_mesh m;
+    ls_status st;
+    if (fit == NULL || out == NULL || fit->x == NULL || !fit->config.guard) return LS_ERR_INVALID;
+    mark = ls_arena_save(&fit->block);
+    pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
+    st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
+    if (st == LS_OK) {
+        m.positions = pos;
+        m.triangles = fit->triangles;
+        m.vertex_count = fit->vertex_count;
+        m.face_count = fit->face_count;
+        st = ls_tangle(&m, NULL, &fit->block, out, diag);
+    }
+    ls_arena_restore(&fit->block, mark);
+    return st;
+}
+
+/* The checkpoint's parts: params, m1, m2 (the optimizer's count each), x. */
+static void saved_parts(const ls_fit *fit, ls_real **parts)
+{
+    const size_t count = fit->optim.count;
+    parts[0] = fit->saved;
+    parts[1] = parts[0] + count;
+    parts[2] = parts[1] + count;
+    parts[3] = parts[2] + count;
+}
+
+ls_status ls_fit_save(ls_fit *fit)
+{
+    ls_real *p[4];
+    size_t count;
+    if (fit == NULL || fit->saved == NULL) return LS_ERR_INVALID;
+    count = fit->optim.count;
+    saved_parts(fit, p);
+    memcpy(p[0], fit->params, count * sizeof(ls_real));
+    memcpy(p[1], fit->optim.m1, count * sizeof(ls_real));
+    memcpy(p[2], fit->optim.m2, count * sizeof(ls_real));
+    memcpy(p[3], fit->x, 3u * (size_t)fit->vertex_count * sizeof(ls_real));
+    memcpy(fit->saved_last_scale, fit->optim.last_scale, sizeof fit->saved_last_scale);
+    fit->saved_step = fit->optim.step;
+    fit->saved_iteration = fit->iteration;
+    fit->saved_valid = 1;
+    return LS_OK;
+}
+
+ls_status ls_fit_rollback(ls_fit *fit)
+{
+    ls_real *p[4];
+    size_t count;
+    if (fit == NULL || fit->saved == NULL || !fit->saved_valid) return LS_ERR_INVALID;
+    count = fit->optim.count;
+    saved_parts(fit, p);
+    memcpy(fit->params, p[0], count * sizeof(ls_real));
+    memcpy(fit->optim.m1, p[1], count * sizeof(ls_real));
+    memcpy(fit->optim.m2, p[2], count * sizeof(ls_real));
+    memcpy(fit->x, p[3], 3u * (size_t)fit->vertex_count * sizeof(ls_real));
+    memcpy(fit->optim.last_scale, fit->saved_last_scale, sizeof fit->saved_last_scale);
+    fit->optim.step = fit->saved_step;
+    fit->iteration = fit->saved_iteration;
     return LS_OK;
 }
 
