@@ -362,6 +362,65 @@ static void fit_guard_rolls_back_and_counts(void)
     CHECK_STATUS(ls_fit_rollback(&fit), LS_ERR_INVALID);
 }
 
+/* With the guard, a remesh whose result self-intersects more than the mesh
+ * is refused and changes nothing; without it the same remesh is taken. The
+ * case: a sphere flattened to a pancake 0.002 thick (level 2, x widened by
+ * 1 + 0.3 y^2), remeshed at
+ * its mean edge, which folds its two sides through each other: the refused
+ * result's count (diag->value) is ls_tangle's on ls_remesh's own result. */
+static void fit_guard_refuses_a_tangling_remesh(void)
+{
+    ls_arena arena, other;
+    ls_fit_config c;
+    ls_fit_views views;
+    ls_fit fit;
+    ls_mesh init, cur, out;
+    ls_diag d;
+    ls_remesh_params rp;
+    ls_tangle_report t;
+    ls_real *pos, mean;
+    uint64_t h;
+    uint32_t i, n, g;
+    for (g = 1; g <= 2; g++) { /* guard on, then off */
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES / 2) == LS_OK);
+        REQUIRE(ls_arena_init(&other, buf + BUF_BYTES / 2, BUF_BYTES / 2) == LS_OK);
+        REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
+        for (i = 0; i < init.vertex_count; i++) {
+            ls_real y = init.positions[3u * i + 1u];
+            init.positions[3u * i + 2u] *= (ls_real)0.002;
+            init.positions[3u * i] *= (ls_real)1 + (ls_real)0.3 * y * y;
+        }
+        config_for(&c, LS_FIT_LARGE_STEPS);
+        c.guard = g == 1;
+        views.count = NV;
+        views.mvp = &mvps[0][0];
+        views.targets = (const ls_real *const *)targets;
+        REQUIRE(ls_fit_init(&fit, &c, &views, &init, &arena, &d) == LS_OK);
+        n = fit.vertex_count;
+        h = test_hash_reals(fit.params, 3u * n + 3u, TEST_HASH_SEED);
+        if (g == 2) {
+            CHECK_STATUS(ls_fit_remesh(&fit, &arena, (ls_real)1, (ls_real)1, NULL, &d), LS_OK);
+            continue;
+        }
+        /* the remesher's own result, counted here */
+        pos = (ls_real *)ls_arena_alloc(&other, 3u * n, sizeof(ls_real));
+        REQUIRE(pos != NULL && ls_fit_mesh(&fit, pos, &cur) == LS_OK);
+        REQUIRE(ls_remesh_mean_edge(&cur, &mean) == LS_OK);
+        ls_remesh_params_default(&rp, mean);
+        REQUIRE(ls_remesh(&cur, &rp, &other, &out, NULL, &d) == LS_OK);
+        REQUIRE(ls_tangle(&out, NULL, &other, &t, &d) == LS_OK);
+        CHECK_STATUS(ls_fit_remesh(&fit, &arena, (ls_real)1, (ls_real)1, NULL, &d), LS_ERR_MESH);
+        printf("     pancake remeshed at its mean edge: %u self-intersecting pairs (ls_tangle: %u): refused\n",
+               (unsigned)d.value, (unsigned)t.intersecting_pairs);
+        CHECK(t.intersecting_pairs > 0);
+        CHECK(d.has_value && (uint32_t)d.value == t.intersecting_pairs);
+        CHECK_EQ(fit.vertex_count, n);
+        CHECK(h == test_hash_reals(fit.params, 3u * n + 3u, TEST_HASH_SEED));
+        CHECK_EQ(fit.remeshes, 0);
+        REQUIRE(ls_fit_step(&fit, NULL, &d) == LS_OK); /* the fit goes on */
+    }
+}
+
 /* LS_FIT_MEAN_PROJECT: the step of u has no mean on any axis (the
  * translation block moves the mesh as a whole); it needs that block. */
 static void fit_mean_mode_projects(void)
@@ -473,6 +532,7 @@ int main(void)
     TEST_RUN(fit_rejects_bad_input);
     TEST_RUN(fit_remesh_in_the_loop);
     TEST_RUN(fit_guard_rolls_back_and_counts);
+    TEST_RUN(fit_guard_refuses_a_tangling_remesh);
     TEST_RUN(fit_mean_mode_projects);
     TEST_RUN(fit_memory_query_is_exact);
     for (v = 0; v < NV; v++) free(targets[v]);

@@ -302,7 +302,7 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
  * failure for lack of memory (LS_ERR_NOMEM, arena->need set) or a rejected
  * mesh leaves the fit and the arena as they were. *info (optional) receives
  * the remesher's counts. Errors: LS_ERR_INVALID (NULL, factors not in
- * (0, 1] / (0, inf), the fit not last in the arena), the remesher's, and
+ * (0, 2] / (0, inf), the fit not last in the arena), the remesher's, and
  * those of ls_fit_init; only an error of the final rebuild (not expected once
  * the checks passed) leaves the fit zeroed.
  * A fit from ls_fit_init_job remeshes inside its reservation (`arena` is
@@ -317,6 +317,9 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
  * byte for byte (its struct and its part of the reservation; only the
  * solver's workspace holds the sums of the remesh's x = M^-1 u, as after
  * ls_fit_mesh), and the run can go on. */
+/* With config.guard, a remeshed mesh with more self-intersecting face pairs
+ * than the current one (ls_tangle, both counted) is refused: LS_ERR_MESH,
+ * diag->value = its pairs, the fit as before; another h may do. */
 ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
                         ls_diag *diag);
 

@@ -347,7 +347,8 @@ static int write_json(FILE *f, void *ctx)
     fprintf(f, ",\n  \"iterations\": %u, \"remeshes\": %u, \"vertices\": %u, \"faces\": %u,\n",
             (unsigned)j->r->iterations, (unsigned)j->r->remeshes, (unsigned)j->r->result.vertex_count,
             (unsigned)j->r->result.face_count);
-    fprintf(f, "  \"rollbacks\": %u,\n", (unsigned)j->r->rollbacks);
+    fprintf(f, "  \"rollbacks\": %u, \"remeshes_refused\": %u,\n", (unsigned)j->r->rollbacks,
+            (unsigned)j->r->remeshes_refused);
     fprintf(f, "  \"final_loss\": %.9g,\n", j->r->iterations > 0 ? (double)j->r->loss[j->r->iterations - 1] : 0.0);
     fprintf(f, "  \"ms_per_iteration\": {\"total\": %.4f, \"render\": %.4f, \"shading_backward\": %.4f, "
                "\"silhouettes\": %.4f, \"solves\": %.4f, \"optimizer\": %.4f},\n",

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <math.h>
 #include "ls_posix.h"
 #include "fit_job.h"
 
@@ -382,6 +383,28 @@ static int capacity_fail(const char *what, ls_status st, const ls_diag *d)
     return 0;
 }
 
+/* ls_fit_remesh at h, and where the guard refuses the result for new
+ * self-intersections (LS_ERR_MESH), once more at another h (5/4 h, or 3/4 h
+ * from h = 0.8 up); a second refusal, or a second result beyond the job's
+ * capacity, keeps the mesh as it is (*done = 0). */
+static ls_status guarded_remesh(ls_fit *fit, ls_arena *arena, ls_real h, ls_real lr_factor, ls_remesh_info *ri,
+                                int *done, ls_diag *d)
+{
+    ls_status st = ls_fit_remesh(fit, arena, h, lr_factor, ri, d);
+    *done = st == LS_OK;
+    if (st == LS_ERR_TOO_LARGE && fit->config.guard) { /* the fit is as before: go on without this remesh */
+        fprintf(stderr, "largesteps: a remesh before iteration %u would exceed the job's capacity (%s); the fit goes "
+                        "on with its mesh (--max-vertices raises it)\n", (unsigned)fit->iteration, d->what);
+        return LS_OK;
+    }
+    if (st == LS_ERR_MESH && fit->config.guard) {
+        st = ls_fit_remesh(fit, arena, h < (ls_real)0.8 ? h * (ls_real)1.25 : h * (ls_real)0.75, lr_factor, ri, d);
+        *done = st == LS_OK;
+        if (st == LS_ERR_MESH || st == LS_ERR_TOO_LARGE) st = LS_OK;
+    }
+    return st;
+}
+
 /* Self-intersecting pairs of the fit's current mesh (ls_fit_tangle). */
 static int fit_pairs(ls_fit *fit, uint32_t *pairs)
 {
@@ -427,6 +450,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     ls_real *pos;
     uint32_t it, next = 0;
     uint32_t saved_pairs = 0;
+    uint32_t ref_vertices; /* of the mesh after the last scheduled remesh (or the initial mesh) */
     double t0;
     ls_status st;
     memset(r, 0, sizeof *r);
@@ -461,6 +485,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     st = capacity != NULL ? ls_fit_init_job(&fit, &c, &fv, &p->initial, &r->capacity, &fit_arena, &d)
                           : ls_fit_init(&fit, &c, &fv, &p->initial, arena, &d);
     if (st != LS_OK) return capacity_fail("setting up the fit", st, &d);
+    ref_vertices = fit.vertex_count;
     r->setup_ms = ls_job_now_ms() - t0;
     r->fit_bytes = fit.block.capacity;
     r->peak_used = fit.block.capacity;
@@ -474,8 +499,14 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             uint32_t before = fit.vertex_count;
             size_t held = fit.block.capacity;
             if (capacity != NULL) ls_arena_reset_peak(&fit.job);
-            st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &d);
+            int done;
+            st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &done, &d);
             if (st != LS_OK) return capacity_fail("remeshing", st, &d);
+            if (done) ref_vertices = fit.vertex_count;
+            if (!done) {
+                fit.optim.config.lr *= s->remesh_lr;
+                r->remeshes_refused++;
+            }
             next++;
             if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
             /* the old fit and the remesher's work at once */
@@ -500,9 +531,19 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                 (void)ls_fit_rollback(&fit);
                 r->rollbacks++;
                 if (s->guard_remesh > 0) {
+                    /* back to the vertex count of the last scheduled remesh (remeshes at the current
+                       mean edge would creep finer, one after the other): h ~ sqrt(V / V0) */
                     ls_remesh_info ri;
-                    st = ls_fit_remesh(&fit, capacity != NULL ? NULL : arena, s->guard_remesh, (ls_real)1, &ri, &d);
+                    ls_real h = s->guard_remesh * (ls_real)sqrt((double)fit.vertex_count / (double)ref_vertices);
+                    int done;
+                    if (h > (ls_real)1.5) h = (ls_real)1.5;
+                    if (h < (ls_real)0.7) h = (ls_real)0.7;
+                    st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, h, (ls_real)1, &ri, &done, &d);
                     if (st != LS_OK) return capacity_fail("remeshing after a roll-back", st, &d);
+                    if (!done) r->remeshes_refused++;
+                    /* the new mesh is the checkpoint, before the first step of the reset optimizer */
+                    if (done && !fit_pairs(&fit, &saved_pairs)) return 0;
+                    if (done) (void)ls_fit_save(&fit);
                 }
                 fit.optim.config.lr *= s->guard_lr;
                 if (progress)

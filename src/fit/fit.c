@@ -852,6 +852,17 @@ static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, u
         params.vertex_cap = vertex_cap;
         st = ls_remesh(&cur, &params, work, out, info, diag);
     }
+    if (st == LS_OK && fit->config.guard) { /* no new self-intersections */
+        ls_tangle_report was, now;
+        st = ls_tangle(&cur, NULL, work, &was, diag);
+        if (st == LS_OK) st = ls_tangle(out, NULL, work, &now, diag);
+        if (st == LS_OK && now.intersecting_pairs > was.intersecting_pairs) {
+            diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
+                     fit->iteration);
+            if (diag != NULL) diag->value = (ls_real)now.intersecting_pairs, diag->has_value = 1;
+            st = LS_ERR_MESH;
+        }
+    }
     if (st != LS_OK) return st;
     /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
     for (i = 0; i < 3u * (size_t)out->vertex_count; i++) out->positions[i] *= fit->scale;
@@ -894,7 +905,7 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
     ls_mesh out, copy;
     size_t start, new_bytes, copy_bytes;
     ls_status st;
-    if (fit == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)1) ||
+    if (fit == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2) ||
         !(lr_factor > (ls_real)0) || !finite_r(lr_factor))
         return LS_ERR_INVALID;
     if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
@@ -1045,7 +1056,18 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     ls_size_add(&rm, rb, 1);
     ls_size_init(&after);
     ls_size_add(&after, ob, 1);
-    ls_size_add_size(&after, &measure);
+    if (c->guard) { /* the result's self-intersection check (the larger mesh's) or the measurement */
+        ls_size check;
+        size_t tb = 0;
+        st = ls_tangle_bytes(f, &tb);
+        if (st != LS_OK) return st;
+        ls_size_init(&check);
+        ls_size_add(&check, tb, 1);
+        ls_size_max(&check, &measure);
+        ls_size_add_size(&after, &check);
+    } else {
+        ls_size_add_size(&after, &measure);
+    }
     ls_size_max(&rm, &after);
     ls_size_init(&work);
     ls_size_add(&work, 3u * (size_t)n, sizeof(ls_real));
