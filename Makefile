@@ -140,11 +140,28 @@ STACK_LIMIT ?= 1024
 
 WARN := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wconversion -Wdouble-promotion \
         -Wstrict-prototypes -Wmissing-prototypes -Wvla -Wcast-align
-OPT  := -O2 -ffp-contract=off -fno-fast-math
+# OPT may be set (make OPT="-O3 -march=native"); the flags that keep the bits,
+# -ffp-contract=off and -fno-fast-math, are added after it whatever it says,
+# and the flags that would change them are refused.
+ifneq ($(origin OPT),command line)
+OPT  := -O2
+endif
+FPFLAGS := -ffp-contract=off -fno-fast-math
+NO_BITS := $(filter -ffast-math -Ofast -ffp-contract=fast -ffp-contract=on -funsafe-math-optimizations \
+             -fassociative-math -freciprocal-math -ffinite-math-only,$(OPT) $(ARCHFLAGS))
+ifneq ($(NO_BITS),)
+$(error $(NO_BITS) would make results depend on the build: largesteps keeps the same bits only with -ffp-contract=off and no fast-math; drop it from OPT / ARCHFLAGS)
+endif
 ifeq ($(CC_IS_CLANG),1)
 STACKWARN := -Wframe-larger-than=$(STACK_LIMIT)
 else
 STACKWARN := -Wstack-usage=$(STACK_LIMIT)
+endif
+# The per-function stack limit is the project's for its own builds (-O2, and
+# -Os on the MCU); a build with other optimization flags (-O0's unshared
+# slots, -O3's and AVX-512's spills) reports larger frames as warnings.
+ifeq ($(origin OPT),command line)
+STACKWARN += -Wno-error=$(if $(filter 1,$(CC_IS_CLANG)),frame-larger-than,stack-usage=)
 endif
 ifeq ($(CC_IS_GCC),1)
 CALLGRAPH := -fcallgraph-info=su
@@ -157,7 +174,7 @@ CALLGRAPH += -maccumulate-outgoing-args
 endif
 endif
 ifeq ($(SAN),1)
-OPT       := -O1 -g -fno-omit-frame-pointer -ffp-contract=off -fno-fast-math \
+OPT       := -O1 -g -fno-omit-frame-pointer \
              -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all
 STACKWARN :=
 CALLGRAPH :=
@@ -165,11 +182,11 @@ LDSAN     := -fsanitize=address,undefined,float-cast-overflow
 endif
 
 INCLUDES := -Iinclude -I$(BUILD)/include
-CFLAGS_LIB   := $(WARN) $(STACKWARN) $(OPT) $(ARCHFLAGS) $(INCLUDES)
+CFLAGS_LIB   := $(WARN) $(STACKWARN) $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES)
 # Tests and the port print doubles with printf: -Wdouble-promotion does not apply there.
-CFLAGS_TEST  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wvla $(OPT) $(ARCHFLAGS) $(INCLUDES) -Itests
+CFLAGS_TEST  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) -Itests
 CFLAGS_PORT  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wconversion -Wstrict-prototypes \
-                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(INCLUDES) -I$(PORT_DIR)
+                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) -I$(PORT_DIR)
 LDLIBS       := -lm
 LDFLAGS      := $(ARCHFLAGS) $(LDSAN)
 ifeq ($(HOSTED),0)

@@ -51,6 +51,24 @@ typedef double ls_real;
 #error "largesteps needs FLT_EVAL_METHOD == 0 (i686: -msse2 -mfpmath=sse; s390x: -fexcess-precision=fast)"
 #endif
 
+/* No fast-math: it lets the compiler reassociate and contract, and the bits
+ * would depend on the build. (-ffp-contract=fast has no macro to test: the
+ * Makefile refuses it.) */
+#if defined(__FAST_MATH__)
+#error "largesteps must not be built with -ffast-math or -Ofast: results would depend on the build"
+#endif
+
+/* GCC's vectorizers turn lane pairs a*c - b*d, a*d + b*c (a complex product)
+ * into fused vfmaddsub / vfmsubadd when the target has FMA (-march=haswell,
+ * x86-64-v3, native), even under -ffp-contract=off. The functions with such
+ * pairs carry LS_NO_VECTORIZE, which turns GCC's vectorizers off for them
+ * alone (the library's, for its own use). */
+#if defined(__GNUC__) && !defined(__clang__) && !defined(LS_TEST_VECTORIZE_ALL) /* the test's planted failure */
+#define LS_NO_VECTORIZE __attribute__((optimize("no-tree-vectorize")))
+#else
+#define LS_NO_VECTORIZE
+#endif
+
 /* Status codes are plain int32_t so that they can live in structs whose layout
  * must not depend on the compiler's enum size (arm-none-eabi uses short enums). */
 typedef int32_t ls_status;

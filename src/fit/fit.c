@@ -853,13 +853,13 @@ static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, u
         st = ls_remesh(&cur, &params, work, out, info, diag);
     }
     if (st == LS_OK && fit->config.guard) { /* no new self-intersections */
-        ls_tangle_report was, now;
-        st = ls_tangle(&cur, NULL, work, &was, diag);
-        if (st == LS_OK) st = ls_tangle(out, NULL, work, &now, diag);
-        if (st == LS_OK && now.intersecting_pairs > was.intersecting_pairs) {
+        ls_tangle_report before, after;
+        st = ls_tangle(&cur, NULL, work, &before, diag);
+        if (st == LS_OK) st = ls_tangle(out, NULL, work, &after, diag);
+        if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
             diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
                      fit->iteration);
-            if (diag != NULL) diag->value = (ls_real)now.intersecting_pairs, diag->has_value = 1;
+            if (diag != NULL) diag->value = (ls_real)after.intersecting_pairs, diag->has_value = 1;
             st = LS_ERR_MESH;
         }
     }

@@ -144,7 +144,7 @@ ls_status ls_pnm_decode_(const unsigned char *d, size_t n, const ls_image_info *
         float *out = image->pixels + 4u * (size_t)iy * w;
         for (x = 0; x < w; x++, out += 4) {
             float v[3] = {0.0f, 0.0f, 0.0f};
-            for (k = 0; k < c; k++, p += sb) {
+            for (k = 0; k < c && k < 3u; k++, p += sb) { /* c <= 3: the header's check, spelled for the compiler */
                 if (info->format.type == LS_IMAGE_PFM) {
                     uint32_t u = info->format.big_endian
                                      ? ((uint32_t)p[0] << 24) | ((uint32_t)p[1] << 16) | ((uint32_t)p[2] << 8) | p[3]

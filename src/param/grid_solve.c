@@ -113,7 +113,7 @@ ls_status ls_grid_solver_bytes(uint32_t width, uint32_t height, uint32_t wrap, u
 /* Two radix-2 stages at once (butterfly lengths len and 2 len) on the
  * bit-reversed array: groups of four points, half the passes over z.
  * sgn = 1 forward, -1 inverse (conjugate twiddles). */
-static void stage_pair(const ls_real *tw, size_t p, ls_real *z, size_t len, ls_real sgn)
+LS_NO_VECTORIZE static void stage_pair(const ls_real *tw, size_t p, ls_real *z, size_t len, ls_real sgn)
 {
     size_t h = len >> 1, s1 = p / len, s2 = s1 >> 1, base, j;
     for (base = 0; base < p; base += 2u * len)
@@ -145,7 +145,7 @@ static void stage_pair(const ls_real *tw, size_t p, ls_real *z, size_t len, ls_r
  * sign -1 in the exponent (forward), +1 when inverse (no 1/p). Bit
  * reversal, one plain radix-2 stage when log2 p is odd, then pairs of
  * stages. */
-static void radix2(const ls_real *tw, size_t p, ls_real *z, int inverse)
+LS_NO_VECTORIZE static void radix2(const ls_real *tw, size_t p, ls_real *z, int inverse)
 {
     size_t i, j, len = 2u, logp = 0;
     ls_real sgn = inverse ? (ls_real)-1 : (ls_real)1;
@@ -186,7 +186,7 @@ static void cmul(ls_real a, ls_real b, ls_real c, ls_real d, ls_real *out)
  * (e^{+...}, no 1/n). Bluestein: X_k = c_k sum_j (x_j c_j) conj(c_{k-j}),
  * c_j = e^{-i pi j^2 / n}, the sum a cyclic convolution of length p; the
  * inverse is the conjugate of the forward transform of the conjugate. */
-static void dft(const ls_grid_fft *f, ls_real *z, ls_real *work, int inverse)
+LS_NO_VECTORIZE static void dft(const ls_grid_fft *f, ls_real *z, ls_real *work, int inverse)
 {
     size_t j, n = f->n, p = f->p;
     ls_real sg = inverse ? (ls_real)-1 : (ls_real)1, t[2];
@@ -360,7 +360,7 @@ static void forward_pair(const ls_grid_fft *f, ls_real *z, ls_real *work, ls_rea
  * line's spectrum (cosine: V_i = conj(post_i) (C_i - i C_{n-i}), C_n = 0;
  * Fourier: the Hermitian extension of the packed values), one inverse FFT,
  * the real part to a and the imaginary part to b. */
-static void inverse_pair(const ls_grid_fft *f, ls_real *z, ls_real *work, ls_real *a, ls_real *b, size_t es)
+LS_NO_VECTORIZE static void inverse_pair(const ls_grid_fft *f, ls_real *z, ls_real *work, ls_real *a, ls_real *b, size_t es)
 {
     size_t i, n = f->n;
     const ls_real zero = (ls_real)0;

@@ -262,7 +262,7 @@ static BWD_INLINE void sample_positions(ls_real *gp, const uint32_t *f, const ls
 }
 
 /* One covered sample at NDC (px, py) of triangle f, g = dL/d(sample rgb). */
-static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
+LS_NO_VECTORIZE static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_real py, const ls_real g[3])
 {
     ls_real u[3], v[3], b[3], gb[3], mx[3], my[3], inv;
     if (!sample_bary(bc->vis->clip, f, px, py, u, v, b, &inv)) return; /* no gradient */
@@ -277,7 +277,7 @@ static void sample_backward(const bctx *bc, const uint32_t *f, ls_real px, ls_re
 /* ls_shade_backward_pixels for plain SH shading (bc->sh_plain) at one
  * sample per pixel, the fit's case: sample_backward's arithmetic inlined
  * into the pixel loop, the row's my once per row. */
-LS_NOINLINE static void pixels_sh_plain(const bctx *bc, uint32_t triangle_count, const ls_real *grad_image,
+LS_NO_VECTORIZE LS_NOINLINE static void pixels_sh_plain(const bctx *bc, uint32_t triangle_count, const ls_real *grad_image,
                                         const uint8_t *skip)
 {
     const ls_vis *vis = bc->vis;
