@@ -279,7 +279,7 @@ static void fill_big(fill_kind how)
  * u = LS_REAL_EPSILON / 2, for a w x h x nv set taken from big_r / big_t. */
 static double loss_error_u(unsigned kind, uint32_t w, uint32_t h, uint32_t nv)
 {
-    const ls_real *pr[AV], *pt[AV];
+    const ls_real *pr[AV] = {NULL}, *pt[AV] = {NULL}; /* all set below; gcc -O1 cannot tell */
     ls_real loss = 0;
     double want;
     uint32_t v;

@@ -260,7 +260,7 @@ static void single_triangles_match_float64(void)
                 size_t s = (size_t)j * sw + (size_t)i;
                 long long px = i * 256 + 128, py = j * 256 + 128;
                 int want = ref_covers(qx, qy, px, py);
-                double b[3], zr, wr;
+                double b[3], zr = 0, wr = 0; /* set where covered; gcc -O1 cannot tell */
                 if (want) {
                     double fx = 2.0 * (i + 0.5) / sw - 1.0, fy = 1.0 - 2.0 * (j + 0.5) / sh;
                     ref_bary(clip, fx, fy, b);

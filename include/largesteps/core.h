@@ -58,6 +58,15 @@ typedef double ls_real;
 #error "largesteps must not be built with -ffast-math or -Ofast: results would depend on the build"
 #endif
 
+/* LS_NOINLINE keeps the frames of big helpers apart (the per-function stack
+ * limit and the call chains' budget hold on every target: s390x's frames are
+ * largest). The library's, for its own use. */
+#if defined(__GNUC__) || defined(__clang__)
+#define LS_NOINLINE __attribute__((noinline))
+#else
+#define LS_NOINLINE
+#endif
+
 /* GCC's vectorizers turn lane pairs a*c - b*d, a*d + b*c (a complex product)
  * into fused vfmaddsub / vfmsubadd when the target has FMA (-march=haswell,
  * x86-64-v3, native), even under -ffp-contract=off. The functions with such

@@ -824,6 +824,24 @@ ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
     return LS_OK;
 }
 
+/* The guard's check of a remesh: LS_ERR_MESH when `out` self-intersects
+ * more than `cur` (scratch of `work` only). Its own frame: the remesher's
+ * call chain does not carry the two reports. */
+LS_NOINLINE static ls_status no_new_tangles(const ls_fit *fit, const ls_mesh *cur, const ls_mesh *out, ls_arena *work,
+                                            ls_diag *diag)
+{
+    ls_tangle_report before, after;
+    ls_status st = ls_tangle(cur, NULL, work, &before, diag);
+    if (st == LS_OK) st = ls_tangle(out, NULL, work, &after, diag);
+    if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
+        diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
+                 fit->iteration);
+        if (diag != NULL) diag->value = (ls_real)after.intersecting_pairs, diag->has_value = 1;
+        st = LS_ERR_MESH;
+    }
+    return st;
+}
+
 /* The current mesh remeshed to h_factor x its mean edge (ls_fit_remesh's
  * first half) into *out at the bottom of `work`, in caller units (the
  * frame's positions times S: exact), from positions in work's scratch;
@@ -852,17 +870,7 @@ static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, u
         params.vertex_cap = vertex_cap;
         st = ls_remesh(&cur, &params, work, out, info, diag);
     }
-    if (st == LS_OK && fit->config.guard) { /* no new self-intersections */
-        ls_tangle_report before, after;
-        st = ls_tangle(&cur, NULL, work, &before, diag);
-        if (st == LS_OK) st = ls_tangle(out, NULL, work, &after, diag);
-        if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
-            diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
-                     fit->iteration);
-            if (diag != NULL) diag->value = (ls_real)after.intersecting_pairs, diag->has_value = 1;
-            st = LS_ERR_MESH;
-        }
-    }
+    if (st == LS_OK && fit->config.guard) st = no_new_tangles(fit, &cur, out, work, diag);
     if (st != LS_OK) return st;
     /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
     for (i = 0; i < 3u * (size_t)out->vertex_count; i++) out->positions[i] *= fit->scale;

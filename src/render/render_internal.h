@@ -3,14 +3,6 @@
 #ifndef LS_RENDER_INTERNAL_H
 #define LS_RENDER_INTERNAL_H
 
-/* Keeps the frames of big helpers apart (the per-function stack limit,
- * -Wstack-usage=1024, holds on every target: s390x's frames are largest). */
-#if defined(__GNUC__) || defined(__clang__)
-#define LS_NOINLINE __attribute__((noinline))
-#else
-#define LS_NOINLINE
-#endif
-
 /* The same-bits fast paths that duplicate a general path for the fit's
  * common case (plain SH shading at one sample per pixel): left out where code
  * size counts more than speed (-Os: the Cortex-M4 build), where the general
