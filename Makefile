@@ -384,8 +384,9 @@ bench: all $(BUILD)/bench/bench_gradient
 
 # The fit suite (tests/bench/fit_suite.txt): `largesteps fit` with default
 # options on every target and 5 runs each with the learning rate moved in the
-# 6th digit; table in $(BUILD)/bench/fit_suite.md. CGAL's meshes come from
-# Debian's libcgal-demo; about 25 minutes on two cores.
+# 6th digit; table in $(BUILD)/bench/fit_suite.md. Bench-only packages:
+# libcgal-demo (CGAL's meshes) and time (GNU time: peak memory); about 25
+# minutes on two cores.
 bench-fit: all
 	BUILD=$(BUILD) sh tests/bench/fit_suite.sh
 

