@@ -185,8 +185,12 @@ INCLUDES := -Iinclude -I$(BUILD)/include
 CFLAGS_LIB   := $(WARN) $(STACKWARN) $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES)
 # Tests and the port print doubles with printf: -Wdouble-promotion does not apply there.
 CFLAGS_TEST  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) -Itests
+# port/posix: the platform layer (files, clock) at the top, the command-line
+# program in program/, the paper's experiments and the trade study in
+# experiments/. The bare-metal port is one folder.
+PORT_DIRS := $(PORT_DIR) $(wildcard $(PORT_DIR)/program $(PORT_DIR)/experiments)
 CFLAGS_PORT  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wconversion -Wstrict-prototypes \
-                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) -I$(PORT_DIR)
+                -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) $(PORT_DIRS:%=-I%)
 LDLIBS       := -lm
 LDFLAGS      := $(ARCHFLAGS) $(LDSAN)
 ifeq ($(HOSTED),0)
@@ -203,7 +207,7 @@ LAYERS   := base sparse geometry param render io fit
 LIB_SRC  := $(foreach l,$(LAYERS),$(sort $(wildcard src/$(l)/*.c)))
 LIB_OBJ  := $(addprefix $(BUILD)/obj/src/,$(notdir $(LIB_SRC:.c=.o)))
 vpath %.c $(LAYERS:%=src/%)
-PORT_SRC := $(filter-out $(PORT_DIR)/main.c,$(sort $(wildcard $(PORT_DIR)/*.c)))
+PORT_SRC := $(filter-out $(PORT_DIR)/program/main.c,$(sort $(foreach d,$(PORT_DIRS),$(wildcard $(d)/*.c))))
 PORT_OBJ := $(PORT_SRC:$(PORT_DIR)/%.c=$(BUILD)/obj/port/%.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
@@ -277,7 +281,7 @@ $(EMBED_C): fixtures/meshes/bunny.obj
 	  printf '%s\n' '};' 'const size_t ls_embedded_bunny_obj_size = sizeof ls_embedded_bunny_obj;'; } > $@.tmp
 	@mv $@.tmp $@
 
-$(CLI): port/posix/main.c $(EMBED_C) $(PORTLIB) $(LIB) $(CONFIG_H)
+$(CLI): port/posix/program/main.c $(EMBED_C) $(PORTLIB) $(LIB) $(CONFIG_H)
 	$(CC) $(CFLAGS_PORT) $< $(EMBED_C) $(PORTLIB) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 # The port's objects are linked as objects, not from the archive: on bare
