@@ -384,6 +384,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_distance.sh
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 	BUILD=$(BUILD) sh tests/bench/run_fit.sh
+	BUILD=$(BUILD) REAL=$(REAL) sh tests/bench/fast_paths.sh
 
 
 # The fit suite (tests/bench/fit_suite.txt): `largesteps fit` with default
@@ -394,34 +395,33 @@ bench: all $(BUILD)/bench/bench_gradient
 bench-fit: all
 	BUILD=$(BUILD) sh tests/bench/fit_suite.sh
 
-# The Cortex-M4 part of the trade study (tests/bench/m4_tradeoffs.c), built
-# with TARGET=cortex-m4 and run by `make tradeoffs` under QEMU with -icount.
-$(BUILD)/bench/m4_tradeoffs: tests/bench/m4_tradeoffs.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+# Every benchmark program tests/bench/NAME.c is built by this one rule as
+# $(BUILD)/bench/NAME (the scripts in tests/bench/ and `make bench` ask for
+# them by name): bench_silhouette MESH TARGET RES VIEWS REPEAT, bench_refine
+# MESH [RES [VIEWS [REPS]]], bench_loss [RES [VIEWS [REPEAT]]], bench_gradient
+# (table in $(BUILD)/bench/gradient.md), bench_ldlt, bench_param, bench_grid,
+# bench_distance, bench_remesh; m4_tradeoffs with TARGET=cortex-m4 (`make
+# tradeoffs` runs it under QEMU with -icount).
+$(BUILD)/bench/%: tests/bench/%.c $(PORT_LINK) $(LIB) $(CONFIG_H)
 	@mkdir -p $(@D)
 	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
-# The silhouette pass alone on a saved mesh (tests/bench/bench_silhouette.c):
-# $(BUILD)/bench/bench_silhouette MESH TARGET RES VIEWS REPEAT.
-$(BUILD)/bench/bench_silhouette: tests/bench/bench_silhouette.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+# The peers the benchmarks measure against, from the bench-only packages.
+$(BUILD)/bench/peer_cholmod: tests/bench/peer_cholmod.c
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
-
-# Adaptive supersampling of silhouette pixels (tests/bench/bench_refine.c):
-# $(BUILD)/bench/bench_refine MESH [RES [VIEWS [REPS]]].
-$(BUILD)/bench/bench_refine: tests/bench/bench_refine.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	$(CC) -O2 -std=c99 -I/usr/include/suitesparse $< -lcholmod -lm -o $@
+$(BUILD)/bench/peer_eigen: tests/bench/peer_eigen.cpp
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
-
-# The image loss alone (tests/bench/bench_loss.c):
-# $(BUILD)/bench/bench_loss [RES [VIEWS [REPEAT]]].
-$(BUILD)/bench/bench_loss: tests/bench/bench_loss.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	$(CXX) -O2 -I/usr/include/eigen3 -Itests/bench $< -o $@
+$(BUILD)/bench/peer_cgal_distance: tests/bench/peer_cgal_distance.cpp
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
-
-# Differentiable rendering per view (tests/bench/bench_gradient.c; table in $(BUILD)/bench/gradient.md).
-$(BUILD)/bench/bench_gradient: tests/bench/bench_gradient.c $(PORT_LINK) $(LIB) $(CONFIG_H)
+	$(CXX) -O2 -DNDEBUG $< -o $@
+$(BUILD)/bench/cgal_remesh: tests/peers/cgal_remesh.cpp
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS_TEST) -I$(PORT_DIR) $< $(PORT_LINK) $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	$(CXX) -O2 -std=c++17 $< -lgmp -lmpfr -o $@
+$(BUILD)/bench/osmesa_bench: tests/tools/osmesa_peer.c $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Werror $(INCLUDES) $< $(LIB) -lOSMesa -lGLU -lm -o $@
 
 install: $(LIB) $(CONFIG_H)
 	@mkdir -p $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/$(VARIANT_NAME)/largesteps

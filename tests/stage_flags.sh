@@ -2,7 +2,7 @@
 # stage_flags.sh - the same bits under the build flags users choose (a stage of
 # `make test`): the library and the digest program built with gcc and clang at
 # -O0, -Os (the plain paths: LS_FAST_PATHS is 0 when optimizing for size, as
-# on the MCU), -O3 and -O2 -march=x86-64-v3 (AVX2 and FMA: the vectorizers'
+# on the MCU; also at -O2 with -DLS_FAST_PATHS=0, with the gradient tests), -O3 and -O2 -march=x86-64-v3 (AVX2 and FMA: the vectorizers'
 # fused multiply-adds), in double and float, and for aarch64 at -O3 under QEMU; each
 # digest must be exactly the committed fixture. The check is first shown a
 # build that changes bits: the functions marked LS_NO_VECTORIZE (complex
@@ -59,6 +59,29 @@ for cc in gcc clang; do
         done
     done
 done
+# The plain paths at the default level: LS_FAST_PATHS=0 leaves out every fast
+# path (SSE2, specialized copies, prefetches, the shading backward's SH
+# loop); the gradient tests and the digest must pass and match as they do
+# with them.
+name=gcc-double-O2-plain
+plain_tests="test_silhouette test_render_backward test_raster_refine test_shade"
+if ! build_row "$name" gcc double "-O2" ARCHFLAGS=-DLS_FAST_PATHS=0 \
+        $(for t in $plain_tests; do printf ' build/flags/%s/tests/%s' "$name" "$t"; done); then
+    bad "flags_$name (build failed)" "$(grep -E 'error|Error' "build/logs/flags-$name.log" | head -n 5)"
+else
+    if out=$(sh tests/tools/digest_check.sh "build/flags/$name/tests/digest" fixtures/digest-double.txt); then
+        ok "flags_$name (the fixture's digest without the fast paths)"
+    else
+        bad "flags_$name" "$(printf '%s\n' "$out" | grep -E 'want|got|exited' | head -n 12)"
+    fi
+    for t in $plain_tests; do
+        if out=$("build/flags/$name/tests/$t" 2>&1); then
+            ok "flags_${name}_$t ($(printf '%s\n' "$out" | tail -n 1))"
+        else
+            bad "flags_${name}_$t" "$(printf '%s\n' "$out" | grep -E '^FAIL' | head -n 8)"
+        fi
+    done
+fi
 # aarch64 at -O3 under QEMU
 for real in double float; do
     name=aarch64-$real-O3

@@ -1,74 +1,11 @@
-/* raster.c - deterministic tile rasterizer producing the visibility buffer.
+/* raster.c - deterministic tile rasterizer producing the visibility buffer:
+ * sizing, the count pass, the tiles and the drawing of triangles into samples.
  * Design and conventions: include/largesteps/raster.h. */
-#include <largesteps/raster.h>
-#include "render_internal.h"
-#include <string.h>
-
-#define VIS_MAGIC 0x56495342u /* "VISB" */
-#define SUB_ONE 256           /* one sample in fixed point */
-#define SUB_HALF 128
-#define FIX_LIMIT 8388608.0f  /* 2^23: clamp of snapped coordinates (|x| < guard + max dim) */
-#define MAX_POLY 8            /* a triangle clipped by 5 planes has at most 8 vertices */
-#define NPLANES 5
-#define FLAG_OUT_MASK 0x1Fu   /* bits 0..4: outside plane k */
-#define FLAG_BAD_W 0x20u      /* W <= 0 although no plane rejects it */
-
-/* The transformed vertices, as arrays (scratch, one block of VERT_BYTES per
- * vertex; the on-the-fly count pass of the queries holds three): the count
- * pass reads only snap and flags, and clip, snap and flags go to the vis
- * whole. */
-typedef struct vbuf {
-    ls_real *clip;   /* clip coordinates, 4 per vertex */
-    ls_real *zi;     /* Z/W and 1/W (valid when flags == 0) */
-    int32_t *snap;   /* snapped window position, 1/256 samples (valid when flags == 0) */
-    uint32_t *flags; /* planes the vertex is outside of */
-} vbuf;
-#define VERT_BYTES (6 * sizeof(ls_real) + 3 * sizeof(int32_t))
-
-/* A polygon vertex during clipping: clip coordinates and the barycentric
- * weights (b0, b1) of the original triangle's first two vertices. */
-typedef struct pvert {
-    ls_real c[4];
-    ls_real b[2];
-} pvert;
-
-typedef struct clipbuf {
-    pvert a[MAX_POLY];
-    pvert b[MAX_POLY];
-} clipbuf;
-
-/* One screen triangle ready to draw, positively oriented. */
-typedef struct stri {
-    int32_t x[3], y[3];
-    ls_real zw[3], iw[3];
-    ls_real b[3][2]; /* weights of the original triangle's vertices 0 and 1 */
-    int64_t area;    /* twice the area, > 0 */
-} stri;
-
-/* Per-call constants. */
-typedef struct rctx {
-    const ls_real *m;
-    ls_real sw_half, sh_half; /* sample grid size / 2 */
-    ls_real gx, gy;           /* guard-band planes: |X| <= gx W, |Y| <= gy W */
-    uint32_t sw, sh, tiles_x, tiles_y;
-} rctx;
+#include "raster_internal.h"
 
 static int finite_r(ls_real x)
 {
     return x - x == x - x;
-}
-
-/* Clamped round-to-nearest of a real to int32 (NaN -> 0). */
-static int32_t snap_round(ls_real v)
-{
-    ls_real f = v * (ls_real)SUB_ONE;
-    int32_t t;
-    if (!(f > -(ls_real)FIX_LIMIT)) f = -(ls_real)FIX_LIMIT; /* also NaN */
-    if (f > (ls_real)FIX_LIMIT) f = (ls_real)FIX_LIMIT;
-    f += (ls_real)0.5;
-    t = (int32_t)f; /* truncation toward zero, |f| <= 2^23 + 1 */
-    if ((ls_real)t > f) t -= 1; /* floor */
-    return t;
 }
 
 static ls_status check_dims(uint32_t width, uint32_t height, uint32_t ss)
@@ -76,427 +13,6 @@ static ls_status check_dims(uint32_t width, uint32_t height, uint32_t ss)
     if (width == 0 || height == 0 || (ss != 1 && ss != 2 && ss != 4)) return LS_ERR_INVALID;
     if (width > LS_RASTER_MAX_DIM / ss || height > LS_RASTER_MAX_DIM / ss) return LS_ERR_INVALID;
     return LS_OK;
-}
-
-static void ctx_init(rctx *cx, const ls_real mvp[16], uint32_t sw, uint32_t sh)
-{
-    cx->m = mvp;
-    cx->sw = sw;
-    cx->sh = sh;
-    cx->sw_half = (ls_real)sw * (ls_real)0.5;
-    cx->sh_half = (ls_real)sh * (ls_real)0.5;
-    /* x_s in [-G, sw + G]  <=>  X/W in [-(1 + 2G/sw), 1 + 2G/sw] */
-    cx->gx = (ls_real)1 + (ls_real)(2u * LS_RASTER_GUARD) / (ls_real)sw;
-    cx->gy = (ls_real)1 + (ls_real)(2u * LS_RASTER_GUARD) / (ls_real)sh;
-    cx->tiles_x = (sw + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
-    cx->tiles_y = (sh + LS_RASTER_TILE - 1u) >> LS_RASTER_TILE_LOG2;
-}
-
-/* Signed distance-like value of c to clip plane k (inside when >= 0):
- * 0 near (Z >= -W), 1 left, 2 right, 3 top, 4 bottom of the guard band. */
-static inline ls_real plane_dist(const rctx *cx, const ls_real c[4], int k)
-{
-    switch (k) {
-    case 0: return c[2] + c[3];
-    case 1: return c[0] + cx->gx * c[3];
-    case 2: return cx->gx * c[3] - c[0];
-    case 3: return cx->gy * c[3] - c[1];
-    default: return c[1] + cx->gy * c[3];
-    }
-}
-
-static inline void snap_xyzw(ls_real sw_half, ls_real sh_half, ls_real c0, ls_real c1, ls_real c2, ls_real c3,
-                             int32_t *x, int32_t *y, ls_real *zw, ls_real *iw)
-{
-    const ls_real inv = (ls_real)1 / c3;
-    *x = snap_round((c0 * inv + (ls_real)1) * sw_half);
-    *y = snap_round(((ls_real)1 - c1 * inv) * sh_half);
-    *zw = c2 * inv;
-    *iw = inv;
-}
-
-static void snap_point(const rctx *cx, const ls_real c[4], int32_t *x, int32_t *y, ls_real *zw, ls_real *iw)
-{
-    snap_xyzw(cx->sw_half, cx->sh_half, c[0], c[1], c[2], c[3], x, y, zw, iw);
-}
-
-/* Row r of the transform times (x, y, z, 1), summed left to right. */
-static inline ls_real mrow(const ls_real r[4], ls_real x, ls_real y, ls_real z)
-{
-    ls_real s = r[0] * x;
-    s += r[1] * y;
-    s += r[2] * z;
-    return s + r[3];
-}
-
-/* gcc's basic-block vectorizer pairs the matrix rows with more shuffles than
- * it saves (30 % more instructions in the vertex transform, measured). */
-#if defined(__GNUC__) && !defined(__clang__)
-#define NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
-#else
-#define NO_SLP
-#endif
-
-/* Transforms vertices idx[i] (i when idx is NULL) of positions into entries
- * i of vb, i in [0, count); returns the first i whose clip coordinates are
- * not finite, or count. Each vertex in locals, stored once at the end
- * (stores through vb could alias the transform and the positions: values
- * kept in memory are reloaded). */
-NO_SLP LS_NOINLINE static uint32_t transform_all(const rctx *cx, const ls_real *positions, const uint32_t *idx,
-                                                 uint32_t count, const vbuf *vb)
-{
-    const ls_real *m = cx->m;
-    const ls_real gx = cx->gx, gy = cx->gy, sw_half = cx->sw_half, sh_half = cx->sh_half;
-    ls_real *const clip = vb->clip, *const zi = vb->zi;
-    int32_t *const snap = vb->snap;
-    uint32_t *const vflags = vb->flags;
-    uint32_t i;
-    for (i = 0; i < count; i++) {
-        const ls_real *p = positions + 3 * (size_t)(idx != NULL ? idx[i] : i);
-        const ls_real px = p[0], py = p[1], pz = p[2];
-        const ls_real c0 = mrow(m, px, py, pz), c1 = mrow(m + 4, px, py, pz);
-        const ls_real c2 = mrow(m + 8, px, py, pz), c3 = mrow(m + 12, px, py, pz);
-        ls_real *c = clip + 4 * (size_t)i;
-        uint32_t flags;
-        /* one test for the four: a sum of x - x is +0 when all are finite, NaN otherwise */
-        if (!((c0 - c0) + (c1 - c1) + (c2 - c2) + (c3 - c3) == (ls_real)0)) break;
-        {
-            /* the common case first, one test: the least of the five plane
-             * values (plane_dist's, from locals: cx's fields would be
-             * reloaded after each store; finite or infinite, never NaN, for
-             * finite c) is >= 0 */
-            const ls_real gxw = gx * c3, gyw = gy * c3;
-            const ls_real d0 = c2 + c3, d1 = c0 + gxw, d2 = gxw - c0, d3 = gyw - c1, d4 = c1 + gyw;
-            ls_real lo = d0 < d1 ? d0 : d1;
-            lo = lo < d2 ? lo : d2;
-            lo = lo < d3 ? lo : d3;
-            lo = lo < d4 ? lo : d4;
-            if (lo >= (ls_real)0)
-                flags = c3 > (ls_real)0 ? 0u : FLAG_BAD_W;
-            else
-                flags = (uint32_t)(d0 < (ls_real)0) | (uint32_t)(d1 < (ls_real)0) << 1 |
-                        (uint32_t)(d2 < (ls_real)0) << 2 | (uint32_t)(d3 < (ls_real)0) << 3 |
-                        (uint32_t)(d4 < (ls_real)0) << 4;
-        }
-        c[0] = c0;
-        c[1] = c1;
-        c[2] = c2;
-        c[3] = c3;
-        vflags[i] = flags;
-        if (flags == 0) {
-            snap_xyzw(sw_half, sh_half, c0, c1, c2, c3, &snap[2 * (size_t)i], &snap[2 * (size_t)i + 1], &zi[2 * (size_t)i],
-                      &zi[2 * (size_t)i + 1]);
-        } else {
-            snap[2 * (size_t)i] = snap[2 * (size_t)i + 1] = 0;
-            zi[2 * (size_t)i] = zi[2 * (size_t)i + 1] = (ls_real)0;
-        }
-    }
-    return i;
-}
-
-/* 1 when a is lexicographically smaller than b (canonical edge direction). */
-static int lex_less(const ls_real a[4], const ls_real b[4])
-{
-    int i;
-    for (i = 0; i < 4; i++) {
-        if (a[i] < b[i]) return 1;
-        if (a[i] > b[i]) return 0;
-    }
-    return 0;
-}
-
-/* Intersection of edge (p, q) with plane k, computed from the canonical
- * endpoint so that both triangles sharing the edge get the same point. */
-static void clip_edge(const rctx *cx, const pvert *p, const pvert *q, int k, pvert *out)
-{
-    const pvert *a = p, *b = q;
-    ls_real da, db, t;
-    int i;
-    if (lex_less(q->c, p->c)) {
-        a = q;
-        b = p;
-    }
-    da = plane_dist(cx, a->c, k);
-    db = plane_dist(cx, b->c, k);
-    t = da / (da - db);
-    for (i = 0; i < 4; i++) out->c[i] = a->c[i] + t * (b->c[i] - a->c[i]);
-    for (i = 0; i < 2; i++) out->b[i] = a->b[i] + t * (b->b[i] - a->b[i]);
-}
-
-/* Clips the triangle (v0, v1, v2) against the planes in `planes`; the polygon
- * ends up in cb->a. Returns its vertex count (0 when nothing is left). */
-LS_NOINLINE static int clip_polygon(const rctx *cx, const ls_real *const v[3], uint32_t planes, clipbuf *cb)
-{
-    int n = 3, k, i;
-    pvert *src = cb->a, *dst = cb->b, *tmp;
-    for (i = 0; i < 3; i++) {
-        memcpy(src[i].c, v[i], sizeof src[i].c);
-        src[i].b[0] = i == 0 ? (ls_real)1 : (ls_real)0;
-        src[i].b[1] = i == 1 ? (ls_real)1 : (ls_real)0;
-    }
-    for (k = 0; k < NPLANES; k++) {
-        int m = 0;
-        if (!(planes & (1u << k))) continue;
-        for (i = 0; i < n; i++) {
-            const pvert *p = &src[i], *q = &src[i + 1 < n ? i + 1 : 0];
-            int pin = plane_dist(cx, p->c, k) >= (ls_real)0;
-            int qin = plane_dist(cx, q->c, k) >= (ls_real)0;
-            if (pin && m < MAX_POLY) dst[m++] = *p;
-            if (pin != qin && m < MAX_POLY) clip_edge(cx, p, q, k, &dst[m++]);
-        }
-        n = m;
-        tmp = src;
-        src = dst;
-        dst = tmp;
-        if (n < 3) return 0;
-    }
-    if (src != cb->a) memcpy(cb->a, src, (size_t)n * sizeof *src);
-    return n;
-}
-
-/* Twice the signed area of the snapped triangle (x, y). */
-static int64_t snap_area2(const int32_t x[3], const int32_t y[3])
-{
-    return ((int64_t)x[1] - x[0]) * ((int64_t)y[2] - y[0]) - ((int64_t)y[1] - y[0]) * ((int64_t)x[2] - x[0]);
-}
-
-/* Builds a positively oriented screen triangle from three snapped points;
- * returns 0 when its snapped area is zero. */
-static int make_stri(stri *t)
-{
-    int64_t a = snap_area2(t->x, t->y);
-    if (a == 0) return 0;
-    if (a < 0) { /* swap vertices 1 and 2 */
-        int32_t ti;
-        ls_real tr;
-        int i;
-        ti = t->x[1]; t->x[1] = t->x[2]; t->x[2] = ti;
-        ti = t->y[1]; t->y[1] = t->y[2]; t->y[2] = ti;
-        tr = t->zw[1]; t->zw[1] = t->zw[2]; t->zw[2] = tr;
-        tr = t->iw[1]; t->iw[1] = t->iw[2]; t->iw[2] = tr;
-        for (i = 0; i < 2; i++) {
-            tr = t->b[1][i]; t->b[1][i] = t->b[2][i]; t->b[2][i] = tr;
-        }
-        a = -a;
-    }
-    t->area = a;
-    return 1;
-}
-
-/* floor(v / 256) for |v| < 2^30 (snapped coordinates are within 2^23 + 1);
- * shifts only non-negative values (>> of negative ones is
- * implementation-defined). */
-static int64_t floor_div_sub(int64_t v)
-{
-    return ((v + ((int64_t)1 << 30)) >> LS_RASTER_SUBPIXEL_BITS) - ((int64_t)1 << (30 - LS_RASTER_SUBPIXEL_BITS));
-}
-
-typedef struct sbox {
-    int64_t x0, y0, x1, y1; /* inclusive sample range */
-} sbox;
-
-/* The samples [*r0, *r1] (inclusive, clamped to [0, n - 1]) whose centres
- * lie within the snapped coordinates c[0..2]; 0 when there is none. */
-static inline int sample_range(const int32_t c[3], uint32_t n, int64_t *r0, int64_t *r1)
-{
-    int32_t lo = c[0], hi = c[0];
-    if (c[1] < lo) lo = c[1];
-    if (c[1] > hi) hi = c[1];
-    if (c[2] < lo) lo = c[2];
-    if (c[2] > hi) hi = c[2];
-    *r0 = floor_div_sub((int64_t)lo - SUB_HALF + SUB_ONE - 1);
-    *r1 = floor_div_sub((int64_t)hi - SUB_HALF);
-    if (*r0 < 0) *r0 = 0;
-    if (*r1 > (int64_t)n - 1) *r1 = (int64_t)n - 1;
-    return *r0 <= *r1;
-}
-
-/* Sample range whose centres may be covered by the snapped triangle (x, y)
- * (in any vertex order), clamped to the grid; returns 0 when empty (b is
- * then partly set: the y range is not computed when the x range is empty). */
-static inline int snap_box(uint32_t sw, uint32_t sh, const int32_t x[3], const int32_t y[3], sbox *b)
-{
-    return sample_range(x, sw, &b->x0, &b->x1) && sample_range(y, sh, &b->y0, &b->y1);
-}
-
-/* Prepares a triangle that needs clipping (v: its vertices in vb, some flag
- * set): returns how many screen triangles it gives (a fan over the clipped
- * polygon, which is left in cb->a; 0 = nothing to draw). clipped_sub builds
- * them one at a time, so that only one screen triangle lives on the stack. */
-static int clipped_prepare(const rctx *cx, const vbuf *vb, const size_t v[3], clipbuf *cb)
-{
-    const uint32_t *fl = vb->flags;
-    uint32_t any = fl[v[0]] | fl[v[1]] | fl[v[2]], all = fl[v[0]] & fl[v[1]] & fl[v[2]];
-    const ls_real *c[3];
-    int n, i;
-    if (all & FLAG_OUT_MASK) return 0; /* entirely outside one plane */
-    for (i = 0; i < 3; i++) c[i] = vb->clip + 4 * v[i];
-    n = clip_polygon(cx, c, any & FLAG_OUT_MASK, cb);
-    for (i = 0; i < n; i++)
-        if (!(cb->a[i].c[3] > (ls_real)0)) return 0; /* not a proper projection */
-    return n >= 3 ? n - 2 : 0;
-}
-
-/* Screen triangle k of a clipped triangle; returns 0 when its snapped area is 0. */
-static int clipped_sub(const rctx *cx, const clipbuf *cb, int k, stri *out)
-{
-    const pvert *p[3];
-    int i;
-    p[0] = &cb->a[0];
-    p[1] = &cb->a[k + 1];
-    p[2] = &cb->a[k + 2];
-    for (i = 0; i < 3; i++) {
-        snap_point(cx, p[i]->c, &out->x[i], &out->y[i], &out->zw[i], &out->iw[i]);
-        out->b[i][0] = p[i]->b[0];
-        out->b[i][1] = p[i]->b[1];
-    }
-    return make_stri(out);
-}
-
-/* The weights of an unclipped triangle's vertices 0 and 1 at its screen
- * triangle's vertices: as given, and with vertices 1 and 2 swapped. */
-static const ls_real unit_b[2][3][2] = {{{1, 0}, {0, 1}, {0, 0}}, {{1, 0}, {0, 0}, {0, 1}}};
-
-/* Loads the snapped vertices (x, y) of unclipped triangle v (in vb). */
-static inline void snap_load(const int32_t *snap, const size_t v[3], int32_t x[3], int32_t y[3])
-{
-    /* unrolled by hand: gcc -O2 keeps small loops over arrays in memory */
-    x[0] = snap[2 * v[0]];
-    y[0] = snap[2 * v[0] + 1];
-    x[1] = snap[2 * v[1]];
-    y[1] = snap[2 * v[1] + 1];
-    x[2] = snap[2 * v[2]];
-    y[2] = snap[2 * v[2] + 1];
-}
-
-/* snap_load, returning twice the triangle's signed area. */
-static inline int64_t unclipped_load(const int32_t *snap, const size_t v[3], int32_t x[3], int32_t y[3])
-{
-    snap_load(snap, v, x, y);
-    return snap_area2(x, y);
-}
-
-/* Swaps vertices 1 and 2 of (x, y) when its twice-area a is negative: the
- * orientation make_stri gives it. */
-static inline void orient(int32_t x[3], int32_t y[3], int64_t a)
-{
-    if (a < 0) {
-        int32_t tx = x[1], ty = y[1];
-        x[1] = x[2];
-        y[1] = y[2];
-        x[2] = tx;
-        y[2] = ty;
-    }
-}
-
-/* Edge function of a positively oriented screen triangle from vertex a to
- * vertex b: its value at the first sample of a box, biased by the top-left
- * rule (inside <=> all three >= 0), and its decrease per sample along x (dx)
- * and increase per sample along y (dy). */
-typedef struct edgef {
-    int64_t e, dx, dy, bias;
-} edgef;
-
-static inline void edge_init(edgef *g, const int32_t x[3], const int32_t y[3], int a, int b, int64_t px0, int64_t py0)
-{
-    int64_t dx = (int64_t)x[b] - x[a], dy = (int64_t)y[b] - y[a];
-    g->bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : -1; /* top-left rule */
-    g->e = dx * (py0 - y[a]) - dy * (px0 - x[a]) + g->bias;
-    g->dx = dy * SUB_ONE;
-    g->dy = dx * SUB_ONE;
-}
-
-/* The three edges at sample (i, j); edge k is opposite vertex k (from
- * vertex k+1 to vertex k+2). */
-static inline void edges_init(edgef g[3], const int32_t x[3], const int32_t y[3], int64_t i, int64_t j)
-{
-    const int64_t px0 = i * SUB_ONE + SUB_HALF, py0 = j * SUB_ONE + SUB_HALF;
-    edge_init(&g[0], x, y, 1, 2, px0, py0);
-    edge_init(&g[1], x, y, 2, 0, px0, py0);
-    edge_init(&g[2], x, y, 0, 1, px0, py0);
-}
-
-/* 1 when the edge from vertex a to vertex b of a positively oriented
- * screen triangle is a top or left one (samples on it are inside). */
-static inline int top_left(const int32_t x[3], const int32_t y[3], int a, int b)
-{
-    int32_t dy = y[b] - y[a];
-    return dy < 0 || (dy == 0 && x[b] > x[a]);
-}
-
-/* sample_edges' rare case, a sample on an edge (some e[k] == 0, none < 0):
- * 1 when it is inside. Out of line, so that the compiler does not hoist the
- * edge tests out of the sample loops (7 % of the drawing, measured). */
-LS_NOINLINE static int on_edge_inside(const int32_t x[3], const int32_t y[3], const int64_t e[3])
-{
-    return (e[0] != 0 || top_left(x, y, 1, 2)) && (e[1] != 0 || top_left(x, y, 2, 0)) &&
-           (e[2] != 0 || top_left(x, y, 0, 1));
-}
-
-/* The exact edge values e of the positively oriented snapped triangle
- * (x, y) of twice-area a at the centre of sample (i, j), e[k] for the edge
- * from vertex k + 1 to vertex k + 2 (as edges_init, without the bias: their
- * sum is a); returns 1 when the sample is covered (all >= 0, a zero one only
- * on a top or left edge). */
-static inline int sample_edges(const int32_t x[3], const int32_t y[3], int64_t a, int64_t i, int64_t j, int64_t e[3])
-{
-    const int64_t px = i * SUB_ONE + SUB_HALF, py = j * SUB_ONE + SUB_HALF;
-    e[1] = ((int64_t)x[0] - x[2]) * (py - y[2]) - ((int64_t)y[0] - y[2]) * (px - x[2]);
-    e[2] = ((int64_t)x[1] - x[0]) * (py - y[0]) - ((int64_t)y[1] - y[0]) * (px - x[0]);
-    e[0] = a - e[1] - e[2];
-    if ((e[0] | e[1] | e[2]) < 0) return 0;
-    if (e[0] != 0 && e[1] != 0 && e[2] != 0) return 1;
-    return on_edge_inside(x, y, e);
-}
-
-/* Boxes of at most this many samples are drawn sample by sample, larger
- * ones by rows (fewer instructions either way, measured: 8 gave 1.5 % more
- * on the armadillo at 512^2, 16 the same). */
-#define DRAW_SMALL 12
-
-#define RECT_DIRECT 0x8000u /* in a rect's x0 (samples are < LS_RASTER_MAX_DIM <= 2^15) */
-
-/* Unclipped triangles of at most DRAW_SMALL samples (most of them at 128^2)
- * skip the bins and are drawn straight after the count pass: the depth test
- * does not depend on the drawing order, and binning them costs more than
- * drawing them. Their boxes are narrower than a tile (mark_tiles). */
-static inline int box_direct(const sbox *b)
-{
-    return (b->x1 - b->x0 + 1) * (b->y1 - b->y0 + 1) <= DRAW_SMALL;
-}
-
-/* The sample range of a triangle that needs clipping (union of its screen
- * triangles' boxes); 0 if empty. */
-LS_NOINLINE static int clipped_box(const rctx *cx, const vbuf *vb, const size_t v[3], clipbuf *cb, sbox *u)
-{
-    int n = clipped_prepare(cx, vb, v, cb), k, any = 0;
-    sbox b;
-    stri st;
-    for (k = 0; k < n; k++) {
-        if (!clipped_sub(cx, cb, k, &st) || !snap_box(cx->sw, cx->sh, st.x, st.y, &b)) continue;
-        if (!any) {
-            *u = b;
-            any = 1;
-        } else {
-            if (b.x0 < u->x0) u->x0 = b.x0;
-            if (b.y0 < u->y0) u->y0 = b.y0;
-            if (b.x1 > u->x1) u->x1 = b.x1;
-            if (b.y1 > u->y1) u->y1 = b.y1;
-        }
-    }
-    return any;
-}
-
-/* The sample range of an unclipped triangle v (in vb); 0 if empty. It is
- * its own screen triangle, whose box and area do not depend on the vertex
- * order: no screen triangle is built. */
-static inline int unclipped_box(const rctx *cx, const int32_t *snap, const size_t v[3], sbox *u)
-{
-    int32_t x[3], y[3];
-    /* the box first: a third of the fit's triangles at 10k vertices have
-     * none, and their area is not needed */
-    snap_load(snap, v, x, y);
-    return snap_box(cx->sw, cx->sh, x, y, u) && snap_area2(x, y) != 0;
 }
 
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
@@ -689,7 +205,7 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
 {
     uint32_t t;
     size_t total = 0;
-    /* set by transform_all for validated vertices; zeroed, as the analyzer
+    /* set by ls_rast_transform_all for validated vertices; zeroed, as the analyzer
      * cannot tell (once a call, not once a triangle) */
     ls_real lclip[12] = {0}, lzi[6] = {0};
     int32_t lsnap[6] = {0};
@@ -713,7 +229,7 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
             v[1] = f[1];
             v[2] = f[2];
         } else {
-            (void)transform_all(cx, cp->positions, f, 3, &local); /* validated before */
+            (void)ls_rast_transform_all(cx, cp->positions, f, 3, &local); /* validated before */
             v[0] = 0;
             v[1] = 1;
             v[2] = 2;
@@ -721,7 +237,7 @@ LS_NOINLINE static ls_status count_pass(const rctx *cx, clipbuf *cb, cpass *cp)
         direct = 0;
         if (vb->flags[v[0]] | vb->flags[v[1]] | vb->flags[v[2]]) {
             cp->clipped++;
-            ok = clipped_box(cx, vb, v, cb, &sb);
+            ok = ls_rast_clipped_box(cx, vb, v, cb, &sb);
         } else {
             ok = unclipped_box(cx, vb->snap, v, &sb);
             direct = ok && box_direct(&sb);
@@ -782,7 +298,7 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
     if (vertex_count > vis->vertex_capacity) return LS_ERR_INVALID;
     st = validate(mvp, positions, vertex_count, indices, triangle_count, NULL);
     if (st != LS_OK) return st;
-    ctx_init(&cx, mvp, vis->sw, vis->sh);
+    ls_rast_ctx_init(&cx, mvp, vis->sw, vis->sh);
     {
         ls_real c[4], zi[2];
         int32_t sn[2];
@@ -793,7 +309,7 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
         one.snap = sn;
         one.flags = &fl;
         for (i = 0; i < vertex_count; i++)
-            if (transform_all(&cx, positions + 3 * (size_t)i, NULL, 1, &one) == 0) return LS_ERR_NONFINITE;
+            if (ls_rast_transform_all(&cx, positions + 3 * (size_t)i, NULL, 1, &one) == 0) return LS_ERR_NONFINITE;
     }
     memset(&cp, 0, sizeof cp);
     cp.positions = positions;
@@ -1094,11 +610,11 @@ typedef struct dpass {
  * vertices), into the samples of tile box r. */
 LS_NOINLINE static void draw_clipped(const dpass *dp, uint32_t t, const size_t v[3], const sbox *r)
 {
-    int n = clipped_prepare(dp->cx, dp->vb, v, dp->cb), k;
+    int n = ls_rast_clipped_prepare(dp->cx, dp->vb, v, dp->cb), k;
     sbox b;
     stri st;
     for (k = 0; k < n; k++)
-        if (clipped_sub(dp->cx, dp->cb, k, &st) && snap_box(dp->cx->sw, dp->cx->sh, st.x, st.y, &b) && box_clip(&b, r))
+        if (ls_rast_clipped_sub(dp->cx, dp->cb, k, &st) && snap_box(dp->cx->sw, dp->cx->sh, st.x, st.y, &b) && box_clip(&b, r))
             draw_stri(dp->vis, &st, &b, t);
 }
 
@@ -1213,7 +729,7 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     if (vertex_count > vis->vertex_capacity) return LS_ERR_INVALID;
     st = validate(mvp, positions, vertex_count, indices, triangle_count, diag);
     if (st != LS_OK) return st;
-    ctx_init(&cx, mvp, vis->sw, vis->sh);
+    ls_rast_ctx_init(&cx, mvp, vis->sw, vis->sh);
     tiles = (size_t)cx.tiles_x * cx.tiles_y;
     mark = ls_arena_save(arena);
     before = ls_arena_used(arena);
@@ -1228,7 +744,7 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     vb.zi = vb.clip + 4 * (size_t)vertex_count;
     vb.snap = (int32_t *)(void *)(vb.zi + 2 * (size_t)vertex_count);
     vb.flags = (uint32_t *)(vb.snap + 2 * (size_t)vertex_count);
-    t = transform_all(&cx, positions, NULL, vertex_count, &vb);
+    t = ls_rast_transform_all(&cx, positions, NULL, vertex_count, &vb);
     if (t < vertex_count) {
         ls_arena_restore(arena, mark);
         return nonfinite_vertex(t, diag);

@@ -6,11 +6,14 @@
 /* The same-bits fast paths that duplicate a general path for the fit's
  * common case (plain SH shading at one sample per pixel): left out where code
  * size counts more than speed (-Os: the Cortex-M4 build), where the general
- * path gives the same bits. */
+ * path gives the same bits. -DLS_FAST_PATHS=0 builds the plain paths at any
+ * level (make test runs them: tests/stage_flags.sh). */
+#ifndef LS_FAST_PATHS
 #if defined(__OPTIMIZE_SIZE__)
 #define LS_FAST_PATHS 0
 #else
 #define LS_FAST_PATHS 1
+#endif
 #endif
 
 #include <largesteps/raster.h>

@@ -11,13 +11,11 @@
 #
 # Environment: BUILD (default build), DIST_MESH (default
 # ../shared/meshes/armadillo.obj), DIST_REPEAT (3), DIST_QUERIES (100000),
-# LS_LIB / LS_INC (use an already built library).
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 OUT=$BUILD/bench
 mkdir -p "$OUT"
-CC=${CC:-cc}
 MESH=${DIST_MESH:-../shared/meshes/armadillo.obj}
 BUNNY=fixtures/meshes/bunny.obj
 REPEAT=${DIST_REPEAT:-3}
@@ -26,15 +24,10 @@ if [ ! -f "$MESH" ]; then
     echo "run_distance: $MESH not found, skipped" >&2
     exit 0
 fi
-if [ -z "$LS_LIB" ]; then
-    make -s lib BUILD="$BUILD"
-    LS_LIB=$BUILD/liblargesteps.a
-    LS_INC=$BUILD/include
-fi
-$CC -O2 -std=c99 -Iinclude -I"$LS_INC" tests/bench/bench_distance.c "$LS_LIB" -lm -o "$OUT/bench_distance"
+make --no-print-directory -s BUILD="$BUILD" "$OUT/bench_distance"
 PEER=1
 if [ -f /usr/include/CGAL/AABB_tree.h ]; then
-    ${CXX:-c++} -O2 -DNDEBUG tests/bench/peer_cgal_distance.cpp -o "$OUT/peer_cgal_distance"
+    make --no-print-directory -s BUILD="$BUILD" "$OUT/peer_cgal_distance"
 else
     echo "run_distance: CGAL missing (apt-get install libcgal-dev): peer skipped" >&2
     PEER=0

@@ -7,24 +7,17 @@
 # Environment: BUILD (default build), GRID_SIZES (default "256 512 1024"),
 # GRID_LAMBDA (10), GRID_TOL (CG relative tolerance, 1e-10), GRID_WRAP (0:
 # Neumann, 1: wrap in u), GRID_REPEAT (3; the LDL^T runs once above 512^2),
-# LS_LIB / LS_INC (an already built library).
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 OUT=$BUILD/bench
 mkdir -p "$OUT"
-CC=${CC:-cc}
 SIZES=${GRID_SIZES:-"256 512 1024"}
 LAMBDA=${GRID_LAMBDA:-10}
 TOL=${GRID_TOL:-1e-10}
 WRAP=${GRID_WRAP:-0}
 REPEAT=${GRID_REPEAT:-3}
-if [ -z "$LS_LIB" ]; then
-    make -s lib BUILD="$BUILD"
-    LS_LIB=$BUILD/liblargesteps.a
-    LS_INC=$BUILD/include
-fi
-$CC -O2 -std=c99 -Iinclude -I"$LS_INC" tests/bench/bench_grid.c "$LS_LIB" -lm -o "$OUT/bench_grid"
+make --no-print-directory -s BUILD="$BUILD" "$OUT/bench_grid"
 raw=$OUT/grid.raw
 ratios=$OUT/grid.ratios
 # shellcheck disable=SC2086

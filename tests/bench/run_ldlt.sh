@@ -9,32 +9,26 @@
 #
 # Environment: BUILD (default build), LDLT_MESHES (default below; add ico:8
 # and grid:800x800 for the 655k / 640k cases, minutes each), LDLT_REPEAT (3),
-# LDLT_LAMBDA (19), LS_LIB / LS_INC (use an already built library).
+# LDLT_LAMBDA (19).
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 OUT=$BUILD/bench
 mkdir -p "$OUT"
-CC=${CC:-cc}
 LAMBDA=${LDLT_LAMBDA:-19}
 REPEAT=${LDLT_REPEAT:-3}
 MESHES=${LDLT_MESHES:-"obj:../shared/meshes/bunny.obj ico:4 ico:5 ico:6 ico:7 grid:400x400"}
-if [ -z "$LS_LIB" ]; then
-    make -s lib BUILD="$BUILD"
-    LS_LIB=$BUILD/liblargesteps.a
-    LS_INC=$BUILD/include
-fi
-$CC -O2 -std=c99 -Iinclude -I"$LS_INC" tests/bench/bench_ldlt.c "$LS_LIB" -lm -o "$OUT/bench_ldlt"
+make --no-print-directory -s BUILD="$BUILD" "$OUT/bench_ldlt"
 PEER=1
 if [ -f /usr/include/suitesparse/cholmod.h ]; then
-    $CC -O2 -std=c99 -I/usr/include/suitesparse tests/bench/peer_cholmod.c -lcholmod -lm -o "$OUT/peer_cholmod"
+    make --no-print-directory -s BUILD="$BUILD" "$OUT/peer_cholmod"
 else
     echo "run_ldlt: CHOLMOD missing (apt-get install libsuitesparse-dev): peers skipped" >&2
     PEER=0
 fi
 EIGEN=1
 if [ -f /usr/include/eigen3/Eigen/SparseCholesky ]; then
-    ${CXX:-c++} -O2 -I/usr/include/eigen3 -Itests/bench tests/bench/peer_eigen.cpp -o "$OUT/peer_eigen"
+    make --no-print-directory -s BUILD="$BUILD" "$OUT/peer_eigen"
 else
     echo "run_ldlt: Eigen missing (apt-get install libeigen3-dev): Eigen peer skipped" >&2
     EIGEN=0

@@ -7,23 +7,17 @@
 # Environment: BUILD (default build), PARAM_MESHES (default: the bunny
 # fixture and ../shared/meshes/armadillo.obj, read at bench time), SHARED
 # (default ../shared), PARAM_REPEAT (3), PARAM_TOL (CG relative tolerance,
-# 1e-10), LS_LIB / LS_INC (an already built library).
+# 1e-10).
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 OUT=$BUILD/bench
 mkdir -p "$OUT"
-CC=${CC:-cc}
 SHARED=${SHARED:-../shared}
 MESHES=${PARAM_MESHES:-"fixtures/meshes/bunny.obj $SHARED/meshes/armadillo.obj"}
 REPEAT=${PARAM_REPEAT:-3}
 TOL=${PARAM_TOL:-1e-10}
-if [ -z "$LS_LIB" ]; then
-    make -s lib BUILD="$BUILD"
-    LS_LIB=$BUILD/liblargesteps.a
-    LS_INC=$BUILD/include
-fi
-$CC -O2 -std=c99 -Iinclude -I"$LS_INC" tests/bench/bench_param.c "$LS_LIB" -lm -o "$OUT/bench_param"
+make --no-print-directory -s BUILD="$BUILD" "$OUT/bench_param"
 raw=$OUT/param.raw
 : > "$raw"
 for m in $MESHES; do

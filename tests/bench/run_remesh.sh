@@ -9,29 +9,19 @@
 #   apt-get install --no-install-recommends libcgal-dev   (header-only; links gmp, mpfr)
 #
 # Environment: BUILD (default build), REMESH_MESHES (default below),
-# REMESH_FACTORS (0.5), REMESH_REPEAT (3), LS_LIB / LS_INC (an already built library).
+# REMESH_FACTORS (0.5), REMESH_REPEAT (3).
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 OUT=$BUILD/bench
 mkdir -p "$OUT"
-CC=${CC:-cc}
 REPEAT=${REMESH_REPEAT:-3}
 FACTORS=${REMESH_FACTORS:-0.5}
 MESHES=${REMESH_MESHES:-"fixtures/meshes/bunny.obj fixtures/meshes/elephant.obj ../shared/meshes/armadillo.obj"}
-if [ -z "$LS_LIB" ]; then
-    make -s lib BUILD="$BUILD"
-    make -s "$BUILD/liblargesteps-posix.a" BUILD="$BUILD"
-    LS_LIB=$BUILD/liblargesteps.a
-    LS_INC=$BUILD/include
-fi
-$CC -O2 -std=c99 -Iinclude -I"$LS_INC" tests/bench/bench_remesh.c "$BUILD/liblargesteps-posix.a" "$LS_LIB" -lm -o "$OUT/bench_remesh"
+make --no-print-directory -s BUILD="$BUILD" "$OUT/bench_remesh"
 PEER=1
 if [ -f /usr/include/CGAL/Polygon_mesh_processing/remesh.h ]; then
-    if [ ! -x "$OUT/cgal_remesh" ] || [ tests/peers/cgal_remesh.cpp -nt "$OUT/cgal_remesh" ]; then
-        echo "run_remesh: compiling the CGAL peer (about 1 minute)" >&2
-        ${CXX:-c++} -O2 -std=c++17 tests/peers/cgal_remesh.cpp -lgmp -lmpfr -o "$OUT/cgal_remesh"
-    fi
+    make --no-print-directory -s BUILD="$BUILD" "$OUT/cgal_remesh"
 else
     echo "run_remesh: CGAL missing (apt-get install libcgal-dev): peer skipped" >&2
     PEER=0

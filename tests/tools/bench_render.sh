@@ -19,8 +19,7 @@ ARMADILLO=${ARMADILLO:-/work/shared/meshes/armadillo.obj}
 out=$B/bench
 mkdir -p "$out"
 make --no-print-directory BUILD="$B" REAL="$REAL" lib >"$out/render-build.log" 2>&1 || { tail -n 20 "$out/render-build.log"; exit 1; }
-gcc -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Werror -Iinclude -I"$B/include" \
-    tests/tools/osmesa_peer.c "$B/liblargesteps.a" -lOSMesa -lGLU -lm -o "$out/osmesa_bench"
+make --no-print-directory BUILD="$B" REAL="$REAL" "$out/osmesa_bench" >>"$out/render-build.log" 2>&1 || { tail -n 20 "$out/render-build.log"; exit 1; }
 export LP_NUM_THREADS=0
 : > "$out/render-raw.txt"
 for mesh in fixtures/meshes/bunny.obj "$ARMADILLO"; do
