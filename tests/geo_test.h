@@ -22,15 +22,14 @@ static inline uint32_t geo_scaled(uint32_t n)
     return geo_emulated() ? (n / 8u > 0 ? n / 8u : 1u) : n;
 }
 
-typedef struct geo_lcg {
+typedef struct geo_rng {
     uint64_t s;
-} geo_lcg;
+} geo_rng;
 
-/* Uniform in [0, 1). */
-static inline double geo_rand(geo_lcg *g)
+/* Uniform in [0, 1) (test_rng_unit; g->s from test_rng_seed). */
+static inline double geo_rand(geo_rng *g)
 {
-    g->s = g->s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(g->s >> 11) * (1.0 / 9007199254740992.0);
+    return test_rng_unit(&g->s);
 }
 
 /* A heap arena of n bytes (aligned); free a->base with free(). */

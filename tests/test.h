@@ -112,6 +112,39 @@ static test_state test_g;
 /* Tolerance scaled to the build's precision: k units of LS_REAL_EPSILON. */
 #define TEST_EPS(k) ((double)(k) * (double)LS_REAL_EPSILON)
 
+/* The tests' one random generator: xorshift64 (Marsaglia's shifts 13, 7,
+ * 17) on a state the caller owns, one per program or per case. The same
+ * sequence on every target. A state must not be 0: test_rng_seed makes a
+ * well-mixed one from any seed (small seeds such as 1, 2, 3 give
+ * xorshift64 a slow start). (tests/digest.c keeps its own generator: the
+ * committed digests pin its sequence.) */
+static inline uint64_t test_rng_next(uint64_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    return *s;
+}
+
+/* 53 random bits. */
+static inline uint64_t test_rng_bits(uint64_t *s) { return test_rng_next(s) >> 11; }
+
+/* Uniform in [0, 1). */
+static inline double test_rng_unit(uint64_t *s) { return (double)test_rng_bits(s) * (1.0 / 9007199254740992.0); }
+
+/* Uniform in [lo, hi). */
+static inline double test_rng_range(uint64_t *s, double lo, double hi) { return lo + (hi - lo) * test_rng_unit(s); }
+
+/* A state from any seed (splitmix64's finalizer; never 0). */
+static inline uint64_t test_rng_seed(uint64_t seed)
+{
+    uint64_t z = seed + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return z != 0 ? z : 0x9E3779B97F4A7C15ull;
+}
+
 /* FNV-1a over raw bytes: for "inputs unchanged" checks and digests. */
 static uint64_t test_hash(const void *data, size_t bytes, uint64_t h)
 {

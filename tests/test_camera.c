@@ -319,11 +319,11 @@ static void framing_fits_the_bounding_sphere(void)
     ls_camera_framing fr;
     ls_diag dg;
     double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30}, c[3], r = 0;
-    uint32_t seed = 7u, i, v, axis;
+    uint64_t seed = test_rng_seed(7u);
+    uint32_t i, v, axis;
     int k;
     for (i = 0; i < 3 * NP; i++) {
-        seed = seed * 1664525u + 1013904223u;
-        pts[i] = (ls_real)((double)(seed >> 8) / 16777216.0 * (i % 3 == 1 ? 6.0 : 2.0) + (i % 3 == 2 ? -4.0 : 1.0));
+        pts[i] = (ls_real)(test_rng_unit(&seed) * (i % 3 == 1 ? 6.0 : 2.0) + (i % 3 == 2 ? -4.0 : 1.0));
     }
     for (i = 0; i < NP; i++)
         for (k = 0; k < 3; k++) {

@@ -12,10 +12,7 @@ static LS_ARENA_BUFFER(buf_, 4 << 20);
 static uint64_t rs = 0x243F6A8885A308D3ull;
 static double urand(void)
 {
-    rs ^= rs << 13;
-    rs ^= rs >> 7;
-    rs ^= rs << 17;
-    return (double)(rs >> 11) / 9007199254740992.0;
+    return test_rng_unit(&rs);
 }
 
 /* a bumpy triangulated nx x ny grid */

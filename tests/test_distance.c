@@ -56,10 +56,10 @@ static void bf_one_way(const ls_mesh *src, const ls_mesh *dst, uint32_t samples,
 static int bumpy_sphere(ls_arena *a, ls_mesh *m, double amp, uint64_t seed)
 {
     const double c[3] = {0, 0, 0};
-    geo_lcg g;
+    geo_rng g;
     uint32_t i;
     if (!geo_sphere(a, m, 1.0, c, 10, 14)) return 0;
-    g.s = seed;
+    g.s = test_rng_seed(seed);
     for (i = 0; i < m->vertex_count; i++) {
         double f = 1 + amp * (2 * geo_rand(&g) - 1);
         m->positions[3 * i] = (ls_real)((double)m->positions[3 * i] * f);

@@ -13,10 +13,7 @@ static int emulated;
 static uint64_t rs = 0x243F6A8885A308D3ull;
 static double urand(void)
 {
-    rs ^= rs << 13;
-    rs ^= rs >> 7;
-    rs ^= rs << 17;
-    return (double)(rs >> 11) / 9007199254740992.0;
+    return test_rng_unit(&rs);
 }
 
 static unsigned char *new_buf(size_t bytes, ls_arena *a)

@@ -157,11 +157,10 @@ static int64_t euler_of(const ls_mesh *m, ls_mesh_report *rep)
     return chi;
 }
 
-static uint32_t lcg_state = 12345u;
-static uint32_t lcg(void)
+static uint64_t rng_state = 12345u;
+static uint32_t rng24(void) /* 24 random bits */
 {
-    lcg_state = lcg_state * 1664525u + 1013904223u;
-    return lcg_state >> 8;
+    return (uint32_t)(test_rng_bits(&rng_state) >> 29);
 }
 
 /* ---- tests --------------------------------------------------------------- */
@@ -255,7 +254,7 @@ static void random_ops(const ls_mesh *in, uint32_t extra, int steps, const char 
     arena_big(&a, bytes + (size_t)vcap * 200u);
     REQUIRE(ls_he_build(in, vcap, &a, &he, NULL, NULL) == LS_OK);
     for (s = 0; s < steps && bad == 0; s++) {
-        uint32_t op = lcg() % 3u, e = lcg() % he.edge_count;
+        uint32_t op = rng24() % 3u, e = rng24() % he.edge_count;
         if (he.hto[2u * e] == LS_HE_NONE) continue;
         if (op == 0) {
             ls_real p[3];
@@ -267,7 +266,7 @@ static void random_ops(const ls_mesh *in, uint32_t extra, int steps, const char 
                 CHECK_EQ(ls_he_is_boundary(&he, nv), he.hface[2u * e] == LS_HE_NONE || he.hface[2u * e + 1u] == LS_HE_NONE);
             }
         } else if (op == 1) {
-            uint32_t h = 2u * e + (lcg() & 1u);
+            uint32_t h = 2u * e + (rng24() & 1u);
             int ok = ls_he_collapse_ok(&he, h);
             ls_status st = ls_he_collapse(&he, h);
             CHECK_EQ(st, ok ? LS_OK : LS_ERR_MESH);
@@ -309,7 +308,7 @@ static void random_ops(const ls_mesh *in, uint32_t extra, int steps, const char 
 static void operators_random_closed(void)
 {
     ls_mesh m = make_ico(2);
-    lcg_state = 7u;
+    rng_state = test_rng_seed(7u);
     random_ops(&m, 400, 3000, "icosphere");
     free_ls(&m);
 }
@@ -317,7 +316,7 @@ static void operators_random_closed(void)
 static void operators_random_open(void)
 {
     ls_mesh m = make_grid(9, 7);
-    lcg_state = 99u;
+    rng_state = test_rng_seed(99u);
     random_ops(&m, 400, 3000, "grid");
     free_ls(&m);
 }

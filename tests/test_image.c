@@ -35,11 +35,10 @@ static ls_status read_file(const char *path, unsigned char **data, size_t *bytes
     return LS_OK;
 }
 
-static uint32_t rng_state = 12345u;
-static uint32_t rng(void)
+static uint64_t rng_state = 12345u;
+static uint32_t rng(void) /* 24 random bits */
 {
-    rng_state = rng_state * 1664525u + 1013904223u;
-    return rng_state >> 8;
+    return (uint32_t)(test_rng_bits(&rng_state) >> 29);
 }
 
 static void be32w(unsigned char *p, uint32_t v)

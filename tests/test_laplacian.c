@@ -149,10 +149,7 @@ static void row_sums_symmetry_and_storages_agree(void)
 static uint64_t rs = 0x9E3779B97F4A7C15ull;
 static double urand(void)
 {
-    rs ^= rs << 13;
-    rs ^= rs >> 7;
-    rs ^= rs << 17;
-    return (double)(rs >> 11) / 9007199254740992.0;
+    return test_rng_unit(&rs);
 }
 
 /* one triangle: L_ij = -cot(angle at the third corner), the angle by atan2(|cross|, dot) */

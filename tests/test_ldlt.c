@@ -9,10 +9,7 @@ typedef long double ld;
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static uint32_t rnd(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (uint32_t)(rng_state >> 11);
+    return (uint32_t)test_rng_bits(&rng_state);
 }
 static double urand(void) /* [-1, 1) */
 {

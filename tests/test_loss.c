@@ -11,10 +11,7 @@
 static uint64_t rng_state = 88172645463325252ull;
 static double rnd(void) /* uniform in [0, 1) */
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+    return test_rng_unit(&rng_state);
 }
 
 static ls_real img[V][NV], ref[V][NV], grad[V][NV], grad2[V][NV];

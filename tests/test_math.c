@@ -23,18 +23,10 @@
 
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 
-static uint64_t rng_next(void)
-{
-    uint64_t x = rng_state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    rng_state = x;
-    return x * 2685821657736338717ull;
-}
+static uint64_t rng_next(void) { return test_rng_next(&rng_state); }
 
 /* uniform in [0, 1) */
-static double rng_unit(void) { return (double)(rng_next() >> 11) * 0x1p-53; }
+static double rng_unit(void) { return test_rng_unit(&rng_state); }
 
 static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
 

@@ -12,10 +12,7 @@
 static uint64_t rng = 0x1234567887654321ull;
 static uint32_t rnd32(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (uint32_t)(rng >> 16);
+    return (uint32_t)(test_rng_next(&rng) >> 16);
 }
 
 static LS_ARENA_BUFFER(big, 32u << 20);

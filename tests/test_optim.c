@@ -13,10 +13,7 @@
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double rnd(void) /* uniform in [-1, 1) */
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+    return test_rng_range(&rng_state, -1.0, 1.0);
 }
 
 /* Gradient sequence: mixed magnitudes (a spike, tiny values, a zero step) as

@@ -8,10 +8,7 @@
 static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
 static uint32_t rnd(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (uint32_t)(rng_state >> 11);
+    return (uint32_t)test_rng_bits(&rng_state);
 }
 
 static unsigned char *buf;

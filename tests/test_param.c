@@ -16,10 +16,7 @@ static LS_ARENA_BUFFER(scr_, 2 << 20);
 static uint64_t rs = 0x13198A2E03707344ull;
 static double urand(void)
 {
-    rs ^= rs << 13;
-    rs ^= rs >> 7;
-    rs ^= rs << 17;
-    return (double)(rs >> 11) / 9007199254740992.0;
+    return test_rng_unit(&rs);
 }
 
 static ls_mesh bunny;
