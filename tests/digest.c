@@ -640,10 +640,12 @@ static void dg_fit(digest *d)
                                              normals, NULL));
         dg_status(d, ls_vis_init(&vis, &arena, 8, 8, 2, target.vertex_count));
         for (k = 0; k < 2; k++) {
-            dg_status(d, ls_raster(&vis, &arena, mvp + 16 * k, target.positions, target.vertex_count, target.triangles,
-                                   target.face_count, NULL));
-            dg_status(d, ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &c.shading,
-                                  img[k], NULL));
+            dg_status(d, ls_raster(&vis, &(ls_view){.positions = target.positions, .indices = target.triangles,
+                    .triangle_count = target.face_count, .vertex_count = target.vertex_count, .mvp = mvp + 16 * k},
+                    &arena, NULL));
+            dg_status(d, ls_shade(&(ls_view){.vis = &vis, .indices = target.triangles,
+                    .triangle_count = target.face_count, .vertex_count = target.vertex_count, .normals = normals,
+                    .opts = &c.shading}, img[k], NULL));
         }
         ls_arena_restore(&arena, mark);
     }

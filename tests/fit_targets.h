@@ -39,8 +39,11 @@ static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned
         ls_mat4_mul(proj, view, mvps[v]);
         targets[v] = (ls_real *)malloc(4u * res * res * sizeof(ls_real));
         REQUIRE(targets[v] != NULL);
-        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = mvps[v]}, &arena,
+                NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                .vertex_count = m.vertex_count, .normals = normals, .opts = &o}, targets[v], NULL) == LS_OK);
     }
 }
 

@@ -99,5 +99,17 @@ for h in include/largesteps.h include/largesteps/*.h; do
 done
 if [ -z "$herr" ]; then ok "headers_compile_alone_as_c99_and_cpp"; else bad "headers_compile_alone_as_c99_and_cpp" "$herr"; fi
 
+# The API's parameter counts (tests/tools/api_params.py), first shown a planted
+# 9-parameter declaration that it must report.
+plant=$build/api_params_probe.h
+printf 'ls_status ls_probe(int a, int b, int c, int d, int e, int f, int g, int h, int i);\n' > "$plant"
+if python3 tests/tools/api_params.py "$plant" > /dev/null 2>&1; then
+    bad "api_parameter_counts (the check does not report the planted 9-parameter declaration)"
+elif out=$(python3 tests/tools/api_params.py 2>&1); then
+    ok "api_parameter_counts (no public function over 8 parameters, no view call over 6)"
+else
+    bad "api_parameter_counts" "$out"
+fi
+
 echo "hygiene: $pass passed, $fail failed"
 [ "$fail" = 0 ]

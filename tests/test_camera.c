@@ -279,7 +279,8 @@ static void window_conventions_hold_in_the_rasterizer(void)
         pos[6] = (ls_real)wx;
         pos[7] = (ls_real)(wy + 0.02);
         pos[8] = 0;
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, &a, NULL) == LS_OK);
         for (s = 0; s < 40 * 30; s++)
             if (vis.tri[s]) {
                 hit++;
@@ -298,7 +299,8 @@ static void window_conventions_hold_in_the_rasterizer(void)
         ls_real pos[9] = {-2, 1, 0, (ls_real)-1.5, 1, 0, -2, (ls_real)1.5, 0};
         uint32_t idx[3] = {0, 1, 2};
         size_t s, n = 0;
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, &a, NULL) == LS_OK);
         for (s = 0; s < 40 * 30; s++)
             if (vis.tri[s]) {
                 n++;

@@ -107,8 +107,10 @@ static ls_status render_view(const ls_mesh *m, const ls_real mvp[16], uint32_t r
     if (gnorm == NULL) return LS_ERR_NOMEM;
     st = ls_shade_vertex_normals(m->positions, n, m->triangles, m->face_count, normals, NULL);
     if (st == LS_OK) st = ls_vis_init(&vis, arena, res, res, ss, n);
-    if (st == LS_OK) st = ls_raster(&vis, arena, mvp, m->positions, n, m->triangles, m->face_count, NULL);
-    if (st == LS_OK) st = ls_shade(&vis, m->triangles, m->face_count, normals, n, &o, img, NULL);
+    if (st == LS_OK) st = ls_raster(&vis, &(ls_view){.positions = m->positions, .indices = m->triangles,
+            .triangle_count = m->face_count, .vertex_count = n, .mvp = mvp}, arena, NULL);
+    if (st == LS_OK) st = ls_shade(&(ls_view){.vis = &vis, .indices = m->triangles, .triangle_count = m->face_count,
+            .vertex_count = n, .normals = normals, .opts = &o}, img, NULL);
     if (st == LS_OK && vo != NULL) {
         vo->covered = 0;
         for (i = 0; i < res * res; i++) vo->covered += img[4 * i + 3] > 0;
@@ -118,11 +120,13 @@ static ls_status render_view(const ls_mesh *m, const ls_real mvp[16], uint32_t r
         for (i = 0; i < 4u * res * res; i++) gimg[i] = (ls_real)(1 + (int)(i % 7u)) / (ls_real)7;
         memset(grad, 0, 3u * n * sizeof(ls_real));
         memset(gnorm, 0, 3u * n * sizeof(ls_real));
-        st = ls_shade_backward(&vis, m->triangles, m->face_count, normals, n, &o, mvp, gimg, grad, gnorm, NULL, NULL);
+        st = ls_shade_backward(&(ls_view){.vis = &vis, .indices = m->triangles, .triangle_count = m->face_count,
+                .vertex_count = n, .normals = normals, .opts = &o, .mvp = mvp}, gimg, grad, gnorm, NULL, NULL);
         if (st == LS_OK) st = ls_edge_table_build(&table, m->triangles, m->face_count, n, arena, NULL);
         if (st == LS_OK)
-            st = ls_silhouette_backward(&vis, &table, m->triangles, m->face_count, normals, n, &o, mvp, 1, gimg, grad,
-                                        arena, NULL);
+            st = ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m->triangles,
+                    .triangle_count = m->face_count, .vertex_count = n, .normals = normals, .opts = &o, .mvp = mvp,
+                    .table = &table, .boost = 1}, gimg, grad, arena, NULL);
         if (st == LS_OK) st = ls_vertex_normals_backward(m->positions, n, m->triangles, m->face_count, gnorm, grad, arena, NULL);
     }
     ls_arena_restore(arena, mark);
@@ -483,8 +487,10 @@ static void extreme_single_triangle(void)
     REQUIRE(ls_camera_orthographic(-1, 1, -1, 1, (ls_real)0.1, 10, proj) == LS_OK);
     ls_shade_opts_init(&o); /* mask */
     REQUIRE(ls_vis_init(&vis, &arena, 32, 32, 4, 3) == LS_OK);
-    REQUIRE(ls_raster(&vis, &arena, proj, pos, 3, tri, 1, NULL) == LS_OK);
-    REQUIRE(ls_shade(&vis, tri, 1, NULL, 3, &o, img, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = tri, .triangle_count = 1, .vertex_count = 3,
+            .mvp = proj}, &arena, NULL) == LS_OK);
+    REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = tri, .triangle_count = 1, .vertex_count = 3, .opts = &o}, img,
+            NULL) == LS_OK);
     for (i = 0; i < 32u * 32u; i++) cover += (double)img[4 * i + 3];
     area = 0.5 * fabs(((double)pos[3] - (double)pos[0]) * ((double)pos[7] - (double)pos[1]) -
                       ((double)pos[6] - (double)pos[0]) * ((double)pos[4] - (double)pos[1])) * px * px;
@@ -494,7 +500,8 @@ static void extreme_single_triangle(void)
     for (i = 0; i < 4u * 32u * 32u; i++) gimg[i] = (ls_real)((i & 3u) == 3u);
     memset(grad, 0, sizeof grad);
     REQUIRE(ls_edge_table_build(&table, tri, 1, 3, &arena, NULL) == LS_OK);
-    REQUIRE(ls_silhouette_backward(&vis, &table, tri, 1, NULL, 3, &o, proj, 1, gimg, grad, &arena, NULL) == LS_OK);
+    REQUIRE(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = tri, .triangle_count = 1, .vertex_count = 3,
+            .opts = &o, .mvp = proj, .table = &table, .boost = 1}, gimg, grad, &arena, NULL) == LS_OK);
     for (i = 0; i < 3; i++) {
         const ls_real *a = pos + 3 * ((i + 1) % 3), *b = pos + 3 * ((i + 2) % 3);
         /* counter-clockwise: d area / d p_i = (a_y - b_y, b_x - a_x) / 2 */
@@ -517,8 +524,10 @@ static void extreme_single_triangle(void)
         for (i = 0; i < 9; i++) big[i] = i % 3 == 2 ? pos[i] : (ls_real)1.2 * pos[i];
         mb.positions = big;
         REQUIRE(ls_vis_init(&v2, &arena, RES, RES, 1, 3) == LS_OK);
-        REQUIRE(ls_raster(&v2, &arena, proj, big, 3, tri, 1, NULL) == LS_OK);
-        REQUIRE(ls_shade(&v2, tri, 1, NULL, 3, &o, tg[0], NULL) == LS_OK);
+        REQUIRE(ls_raster(&v2, &(ls_view){.positions = big, .indices = tri, .triangle_count = 1, .vertex_count = 3,
+                .mvp = proj}, &arena, NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &v2, .indices = tri, .triangle_count = 1, .vertex_count = 3, .opts = &o},
+                tg[0], NULL) == LS_OK);
         ls_arena_restore(&arena, mk);
         (void)mb;
     }
@@ -593,34 +602,39 @@ static void extreme_million_triangles_in_a_pixel(void)
         grad = (ls_real *)calloc(3u * (size_t)m.vertex_count, sizeof(ls_real));
         REQUIRE(grad != NULL);
         t0 = clock();
-        REQUIRE(ls_raster_scratch_bytes(&vis, proj, m.positions, m.vertex_count, m.triangles, m.face_count,
-                                        &raster_bytes) == LS_OK);
+        REQUIRE(ls_raster_scratch_bytes(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = proj}, &raster_bytes) == LS_OK);
         s1 = (unsigned char *)malloc(raster_bytes);
         REQUIRE(s1 != NULL);
         REQUIRE(ls_arena_init(&sa, s1, raster_bytes - 8u) == LS_OK);
-        CHECK_STATUS(ls_raster(&vis, &sa, proj, m.positions, m.vertex_count, m.triangles, m.face_count, NULL),
+        CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = proj}, &sa, NULL),
                      LS_ERR_NOMEM);
         REQUIRE(ls_arena_init(&sa, s1, raster_bytes) == LS_OK);
-        CHECK_STATUS(ls_raster(&vis, &sa, proj, m.positions, m.vertex_count, m.triangles, m.face_count, NULL), LS_OK);
+        CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = proj}, &sa, NULL), LS_OK);
         CHECK_EQ(vis.scratch_bytes, raster_bytes);
         free(s1);
-        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, NULL, m.vertex_count, &o, img, NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                .vertex_count = m.vertex_count, .opts = &o}, img, NULL) == LS_OK);
         for (i = 0, covered = 0; i < res * res; i++) covered += img[4 * i + 3] > 0;
         CHECK_EQ(covered, 1);
         CHECK(img[4 * (3 * res + 4) + 3] == 1);
-        CHECK_STATUS(ls_shade_backward(&vis, m.triangles, m.face_count, NULL, m.vertex_count, &o, proj, gimg, grad, NULL,
-                                       NULL, NULL),
+        CHECK_STATUS(ls_shade_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                .vertex_count = m.vertex_count, .opts = &o, .mvp = proj}, gimg, grad, NULL, NULL, NULL),
                      LS_OK);
         CHECK(all_finite(grad, 3u * (size_t)m.vertex_count));
-        REQUIRE(ls_silhouette_scratch_bytes(&vis, &table, m.triangles, m.face_count, &sil_bytes) == LS_OK);
+        REQUIRE(ls_silhouette_scratch_bytes(&(ls_view){.vis = &vis, .indices = m.triangles,
+                .triangle_count = m.face_count, .table = &table}, &sil_bytes) == LS_OK);
         REQUIRE(ls_silhouette_scratch_bytes_bound(res, res, m.vertex_count, m.face_count, &sil_bound) == LS_OK);
         CHECK(sil_bytes <= sil_bound);
         if (pass == 1) { /* the silhouettes in the exact scratch */
             s1 = (unsigned char *)malloc(sil_bytes);
             REQUIRE(s1 != NULL);
             REQUIRE(ls_arena_init(&sa, s1, sil_bytes) == LS_OK);
-            CHECK_STATUS(ls_silhouette_backward(&vis, &table, m.triangles, m.face_count, NULL, m.vertex_count, &o, proj, 1,
-                                                gimg, grad, &sa, NULL),
+            CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m.triangles,
+                    .triangle_count = m.face_count, .vertex_count = m.vertex_count, .opts = &o, .mvp = proj,
+                    .table = &table, .boost = 1}, gimg, grad, &sa, NULL),
                          LS_OK);
             free(s1);
             CHECK(all_finite(grad, 3u * (size_t)m.vertex_count));

@@ -76,8 +76,11 @@ static void make_targets(void)
         REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
         ls_mat4_mul(proj, view, mvps[v]);
         targets[v] = (ls_real *)malloc(4u * RES * RES * sizeof(ls_real));
-        REQUIRE(ls_raster(&vis, &arena, mvps[v], m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, m.triangles, m.face_count, normals, m.vertex_count, &o, targets[v], NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = mvps[v]}, &arena,
+                NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                .vertex_count = m.vertex_count, .normals = normals, .opts = &o}, targets[v], NULL) == LS_OK);
     }
 }
 

@@ -179,15 +179,19 @@ static void composed_loss(int pair, uint32_t aa, double *loss)
     o.sh = sh;
     for (v = 0; v < NV; v++) {
         const ls_real *out = img;
-        REQUIRE(ls_raster(&vis, &arena, mvps[v], init.positions, init.vertex_count, init.triangles, init.face_count,
-                          NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, init.triangles, init.face_count, normals, init.vertex_count, &o, img, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = init.positions, .indices = init.triangles,
+                .triangle_count = init.face_count, .vertex_count = init.vertex_count, .mvp = mvps[v]}, &arena,
+                NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = init.triangles, .triangle_count = init.face_count,
+                .vertex_count = init.vertex_count, .normals = normals, .opts = &o}, img, NULL) == LS_OK);
         if (pair) {
-            REQUIRE(ls_pair_forward(&vis, &tab, init.triangles, init.face_count, img, blend, NULL) == LS_OK);
+            REQUIRE(ls_pair_forward(&(ls_view){.vis = &vis, .indices = init.triangles,
+                    .triangle_count = init.face_count, .table = &tab}, img, blend, NULL) == LS_OK);
             out = blend;
         } else if (aa > 1) {
-            REQUIRE(ls_refine_shade(&vis, &tab, init.triangles, init.face_count, normals, init.vertex_count, &o, aa,
-                                    img, &arena, NULL, NULL) == LS_OK);
+            REQUIRE(ls_refine_shade(&(ls_view){.vis = &vis, .indices = init.triangles,
+                    .triangle_count = init.face_count, .vertex_count = init.vertex_count, .normals = normals,
+                    .opts = &o, .table = &tab}, aa, img, &arena, NULL, NULL) == LS_OK);
         }
         for (p = 0; p < 4u * RES * RES; p++) sum += fabs((double)out[p] - (double)targets[v][p]);
     }

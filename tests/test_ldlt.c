@@ -25,7 +25,7 @@ static int build(const mtrip *t, ls_arena *arena, ls_csc *a)
     size_t i;
     ls_status st;
     for (i = 0; i < t->count; i++) v[i] = (ls_real)t->v[i];
-    st = ls_csc_from_triplets(t->n, t->n, t->count, t->r, t->c, v, arena, a, NULL);
+    st = ls_csc_from_triplets(&(ls_triplets){t->n, t->n, t->count, t->r, t->c, v}, arena, a, NULL);
     free(v);
     return st == LS_OK;
 }
@@ -121,7 +121,7 @@ static void random_spd(uint32_t n, double kappa, ls_arena *arena, ls_csc *out)
             c[i * n + j] = j;
             val[i * n + j] = (ls_real)a[lo * n + hi];
         }
-    (void)ls_csc_from_triplets(n, n, (size_t)n * n, r, c, val, arena, out, NULL);
+    (void)ls_csc_from_triplets(&(ls_triplets){n, n, (size_t)n * n, r, c, val}, arena, out, NULL);
     free(q); free(v); free(a); free(r); free(c); free(val);
 }
 
@@ -377,7 +377,7 @@ static void ldlt_errors(void)
     r[0] = c[0] = 0; v[0] = 2;
     r[1] = c[1] = 1; v[1] = -1;
     r[2] = c[2] = 2; v[2] = 3;
-    REQUIRE(ls_csc_from_triplets(3, 3, 3, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, v}, &arena, &a, NULL) == LS_OK);
     REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_NATURAL, NULL, &arena, &f, NULL) == LS_OK);
     {
         size_t used = ls_arena_used(&arena);
@@ -392,7 +392,7 @@ static void ldlt_errors(void)
     r[0] = 0; c[0] = 0; v[0] = 1;
     r[1] = 0; c[1] = 1; v[1] = 1;
     r[2] = 1; c[2] = 1; v[2] = 1;
-    REQUIRE(ls_csc_from_triplets(2, 2, 3, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 3, r, c, v}, &arena, &a, NULL) == LS_OK);
     {
         uint32_t perm[2] = {1, 0};
         REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_GIVEN, perm, &arena, &f, NULL) == LS_OK);
@@ -401,7 +401,7 @@ static void ldlt_errors(void)
     CHECK(dg.index == 0 && dg.value == 0);
     /* NaN off the diagonal: the pivot after it is NaN, named */
     v[1] = (ls_real)NAN;
-    REQUIRE(ls_csc_from_triplets(2, 2, 3, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 3, r, c, v}, &arena, &a, NULL) == LS_OK);
     REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_NATURAL, NULL, &arena, &f, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_factor(&f, &a, &arena, &dg), LS_ERR_NOT_SPD);
     CHECK(dg.index == 1 && dg.value != dg.value);
@@ -409,13 +409,13 @@ static void ldlt_errors(void)
     /* infinite diagonal */
     v[1] = 0;
     v[0] = (ls_real)INFINITY;
-    REQUIRE(ls_csc_from_triplets(2, 2, 3, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 3, r, c, v}, &arena, &a, NULL) == LS_OK);
     REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_NATURAL, NULL, &arena, &f, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_factor(&f, &a, &arena, &dg), LS_ERR_NOT_SPD);
     CHECK(dg.index == 0);
     /* then a good refactor revalidates: factor once good, break it, repair */
     v[0] = 4;
-    REQUIRE(ls_csc_from_triplets(2, 2, 3, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 3, r, c, v}, &arena, &a, NULL) == LS_OK);
     REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_factor(&f, &a, &arena, NULL), LS_OK);
     a.values[0] = -4;
@@ -451,14 +451,14 @@ static void ldlt_errors(void)
         CHECK(x3[0] == 1 && x3[1] == 2 && x3[2] == 3 && x3[3] == 4 && x3[4] == 5 && x3[5] == 6);
     }
     /* a matrix whose pattern size differs from the analyzed one */
-    REQUIRE(ls_csc_from_triplets(2, 2, 2, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 2, r, c, v}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_refactor(&f, &a, &dg), LS_ERR_INVALID);
     /* empty 0 x 0: trivially fine; n x n with no entries: zero pivot */
-    REQUIRE(ls_csc_from_triplets(0, 0, 0, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){0, 0, 0, r, c, v}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL), LS_OK);
     CHECK_STATUS(ls_ldlt_factor(&f, &a, &arena, NULL), LS_OK);
     CHECK_STATUS(ls_ldlt_solve(&f, 3, NULL, &arena), LS_OK);
-    REQUIRE(ls_csc_from_triplets(3, 3, 0, r, c, v, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 3, 0, r, c, v}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL), LS_OK);
     CHECK_STATUS(ls_ldlt_factor(&f, &a, &arena, &dg), LS_ERR_NOT_SPD);
     CHECK(dg.value == 0);

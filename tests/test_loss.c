@@ -57,7 +57,7 @@ static void check_kind(unsigned kind)
             r[v * NV + i] = (double)ref[v][i];
         }
     }
-    CHECK_STATUS(ls_loss_views(kind, W, H, V, pi, pr, pg, &loss, NULL), LS_OK);
+    CHECK_STATUS(ls_loss_views(&(ls_loss_shape){kind, W, H, V}, pi, pr, pg, &loss, NULL), LS_OK);
     want = ref_loss(kind, x, r, (size_t)V * NV);
     CHECK_NEAR(loss, want, TEST_EPS(8) * want);
     /* Central differences of the reference, per component. */
@@ -104,7 +104,7 @@ static void loss_fixed_order(void)
             pr[v] = ref[v];
             pg[v] = grad[v];
         }
-        CHECK_STATUS(ls_loss_views(kind, W, H, V, pi, pr, pg, &a, NULL), LS_OK);
+        CHECK_STATUS(ls_loss_views(&(ls_loss_shape){kind, W, H, V}, pi, pr, pg, &a, NULL), LS_OK);
         CHECK_STATUS(ls_loss_begin(&acc, kind, W, H, V), LS_OK);
         CHECK_STATUS(ls_loss_finish(&acc, &c), LS_ERR_STATE);
         for (v = 0; v < V; v++) CHECK_STATUS(ls_loss_view(&acc, img[v], ref[v], grad2[v], NULL), LS_OK);
@@ -112,7 +112,7 @@ static void loss_fixed_order(void)
         CHECK_STATUS(ls_loss_finish(&acc, &b), LS_OK);
         CHECK(memcmp(&a, &b, sizeof a) == 0);
         CHECK(memcmp(grad, grad2, sizeof grad) == 0);
-        CHECK_STATUS(ls_loss_views(kind, W, H, V, pi, pr, NULL, &c, NULL), LS_OK);
+        CHECK_STATUS(ls_loss_views(&(ls_loss_shape){kind, W, H, V}, pi, pr, NULL, &c, NULL), LS_OK);
         CHECK(memcmp(&a, &c, sizeof a) == 0);
     }
 }
@@ -167,13 +167,13 @@ static void loss_errors(void)
     px[0] = x;
     pr[0] = r;
     pg[0] = g;
-    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 2, 2, 1, px, pr, pg, &loss, &diag), LS_ERR_NONFINITE);
+    CHECK_STATUS(ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, 2, 2, 1}, px, pr, pg, &loss, &diag), LS_ERR_NONFINITE);
     CHECK_EQ(diag.index, 9);
     CHECK_EQ(diag.offset, 0);
     CHECK(strcmp(diag.what, "non-finite target value") == 0);
     for (i = 0; i < 16; i++) CHECK(g[i] == (ls_real)-7);
     r[9] = 0;
-    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 2, 2, 1, px, pr, pg, &loss, &diag), LS_OK);
+    CHECK_STATUS(ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, 2, 2, 1}, px, pr, pg, &loss, &diag), LS_OK);
     CHECK_NEAR(loss, 120.0 / 16.0, 0.0);
     CHECK(g[0] == 0);
     CHECK(g[1] == (ls_real)1 / (ls_real)16);
@@ -284,7 +284,7 @@ static double loss_error_u(unsigned kind, uint32_t w, uint32_t h, uint32_t nv)
         pr[v] = big_r[v];
         pt[v] = big_t[v];
     }
-    if (ls_loss_views(kind, w, h, nv, pr, pt, NULL, &loss, NULL) != LS_OK) return 1e30;
+    if (ls_loss_views(&(ls_loss_shape){kind, w, h, nv}, pr, pt, NULL, &loss, NULL) != LS_OK) return 1e30;
     want = ref_loss_dd(kind, w, h, nv, big_r[0], big_t[0], AN);
     return fabs((double)loss - want) / (want * 0.5 * (double)LS_REAL_EPSILON);
 }
@@ -414,12 +414,12 @@ static void loss_nonfinite_first_and_untouched(void)
     /* all views at once: a NaN in the last view writes no gradient anywhere */
     x[1][1599] = 0;
     x[2][4] = nan;
-    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 40, 10, 3, px, pr, pg, &loss, &diag), LS_ERR_NONFINITE);
+    CHECK_STATUS(ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, 40, 10, 3}, px, pr, pg, &loss, &diag), LS_ERR_NONFINITE);
     CHECK_EQ(diag.offset, 2);
     CHECK_EQ(diag.index, 4);
     CHECK(test_hash(g, sizeof g, 1) == hg);
     x[2][4] = 0;
-    CHECK_STATUS(ls_loss_views(LS_LOSS_L1, 40, 10, 3, px, pr, pg, &loss, &diag), LS_OK);
+    CHECK_STATUS(ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, 40, 10, 3}, px, pr, pg, &loss, &diag), LS_OK);
     CHECK(test_hash(g, sizeof g, 1) != hg);
 }
 

@@ -199,9 +199,11 @@ static void fit_on_target(ls_arena *arena, int whole_job)
     REQUIRE(ls_shade_vertex_normals(target.positions, target.vertex_count, target.triangles, target.face_count, normals,
                                     NULL) == LS_OK);
     REQUIRE(ls_vis_init(&vis, arena, res, res, 1, target.vertex_count) == LS_OK);
-    REQUIRE(ls_raster(&vis, arena, mvp, target.positions, target.vertex_count, target.triangles, target.face_count,
-                      NULL) == LS_OK);
-    REQUIRE(ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &c.shading, img, NULL) ==
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = target.positions, .indices = target.triangles,
+            .triangle_count = target.face_count, .vertex_count = target.vertex_count, .mvp = mvp}, arena,
+            NULL) == LS_OK);
+    REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = target.triangles, .triangle_count = target.face_count,
+            .vertex_count = target.vertex_count, .normals = normals, .opts = &c.shading}, img, NULL) ==
             LS_OK);
     ls_arena_restore(arena, mark);
     REQUIRE(ls_icosphere(level, arena, &init) == LS_OK);

@@ -385,8 +385,8 @@ static ls_status run_vis(void *ctx, ls_arena *arena)
 static ls_status run_raster(void *ctx, ls_arena *arena)
 {
     solve_job *s = (solve_job *)ctx;
-    return ls_raster(&s->vis, arena, s->mvp, s->mesh.positions, s->mesh.vertex_count, s->mesh.triangles,
-                     s->mesh.face_count, NULL);
+    return ls_raster(&s->vis, &(ls_view){.positions = s->mesh.positions, .indices = s->mesh.triangles,
+            .triangle_count = s->mesh.face_count, .vertex_count = s->mesh.vertex_count, .mvp = s->mvp}, arena, NULL);
 }
 
 static void sweep_solve(solve_job *s, const char *name, ls_status (*run)(void *, ls_arena *), size_t answer,
@@ -455,8 +455,8 @@ static void factorization_and_raster_at_every_size(void)
     REQUIRE(ls_camera_perspective((ls_real)0.9, LS_FOV_X, (ls_real)1.5, (ls_real)0.1, (ls_real)10, proj) == LS_OK);
     REQUIRE(ls_camera_orbit(center, (ls_real)2.5, dir, view) == LS_OK);
     ls_mat4_mul(proj, view, s.mvp);
-    REQUIRE(ls_raster_scratch_bytes(&s.vis, s.mvp, s.mesh.positions, s.mesh.vertex_count, s.mesh.triangles,
-                                    s.mesh.face_count, &bytes) == LS_OK);
+    REQUIRE(ls_raster_scratch_bytes(&s.vis, &(ls_view){.positions = s.mesh.positions, .indices = s.mesh.triangles,
+            .triangle_count = s.mesh.face_count, .vertex_count = s.mesh.vertex_count, .mvp = s.mvp}, &bytes) == LS_OK);
     sweep_solve(&s, "raster", run_raster, bytes, NULL, 0);
 }
 
@@ -519,9 +519,11 @@ static void fit_setup(fit_ctx *f, ls_arena *a)
         ls_mat4_mul(proj, view, f->mvps[v]);
         f->targets[v] = (ls_real *)ls_arena_alloc(a, 4u * FIT_RES * FIT_RES, sizeof(ls_real));
         REQUIRE(f->targets[v] != NULL);
-        REQUIRE(ls_raster(&vis, a, f->mvps[v], target.positions, target.vertex_count, target.triangles, target.face_count,
-                          NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &o, f->targets[v], NULL) ==
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = target.positions, .indices = target.triangles,
+                .triangle_count = target.face_count, .vertex_count = target.vertex_count, .mvp = f->mvps[v]}, a,
+                NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = target.triangles, .triangle_count = target.face_count,
+                .vertex_count = target.vertex_count, .normals = normals, .opts = &o}, f->targets[v], NULL) ==
                 LS_OK);
     }
     REQUIRE(ls_icosphere(1, a, &f->init) == LS_OK);

@@ -21,7 +21,7 @@ static int build(const mtrip *t, ls_arena *arena, ls_csc *a)
     size_t i;
     ls_status st;
     for (i = 0; i < t->count; i++) v[i] = (ls_real)t->v[i];
-    st = ls_csc_from_triplets(t->n, t->n, t->count, t->r, t->c, v, arena, a, NULL);
+    st = ls_csc_from_triplets(&(ls_triplets){t->n, t->n, t->count, t->r, t->c, v}, arena, a, NULL);
     free(v);
     return st == LS_OK;
 }
@@ -57,30 +57,30 @@ static void order_small_graphs(void)
     uint32_t r[64], c[64], i, n;
     REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2, BUF_BYTES / 2) == LS_OK);
     /* empty 0 x 0, 1 x 1, diagonal only */
-    REQUIRE(ls_csc_from_triplets(0, 0, 0, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){0, 0, 0, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
     r[0] = c[0] = 0;
-    REQUIRE(ls_csc_from_triplets(1, 1, 1, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){1, 1, 1, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
     for (i = 0; i < 9; i++) r[i] = c[i] = i;
-    REQUIRE(ls_csc_from_triplets(9, 9, 9, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){9, 9, 9, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
     /* path 0-1-...-9: minimum degree has no fill */
     for (n = 0, i = 0; i + 1 < 10; i++) { r[n] = i; c[n++] = i + 1; }
     for (i = 0; i < 10; i++) { r[n] = i; c[n++] = i; }
-    REQUIRE(ls_csc_from_triplets(10, 10, n, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){10, 10, n, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
     CHECK_EQ(fill_of(&a, LS_ORDER_AMD), 9);
     /* star with centre 0: natural order fills completely, AMD not at all */
     for (n = 0, i = 1; i < 12; i++) { r[n] = 0; c[n++] = i; }
     for (i = 0; i < 12; i++) { r[n] = i; c[n++] = i; }
-    REQUIRE(ls_csc_from_triplets(12, 12, n, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){12, 12, n, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
     CHECK_EQ(fill_of(&a, LS_ORDER_AMD), 11);
     CHECK_EQ(fill_of(&a, LS_ORDER_NATURAL), 11 * 12 / 2);
     /* two components, lower-triangle entries only (no graph: all isolated) */
     for (n = 0, i = 0; i + 1 < 8; i++) { r[n] = i + 1; c[n++] = i; }
-    REQUIRE(ls_csc_from_triplets(8, 8, n, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){8, 8, n, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK(order_valid(&a));
 }
 
@@ -98,7 +98,7 @@ static void order_random_graphs(void)
         }
         for (i = 0; i < n; i++) r[m + i] = c[m + i] = i;
         REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2, BUF_BYTES / 2) == LS_OK);
-        REQUIRE(ls_csc_from_triplets(n, n, m + n, r, c, NULL, &arena, &a, NULL) == LS_OK);
+        REQUIRE(ls_csc_from_triplets(&(ls_triplets){n, n, m + n, r, c, NULL}, &arena, &a, NULL) == LS_OK);
         CHECK_MSG(order_valid(&a), "trial %d n %u", trial, n);
         /* minimum degree should not lose badly to the natural order */
         CHECK_MSG(fill_of(&a, LS_ORDER_AMD) <= fill_of(&a, LS_ORDER_NATURAL) + n, "trial %d", trial);
@@ -206,10 +206,10 @@ static void order_errors(void)
     ls_diag dg;
     size_t bytes;
     REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
-    REQUIRE(ls_csc_from_triplets(3, 2, 2, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 2, 2, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_order_amd(&a, &arena, perm, &dg), LS_ERR_INVALID);
     CHECK_STATUS(ls_order_amd(NULL, &arena, perm, NULL), LS_ERR_INVALID);
-    REQUIRE(ls_csc_from_triplets(2, 2, 2, r, c, NULL, &arena, &a, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 2, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     a.rowidx[1] = 7;
     CHECK_STATUS(ls_order_amd(&a, &arena, perm, &dg), LS_ERR_INVALID);
     CHECK(dg.has_index && dg.index == 1);

@@ -239,7 +239,8 @@ static void single_triangles_match_float64(void)
             clip[k][2] = (double)((ls_real)0.5 * pos[3 * k + 2] + (ls_real)-0.4);
             (void)zn;
         }
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, &a, NULL) == LS_OK);
         {
             /* the lattice vertices must snap to exactly qx, qy (double build);
              * in float builds compare against what was snapped */
@@ -315,7 +316,8 @@ static void per_triangle_coverage(ls_vis *vis, ls_arena *a, const ls_real *mvp, 
         /* the triangle's own three vertices: the same inputs give the same bits */
         for (k = 0; k < 3; k++)
             for (i = 0; i < 3; i++) p3[3 * k + i] = pos[3 * (size_t)f[3 * (size_t)t + (size_t)k] + (size_t)i];
-        st = ls_raster(vis, a, mvp, p3, 3, one, 1, NULL);
+        st = ls_raster(vis, &(ls_view){.positions = p3, .indices = one, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, a, NULL);
         if (st != LS_OK) {
             CHECK_STATUS(st, LS_OK);
             return;
@@ -427,7 +429,8 @@ static void grid_of_triangles_is_watertight(void)
                 if (cnt[s] > 1) doubles++;
             }
             /* and the full render covers everything */
-            REQUIRE(ls_raster(&vis, &a, mvp, pos, (G + 1) * (G + 1), f, (uint32_t)nf, NULL) == LS_OK);
+            REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = f, .triangle_count = (uint32_t)nf,
+                    .vertex_count = (G + 1) * (G + 1), .mvp = mvp}, &a, NULL) == LS_OK);
             for (s = 0; s < n; s++)
                 if (vis.tri[s] == 0) holes++;
         }
@@ -516,7 +519,8 @@ static void closed_mesh_is_watertight(const char *name, const tmesh *m, int view
         memset(cnt, 0, n * sizeof(int));
         memset(sgn, 0, n * sizeof(int));
         per_triangle_coverage(&vis, &a, mvp, pos, m->nv, m->f, m->nf, cnt, sgn);
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, m->nv, m->f, m->nf, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = m->f, .triangle_count = m->nf,
+                .vertex_count = m->nv, .mvp = mvp}, &a, NULL) == LS_OK);
         for (s = 0; s < n; s++) {
             checked++;
             if (sgn[s] != 0) parity++;
@@ -615,7 +619,8 @@ static void near_plane_crossing_matches_float64(void)
             v[k][2] = (double)pos[3 * k + 2];
             apply(p, v[k], c[k]);
         }
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, &a, NULL) == LS_OK);
         clipped += vis.clipped_triangles;
         CHECK(all_finite(&vis));
         for (j = 0; j < (int)h; j++)
@@ -694,7 +699,8 @@ static void degenerate_and_huge_triangles_are_safe(void)
         uint32_t idx[3] = {0, 1, 2};
         size_t s, cov = 0;
         for (k = 0; k < 9; k++) pos[k] = (ls_real)cases[trial][k];
-        CHECK_STATUS(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL), LS_OK);
+        CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1,
+                .vertex_count = 3, .mvp = mvp}, &a, NULL), LS_OK);
         CHECK_MSG(all_finite(&vis), "case %d: non-finite or out-of-range output", trial);
         for (s = 0; s < (size_t)vis.sw * vis.sh; s++) cov += vis.tri[s] != 0;
         /* (1e15 in float: the clipped vertices are not representable to a sample) */
@@ -722,19 +728,24 @@ static void bad_input_is_rejected(void)
     CHECK_STATUS(ls_vis_init(&vis, &a, 4096, 4, 4, 3), LS_ERR_INVALID);
     CHECK_STATUS(ls_vis_bytes(2048, 2048, 4, 3, &bytes), LS_OK);
     REQUIRE(ls_vis_init(&vis, &a, 8, 8, 1, 3) == LS_OK);
-    CHECK_STATUS(ls_raster(&blank, &a, mvp, pos, 3, idx, 1, NULL), LS_ERR_STATE);
-    CHECK_STATUS(ls_raster(&vis, &a, mvp, pos, 4, idx, 1, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_raster(&blank, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+            .mvp = mvp}, &a, NULL), LS_ERR_STATE);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 4,
+            .mvp = mvp}, &a, NULL), LS_ERR_INVALID);
     ls_diag_clear(&d);
-    CHECK_STATUS(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, &d), LS_ERR_MESH);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+            .mvp = mvp}, &a, &d), LS_ERR_MESH);
     CHECK(d.has_index && d.index == 0 && d.what != NULL);
     idx[2] = 2;
     pos[4] = (ls_real)NAN;
     ls_diag_clear(&d);
-    CHECK_STATUS(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, &d), LS_ERR_NONFINITE);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+            .mvp = mvp}, &a, &d), LS_ERR_NONFINITE);
     CHECK(d.has_index && d.index == 1);
     pos[4] = 0;
     mvp[5] = (ls_real)INFINITY;
-    CHECK_STATUS(ls_raster(&vis, &a, mvp, pos, 3, idx, 1, NULL), LS_ERR_NONFINITE);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
+            .mvp = mvp}, &a, NULL), LS_ERR_NONFINITE);
     CHECK_EQ(a.top, 0);
     free(mem);
 }
@@ -753,8 +764,10 @@ static void supersampling_equals_finer_grid(void)
     bunny_mvp(&m, 0.3, 0.4, 0.866, 21.0, 1.0, mvp);
     REQUIRE(ls_vis_init(&v2, &a, 40, 40, 2, m.nv) == LS_OK);
     REQUIRE(ls_vis_init(&v1, &a, 80, 80, 1, m.nv) == LS_OK);
-    REQUIRE(ls_raster(&v2, &a, mvp, pos, m.nv, m.f, m.nf, NULL) == LS_OK);
-    REQUIRE(ls_raster(&v1, &a, mvp, pos, m.nv, m.f, m.nf, NULL) == LS_OK);
+    REQUIRE(ls_raster(&v2, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf, .vertex_count = m.nv,
+            .mvp = mvp}, &a, NULL) == LS_OK);
+    REQUIRE(ls_raster(&v1, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf, .vertex_count = m.nv,
+            .mvp = mvp}, &a, NULL) == LS_OK);
     CHECK(memcmp(v1.tri, v2.tri, 80 * 80 * sizeof(uint32_t)) == 0);
     CHECK(memcmp(v1.depth, v2.depth, 80 * 80 * sizeof(ls_real)) == 0);
     CHECK(memcmp(v1.bary, v2.bary, 2 * 80 * 80 * sizeof(ls_real)) == 0);
@@ -762,7 +775,8 @@ static void supersampling_equals_finer_grid(void)
     {
         uint64_t h1 = test_hash(v1.tri, 80 * 80 * 4, TEST_HASH_SEED), h2;
         h1 = test_hash(v1.bary, 2 * 80 * 80 * sizeof(ls_real), h1);
-        REQUIRE(ls_raster(&v1, &a, mvp, pos, m.nv, m.f, m.nf, NULL) == LS_OK);
+        REQUIRE(ls_raster(&v1, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf,
+                .vertex_count = m.nv, .mvp = mvp}, &a, NULL) == LS_OK);
         h2 = test_hash(v1.tri, 80 * 80 * 4, TEST_HASH_SEED);
         h2 = test_hash(v1.bary, 2 * 80 * 80 * sizeof(ls_real), h2);
         CHECK(h1 == h2);
@@ -797,14 +811,16 @@ static void visible_surface_is_the_nearest(void)
         static const uint32_t one[3] = {0, 1, 2};
         int k;
         for (k = 0; k < 9; k++) p3[k] = pos[3 * (size_t)m.f[3 * (size_t)t + (size_t)(k / 3)] + (size_t)(k % 3)];
-        REQUIRE(ls_raster(&vis, &a, mvp, p3, 3, one, 1, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = p3, .indices = one, .triangle_count = 1, .vertex_count = 3,
+                .mvp = mvp}, &a, NULL) == LS_OK);
         for (s = 0; s < n; s++)
             if (vis.tri[s] && (best_id[s] == 0 || vis.depth[s] < best[s])) {
                 best[s] = vis.depth[s];
                 best_id[s] = t + 1;
             }
     }
-    REQUIRE(ls_raster(&vis, &a, mvp, pos, m.nv, m.f, m.nf, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf, .vertex_count = m.nv,
+            .mvp = mvp}, &a, NULL) == LS_OK);
     for (s = 0; s < n; s++)
         if (vis.tri[s] != best_id[s] || (best_id[s] && vis.depth[s] != best[s])) wrong++;
     CHECK_EQ(wrong, 0);
@@ -825,7 +841,8 @@ typedef struct raster_job {
 static ls_status run_raster(void *ctx, ls_arena *arena)
 {
     raster_job *j = (raster_job *)ctx;
-    return ls_raster(j->vis, arena, j->mvp, j->pos, j->nv, j->f, j->nf, NULL);
+    return ls_raster(j->vis, &(ls_view){.positions = j->pos, .indices = j->f, .triangle_count = j->nf,
+            .vertex_count = j->nv, .mvp = j->mvp}, arena, NULL);
 }
 
 static uint64_t hash_raster(void *ctx)
@@ -890,7 +907,8 @@ static void sizing_queries_and_arena_sweeps(void)
     }
     /* raster scratch: exact query for this geometry, bound above it */
     REQUIRE(ls_vis_init(&vis, &a, 64, 48, 2, m.nv) == LS_OK);
-    REQUIRE(ls_raster_scratch_bytes(&vis, mvp, pos, m.nv, m.f, m.nf, &exact) == LS_OK);
+    REQUIRE(ls_raster_scratch_bytes(&vis, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf,
+            .vertex_count = m.nv, .mvp = mvp}, &exact) == LS_OK);
     REQUIRE(ls_raster_scratch_bytes_bound(64, 48, 2, m.nv, m.nf, &bound) == LS_OK);
     CHECK(bound >= exact);
     rj.vis = &vis;
@@ -910,7 +928,8 @@ static void sizing_queries_and_arena_sweeps(void)
     CHECK_EQ(vis.scratch_bytes, exact);
     /* a clipped scene too (camera inside the bunny's bounding box) */
     bunny_mvp(&m, 0.1, 0.2, 0.97, 2.0, 1.0, mvp);
-    REQUIRE(ls_raster_scratch_bytes(&vis, mvp, pos, m.nv, m.f, m.nf, &exact) == LS_OK);
+    REQUIRE(ls_raster_scratch_bytes(&vis, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf,
+            .vertex_count = m.nv, .mvp = mvp}, &exact) == LS_OK);
     sj.answer = exact;
     CHECK_EQ(sweep_arena(&sj), 0);
     CHECK(vis.clipped_triangles > 0);
@@ -939,9 +958,11 @@ static void bytes_per_view_report(void)
         REQUIRE(ls_vis_bytes(res[r], res[r], 1, m.nv, &vb) == LS_OK);
         ls_arena_init(&a, mem, (size_t)1 << 26);
         REQUIRE(ls_vis_init(&vis, &a, res[r], res[r], 1, m.nv) == LS_OK);
-        REQUIRE(ls_raster_scratch_bytes(&vis, mvp, pos, m.nv, m.f, m.nf, &sb) == LS_OK);
+        REQUIRE(ls_raster_scratch_bytes(&vis, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf,
+                .vertex_count = m.nv, .mvp = mvp}, &sb) == LS_OK);
         REQUIRE(ls_raster_scratch_bytes_bound(res[r], res[r], 1, m.nv, m.nf, &bound) == LS_OK);
-        REQUIRE(ls_raster(&vis, &a, mvp, pos, m.nv, m.f, m.nf, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = m.f, .triangle_count = m.nf,
+                .vertex_count = m.nv, .mvp = mvp}, &a, NULL) == LS_OK);
         printf("     bunny %u^2 S=1: vis %lu bytes, raster scratch %lu bytes (%lu bin entries; bound %lu)\n",
                res[r], (unsigned long)vb, (unsigned long)sb, (unsigned long)vis.bin_entries,
                (unsigned long)bound);

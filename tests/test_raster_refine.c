@@ -184,11 +184,14 @@ static int lib_run(const scene *sc, const double *pos, const ls_real *col_over, 
     if (ls_shade_vertex_normals(p, sc->nv, sc->f, sc->nt, normals, NULL) != LS_OK) return 0;
     if (nrm_over != NULL) memcpy(normals, nrm_over, sizeof(ls_real) * 3 * sc->nv);
     if (ls_vis_init(&vis, &arena, IMG, IMG, ss, MAXV) != LS_OK) return 0;
-    if (ls_raster(&vis, &arena, mvp, p, sc->nv, sc->f, sc->nt, NULL) != LS_OK) return 0;
+    if (ls_raster(&vis, &(ls_view){.positions = p, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .mvp = mvp}, &arena, NULL) != LS_OK) return 0;
     if (ls_edge_table_build(&et, sc->f, sc->nt, sc->nv, &arena, NULL) != LS_OK) return 0;
-    if (ls_shade(&vis, sc->f, sc->nt, normals, sc->nv, &o, out->img, NULL) != LS_OK) return 0;
+    if (ls_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = normals, .opts = &o}, out->img, NULL) != LS_OK) return 0;
     memset(&out->info, 0, sizeof out->info);
-    if (ls_refine_shade(&vis, &et, sc->f, sc->nt, normals, sc->nv, &o, aa, out->img, &arena, &out->info, NULL) != LS_OK)
+    if (ls_refine_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = normals, .opts = &o, .table = &et}, aa, out->img, &arena, &out->info, NULL) != LS_OK)
         return 0;
     out->loss = 0;
     for (i = 0; i < 4 * NPIX; i++) {
@@ -205,13 +208,18 @@ static int lib_run(const scene *sc, const double *pos, const ls_real *col_over, 
     g.texels = NULL;
     g.uvs = NULL;
     if (grads == 2) {
-        if (ls_shade_backward_grads(&vis, sc->f, sc->nt, normals, sc->nv, &o, mvp, gimg, &g, NULL) != LS_OK) return 0;
+        if (ls_shade_backward_grads(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+                .vertex_count = sc->nv, .normals = normals, .opts = &o, .mvp = mvp}, gimg, &g, NULL) != LS_OK) return 0;
         return 1;
     }
-    if (ls_refine_shade_backward(&vis, &et, sc->f, sc->nt, normals, sc->nv, &o, aa, mvp, gimg, &g, &arena, NULL) != LS_OK)
+    if (ls_refine_shade_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+            .vertex_count = sc->nv, .normals = normals, .opts = &o, .mvp = mvp, .table = &et}, aa, gimg, &g, &arena,
+            NULL) != LS_OK)
         return 0;
     if (grads == 1 &&
-        ls_silhouette_backward(&vis, &et, sc->f, sc->nt, normals, sc->nv, &o, mvp, 1, gimg, out->gp, &arena, NULL) != LS_OK)
+        ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+                .vertex_count = sc->nv, .normals = normals, .opts = &o, .mvp = mvp, .table = &et, .boost = 1}, gimg,
+                out->gp, &arena, NULL) != LS_OK)
         return 0;
     return 1;
 }
@@ -400,10 +408,12 @@ static void run_convergence(const char *name, void (*make)(scene *), int trials)
             for (i = 0; i < 16; i++) mvp[i] = (ls_real)sc.mvp[i];
             setup_opts(&sc, &o, colors);
             REQUIRE(ls_vis_init(&vis, &arena, IMG, IMG, conv_ss, MAXV) == LS_OK);
-            REQUIRE(ls_raster(&vis, &arena, mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+            REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+                    .vertex_count = sc.nv, .mvp = mvp}, &arena, NULL) == LS_OK);
             REQUIRE(ls_edge_table_build(&et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
             for (i = 0; i < 4 * NPIX; i++) img[i] = (ls_real)-7;
-            REQUIRE(ls_refine_shade(&vis, &et, sc.f, sc.nt, NULL, sc.nv, &o, 16, img, &arena, NULL, NULL) == LS_OK);
+            REQUIRE(ls_refine_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                    .vertex_count = sc.nv, .opts = &o, .table = &et}, 16, img, &arena, NULL, NULL) == LS_OK);
             REQUIRE(lib_run(&sc, sc.p, NULL, NULL, conv_ss, 16, 0, &on));
             for (p = 0; p < NPIX; p++) {
                 int marked = img[4 * p + 3] != (ls_real)-7;
@@ -653,11 +663,13 @@ static void refined_map(const scene *sc, uint32_t aa, unsigned char *map)
     setup_opts(sc, &o, colors);
     if (ls_shade_vertex_normals(pos, sc->nv, sc->f, sc->nt, normals, NULL) != LS_OK ||
         ls_vis_init(&vis, &arena, IMG, IMG, 1, MAXV) != LS_OK ||
-        ls_raster(&vis, &arena, mvp, pos, sc->nv, sc->f, sc->nt, NULL) != LS_OK ||
+        ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+                .mvp = mvp}, &arena, NULL) != LS_OK ||
         ls_edge_table_build(&et, sc->f, sc->nt, sc->nv, &arena, NULL) != LS_OK)
         return;
     for (i = 0; i < 4 * NPIX; i++) img[i] = (ls_real)-7;
-    if (ls_refine_shade(&vis, &et, sc->f, sc->nt, normals, sc->nv, &o, aa, img, &arena, NULL, NULL) != LS_OK) return;
+    if (ls_refine_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = normals, .opts = &o, .table = &et}, aa, img, &arena, NULL, NULL) != LS_OK) return;
     for (i = 0; i < NPIX; i++) map[i] = img[4 * i + 3] != (ls_real)-7;
 }
 
@@ -753,10 +765,11 @@ static ls_status r_run(void *ctx, ls_arena *arena)
         memset(&g, 0, sizeof g);
         g.positions = c->gp;
         g.colors = c->gc;
-        return ls_refine_shade_backward(&c->vis, &c->et, c->sc->f, c->sc->nt, NULL, c->sc->nv, &c->o, 8, c->mvp,
-                                        c->gimg, &g, arena, NULL);
+        return ls_refine_shade_backward(&(ls_view){.vis = &c->vis, .indices = c->sc->f, .triangle_count = c->sc->nt,
+                .vertex_count = c->sc->nv, .opts = &c->o, .mvp = c->mvp, .table = &c->et}, 8, c->gimg, &g, arena, NULL);
     }
-    return ls_refine_shade(&c->vis, &c->et, c->sc->f, c->sc->nt, NULL, c->sc->nv, &c->o, 8, c->img, arena, NULL, NULL);
+    return ls_refine_shade(&(ls_view){.vis = &c->vis, .indices = c->sc->f, .triangle_count = c->sc->nt,
+            .vertex_count = c->sc->nv, .opts = &c->o, .table = &c->et}, 8, c->img, arena, NULL, NULL);
 }
 static uint64_t r_hash(void *ctx)
 {
@@ -792,9 +805,11 @@ static void refine_scratch_sweep(void)
     setup_opts(&sc, &c.o, c.colors);
     REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
     REQUIRE(ls_vis_init(&c.vis, &arena, IMG, IMG, 1, MAXV) == LS_OK);
-    REQUIRE(ls_raster(&c.vis, &arena, c.mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+    REQUIRE(ls_raster(&c.vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+            .vertex_count = sc.nv, .mvp = c.mvp}, &arena, NULL) == LS_OK);
     REQUIRE(ls_edge_table_build(&c.et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, 8, &bytes), LS_OK);
+    CHECK_STATUS(ls_refine_scratch_bytes(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .table = &c.et}, 8, &bytes), LS_OK);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(IMG, IMG, 1, sc.nt, 8, &bound), LS_OK);
     CHECK(bytes > 0 && bound >= bytes);
     printf("     scratch at A = 8, 16^2, %u triangles: exact %lu bytes, bound %lu\n", (unsigned)sc.nt,
@@ -811,20 +826,26 @@ static void refine_scratch_sweep(void)
         CHECK_EQ(sweep_arena(&job), 0);
     }
     /* off: no memory */
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, 1, &zero), LS_OK);
+    CHECK_STATUS(ls_refine_scratch_bytes(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .table = &c.et}, 1, &zero), LS_OK);
     CHECK_EQ(zero, 0);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(IMG, IMG, 2, sc.nt, 2, &zero), LS_OK);
     CHECK_EQ(zero, 0);
     /* errors */
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, LS_REFINE_MAX + 1, &bytes), LS_ERR_INVALID);
-    CHECK_STATUS(ls_refine_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt + 1, 8, &bytes), LS_ERR_INVALID);
+    CHECK_STATUS(ls_refine_scratch_bytes(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .table = &c.et}, LS_REFINE_MAX + 1, &bytes), LS_ERR_INVALID);
+    CHECK_STATUS(ls_refine_scratch_bytes(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt + 1,
+            .table = &c.et}, 8, &bytes), LS_ERR_INVALID);
     CHECK_STATUS(ls_refine_scratch_bytes_bound(0, IMG, 1, sc.nt, 8, &bytes), LS_ERR_INVALID);
     REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
-    CHECK_STATUS(ls_refine_shade(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv, &c.o, 8, NULL, &arena, NULL, NULL),
+    CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .vertex_count = sc.nv, .opts = &c.o, .table = &c.et}, 8, NULL, &arena, NULL, NULL),
                  LS_ERR_INVALID);
-    CHECK_STATUS(ls_refine_shade(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv, &c.o, 8, c.img, NULL, NULL, NULL),
+    CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .vertex_count = sc.nv, .opts = &c.o, .table = &c.et}, 8, c.img, NULL, NULL, NULL),
                  LS_ERR_INVALID);
-    CHECK_STATUS(ls_refine_shade(&c.vis, NULL, sc.f, sc.nt, NULL, sc.nv, &c.o, 8, c.img, &arena, NULL, NULL),
+    CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .vertex_count = sc.nv, .opts = &c.o}, 8, c.img, &arena, NULL, NULL),
                  LS_ERR_INVALID);
     CHECK_EQ(arena.top, 0);
 }
@@ -856,11 +877,14 @@ static void refine_off_and_determinism(void)
         REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
         REQUIRE(ls_arena_init(&none, small, 0) == LS_OK);
         REQUIRE(ls_vis_init(&vis, &arena, IMG, IMG, ss_of[k], MAXV) == LS_OK);
-        REQUIRE(ls_raster(&vis, &arena, mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .mvp = mvp}, &arena, NULL) == LS_OK);
         REQUIRE(ls_edge_table_build(&et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
-        REQUIRE(ls_shade(&vis, sc.f, sc.nt, NULL, sc.nv, &o, img, NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt, .vertex_count = sc.nv,
+                .opts = &o}, img, NULL) == LS_OK);
         memcpy(img2, img, sizeof img);
-        CHECK_STATUS(ls_refine_shade(&vis, &et, sc.f, sc.nt, NULL, sc.nv, &o, aa_of[k], img2, &none, NULL, NULL), LS_OK);
+        CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &o, .table = &et}, aa_of[k], img2, &none, NULL, NULL), LS_OK);
         CHECK(memcmp(img, img2, sizeof img) == 0);
         memset(g1, 0, sizeof g1);
         memset(g2, 0, sizeof g2);
@@ -869,11 +893,12 @@ static void refine_off_and_determinism(void)
         memset(&g, 0, sizeof g);
         g.positions = g1;
         g.colors = gc1;
-        REQUIRE(ls_shade_backward_grads(&vis, sc.f, sc.nt, NULL, sc.nv, &o, mvp, gimg, &g, NULL) == LS_OK);
+        REQUIRE(ls_shade_backward_grads(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &o, .mvp = mvp}, gimg, &g, NULL) == LS_OK);
         g.positions = g2;
         g.colors = gc2;
-        CHECK_STATUS(ls_refine_shade_backward(&vis, &et, sc.f, sc.nt, NULL, sc.nv, &o, aa_of[k], mvp, gimg, &g, &none,
-                                              NULL), LS_OK);
+        CHECK_STATUS(ls_refine_shade_backward(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &o, .mvp = mvp, .table = &et}, aa_of[k], gimg, &g, &none, NULL), LS_OK);
         CHECK(memcmp(g1, g2, sizeof g1) == 0 && memcmp(gc1, gc2, sizeof gc1) == 0);
     }
     REQUIRE(lib_run(&sc, sc.p, NULL, NULL, 1, 16, 1, &a));
@@ -934,10 +959,13 @@ static void refine_skips_valleys(void)
         REQUIRE(ls_edge_table_build(&et, tri, f, n, &arena, NULL) == LS_OK);
         CHECK_EQ(et.boundary_edges, pass == 0 ? 0u : 3u);
         REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
-        REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, tri, f, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = tri, .triangle_count = f, .vertex_count = n,
+                .mvp = mvp}, &arena, NULL) == LS_OK);
         mv_shade_opts(&o);
-        REQUIRE(ls_shade(&vis, tri, f, nrm, n, &o, img[pass], NULL) == LS_OK);
-        REQUIRE(ls_refine_shade(&vis, &et, tri, f, nrm, n, &o, 4, img[pass], &arena, &info[pass], NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = tri, .triangle_count = f, .vertex_count = n, .normals = nrm,
+                .opts = &o}, img[pass], NULL) == LS_OK);
+        REQUIRE(ls_refine_shade(&(ls_view){.vis = &vis, .indices = tri, .triangle_count = f, .vertex_count = n,
+                .normals = nrm, .opts = &o, .table = &et}, 4, img[pass], &arena, &info[pass], NULL) == LS_OK);
         ls_arena_restore(&arena, mk);
     }
     for (i = 0; i < 4 * (size_t)W * W; i++) {

@@ -237,15 +237,18 @@ static int lib_backward(scene *sc, ls_real *gp, ls_real *gcol, ls_real *image_ou
     for (i = 0; i < 3 * sc->nv; i++) pos[i] = (ls_real)sc->p[i];
     for (i = 0; i < 16; i++) mvp[i] = (ls_real)sc->mvp[i];
     if (ls_vis_init(&vis, &arena, IMG, IMG, SS, MAXV) != LS_OK) return 0;
-    if (ls_raster(&vis, &arena, mvp, pos, sc->nv, sc->f, sc->nt, NULL) != LS_OK) return 0;
+    if (ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .mvp = mvp}, &arena, NULL) != LS_OK) return 0;
     memcpy(sc->tri, vis.tri, sizeof sc->tri);
     sc->clipped = vis.clipped_triangles;
     if (ls_shade_vertex_normals(pos, sc->nv, sc->f, sc->nt, nrm, NULL) != LS_OK) return 0;
-    if (ls_shade(&vis, sc->f, sc->nt, nrm, sc->nv, &sc->opts, img, NULL) != LS_OK) return 0;
+    if (ls_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = nrm, .opts = &sc->opts}, img, NULL) != LS_OK) return 0;
     if (image_out != NULL) memcpy(image_out, img, sizeof img);
     for (i = 0; i < 4 * IMG * IMG; i++) gimg[i] = (ls_real)sc->w[i];
     for (i = 0; i < 3 * sc->nv; i++) gp[i] = gn[i] = gcol[i] = 0;
-    if (ls_shade_backward(&vis, sc->f, sc->nt, nrm, sc->nv, &sc->opts, mvp, gimg, gp, gn, gcol, NULL) != LS_OK)
+    if (ls_shade_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = nrm, .opts = &sc->opts, .mvp = mvp}, gimg, gp, gn, gcol, NULL) != LS_OK)
         return 0;
     if (ls_vertex_normals_backward(pos, sc->nv, sc->f, sc->nt, gn, gp, &arena, NULL) != LS_OK) return 0;
     return 1;

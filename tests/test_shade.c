@@ -110,7 +110,8 @@ static void shade_matches_interpolated_reference(void)
     for (k = 0; k < 27; k++) sh[k] = (ls_real)(0.3 + 0.1 * sin(k * 0.9));
     REQUIRE(ls_arena_init(&a, mem.bytes, sizeof mem.bytes) == LS_OK);
     REQUIRE(ls_vis_init(&vis, &a, 20, 16, 1, 4) == LS_OK);
-    REQUIRE(ls_raster(&vis, &a, mvp, quad_pos, 4, quad_idx, 2, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = quad_pos, .indices = quad_idx, .triangle_count = 2,
+            .vertex_count = 4, .mvp = mvp}, &a, NULL) == LS_OK);
     for (mode = 0; mode <= LS_SHADE_COLOR; mode++)
         for (renorm = 0; renorm < 2; renorm++) {
             size_t p;
@@ -125,7 +126,8 @@ static void shade_matches_interpolated_reference(void)
             o.background[0] = (ls_real)0.1;
             o.background[1] = (ls_real)0.2;
             o.background[2] = (ls_real)0.3;
-            REQUIRE(ls_shade(&vis, quad_idx, 2, normals, 4, &o, out, NULL) == LS_OK);
+            REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
+                    .normals = normals, .opts = &o}, out, NULL) == LS_OK);
             for (p = 0; p < 20 * 16; p++) {
                 double want[3], b[3], n[3], alb[3] = {1, 1, 1};
                 const uint32_t *f;
@@ -176,12 +178,15 @@ static void shade_matches_interpolated_reference(void)
     CHECK_MSG(max_err < TEST_EPS(64) * 10, "max error %.3g", max_err);
     /* argument errors */
     o.mode = 7;
-    CHECK_STATUS(ls_shade(&vis, quad_idx, 2, normals, 4, &o, out, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
+            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
     o.mode = LS_SHADE_SH;
     o.sh = NULL;
-    CHECK_STATUS(ls_shade(&vis, quad_idx, 2, normals, 4, &o, out, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
+            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
     o.mode = LS_SHADE_MASK;
-    CHECK_STATUS(ls_shade(&vis, quad_idx, 2, normals, 3, &o, out, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 3,
+            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
 }
 
 static void box_resolve_and_coverage(void)
@@ -201,12 +206,14 @@ static void box_resolve_and_coverage(void)
     for (ss = 1; ss <= 4; ss *= 2) {
         ls_arena_init(&a, mem.bytes, sizeof mem.bytes);
         REQUIRE(ls_vis_init(&vis, &a, 24, 20, ss, 4) == LS_OK);
-        REQUIRE(ls_raster(&vis, &a, mvp, quad_pos, 4, quad_idx, 2, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = quad_pos, .indices = quad_idx, .triangle_count = 2,
+                .vertex_count = 4, .mvp = mvp}, &a, NULL) == LS_OK);
         ls_shade_opts_init(&o);
         o.mode = LS_SHADE_COLOR;
         o.vertex_colors = colors;
         o.background_image = bgimg;
-        REQUIRE(ls_shade(&vis, quad_idx, 2, NULL, 4, &o, out, NULL) == LS_OK);
+        REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
+                .opts = &o}, out, NULL) == LS_OK);
         for (p = 0; p < 24 * 20; p++) {
             size_t x = p % 24, y = p / 24;
             uint32_t i, j, cov = 0;
@@ -437,7 +444,8 @@ static void golden_renders(void)
             REQUIRE(ls_camera_orbit(center, 25, dirs + 3 * view, v) == LS_OK);
             ls_mat4_mul(proj, v, mvp);
             REQUIRE(ls_vis_init(&vis, &a, GV, GV, sss[m], nv) == LS_OK);
-            REQUIRE(ls_raster(&vis, &a, mvp, pos, nv, f, nf, NULL) == LS_OK);
+            REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = f, .triangle_count = nf, .vertex_count = nv,
+                    .mvp = mvp}, &a, NULL) == LS_OK);
             ls_shade_opts_init(&o);
             o.mode = m == 0 ? LS_SHADE_MASK : m == 1 ? LS_SHADE_SH : LS_SHADE_LAMBERT;
             o.sh = sh;
@@ -448,7 +456,8 @@ static void golden_renders(void)
             o.background[0] = (ls_real)0.1;
             o.background[1] = (ls_real)0.1;
             o.background[2] = (ls_real)0.15;
-            REQUIRE(ls_shade(&vis, f, nf, nrm, nv, &o, out, NULL) == LS_OK);
+            REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = f, .triangle_count = nf, .vertex_count = nv,
+                    .normals = nrm, .opts = &o}, out, NULL) == LS_OK);
             h = test_hash_reals(out, sizeof out / sizeof out[0], h);
             for (y = 0; y < GV; y++)
                 for (x = 0; x < GV; x++)

@@ -261,9 +261,12 @@ static int lib_grad(const scene *sc, ls_real boost, ls_real *gp)
     for (i = 0; i < 4 * IMG * IMG; i++) gimg[i] = (ls_real)sc->w[i];
     for (i = 0; i < 3 * sc->nv; i++) gp[i] = 0;
     if (ls_vis_init(&vis, &arena, IMG, IMG, 1, MAXV) != LS_OK) return 0;
-    if (ls_raster(&vis, &arena, mvp, pos, sc->nv, sc->f, sc->nt, NULL) != LS_OK) return 0;
+    if (ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .mvp = mvp}, &arena, NULL) != LS_OK) return 0;
     if (ls_edge_table_build(&et, sc->f, sc->nt, sc->nv, &arena, NULL) != LS_OK) return 0;
-    return ls_silhouette_backward(&vis, &et, sc->f, sc->nt, NULL, sc->nv, &o, mvp, boost, gimg, gp, &arena, NULL) == LS_OK;
+    return ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+            .vertex_count = sc->nv, .opts = &o, .mvp = mvp, .table = &et, .boost = boost}, gimg, gp, &arena,
+            NULL) == LS_OK;
 }
 
 typedef struct fdstats {
@@ -955,8 +958,9 @@ typedef struct sil_ctx {
 static ls_status sil_run(void *ctx, ls_arena *arena)
 {
     sil_ctx *c = (sil_ctx *)ctx;
-    return ls_silhouette_backward(&c->vis, &c->et, c->sc->f, c->sc->nt, NULL, c->sc->nv, &c->o, c->mvp, 1, c->gimg,
-                                  c->gp, arena, NULL);
+    return ls_silhouette_backward(&(ls_view){.vis = &c->vis, .indices = c->sc->f, .triangle_count = c->sc->nt,
+            .vertex_count = c->sc->nv, .opts = &c->o, .mvp = c->mvp, .table = &c->et, .boost = 1}, c->gimg, c->gp,
+            arena, NULL);
 }
 static uint64_t sil_hash(void *ctx)
 {
@@ -988,7 +992,8 @@ static void silhouette_scratch_sweep(void)
         for (i = 0; i < 3 * sc.nv; i++) pos[i] = (ls_real)sc.p[i];
         REQUIRE(ls_arena_init(&arena, arena_buf, ARENA_BYTES) == LS_OK);
         REQUIRE(ls_vis_init(&c.vis, &arena, IMG, IMG, 1, MAXV) == LS_OK);
-        REQUIRE(ls_raster(&c.vis, &arena, c.mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+        REQUIRE(ls_raster(&c.vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .mvp = c.mvp}, &arena, NULL) == LS_OK);
         REQUIRE(ls_edge_table_build(&c.et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
     }
     ls_shade_opts_init(&c.o);
@@ -997,7 +1002,8 @@ static void silhouette_scratch_sweep(void)
         for (k = 0; k < 3; k++) c.colors[3 * sc.f[3 * i + k] + k] = (ls_real)sc.col[3 * i + k];
     c.o.vertex_colors = c.colors;
     for (i = 0; i < 4 * IMG * IMG; i++) c.gimg[i] = (ls_real)sc.w[i];
-    CHECK_STATUS(ls_silhouette_scratch_bytes(&c.vis, &c.et, sc.f, sc.nt, &bytes), LS_OK);
+    CHECK_STATUS(ls_silhouette_scratch_bytes(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+            .table = &c.et}, &bytes), LS_OK);
     CHECK_STATUS(ls_silhouette_scratch_bytes_bound(IMG, IMG, sc.nv, sc.nt, &bound), LS_OK);
     CHECK(bound >= bytes);
     job.name = "silhouette_backward";
@@ -1021,12 +1027,15 @@ static void silhouette_scratch_sweep(void)
         REQUIRE(ls_arena_init(&a2, big.bytes, bytes) == LS_OK);
         REQUIRE(sil_run(&c, &a2) == LS_OK);
         CHECK(memcmp(gp2, c.gp, sizeof gp2) == 0);
-        CHECK_STATUS(ls_silhouette_backward(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv, &c.o, c.mvp, 1, c.gimg, c.gp, NULL,
-                                            NULL), LS_ERR_INVALID);
-        CHECK_STATUS(ls_silhouette_backward(&c.vis, &c.et, sc.f, sc.nt, NULL, sc.nv + 1, &c.o, c.mvp, 1, c.gimg, c.gp,
-                                            &a2, NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &c.o, .mvp = c.mvp, .table = &c.et, .boost = 1}, c.gimg, c.gp, NULL,
+                NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv + 1, .opts = &c.o, .mvp = c.mvp, .table = &c.et, .boost = 1}, c.gimg, c.gp, &a2,
+                NULL), LS_ERR_INVALID);
         CHECK(memcmp(gp2, c.gp, sizeof gp2) == 0);
-        CHECK_STATUS(ls_silhouette_scratch_bytes(NULL, &c.et, sc.f, sc.nt, &bytes), LS_ERR_INVALID);
+        CHECK_STATUS(ls_silhouette_scratch_bytes(&(ls_view){.indices = sc.f, .triangle_count = sc.nt, .table = &c.et},
+                &bytes), LS_ERR_INVALID);
         CHECK_STATUS(ls_silhouette_scratch_bytes_bound(0, IMG, sc.nv, sc.nt, &bytes), LS_ERR_INVALID);
     }
 }
@@ -1081,16 +1090,19 @@ static void silhouette_bunny_invariants(void)
     REQUIRE(ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) == LS_OK);
     CHECK_EQ(et.boundary_edges, 0);
     REQUIRE(ls_vis_init(&vis, &arena, W, W, 4, m.vertex_count) == LS_OK);
-    REQUIRE(ls_raster(&vis, &arena, mvp, m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles, .triangle_count = m.face_count,
+            .vertex_count = m.vertex_count, .mvp = mvp}, &arena, NULL) == LS_OK);
     ls_shade_opts_init(&o);
-    REQUIRE(ls_shade(&vis, m.triangles, m.face_count, NULL, m.vertex_count, &o, img, NULL) == LS_OK);
+    REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+            .vertex_count = m.vertex_count, .opts = &o}, img, NULL) == LS_OK);
     for (i = 0; i < 4 * (size_t)W * W; i++) {
         gimg[i] = (ls_real)(i % 4 == 3 ? 1 : 0); /* L = sum of alpha = covered area in pixels */
         if (i % 4 == 3) area += (double)img[i];
     }
     for (i = 0; i < 3 * (size_t)m.vertex_count; i++) gp[i] = 0;
-    REQUIRE(ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, NULL, m.vertex_count, &o, mvp, 1, gimg, gp,
-                                   &arena, NULL) == LS_OK);
+    REQUIRE(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+            .vertex_count = m.vertex_count, .opts = &o, .mvp = mvp, .table = &et, .boost = 1}, gimg, gp, &arena,
+            NULL) == LS_OK);
     for (v = 0; v < m.vertex_count; v++) {
         const ls_real *g = gp + 3 * (size_t)v, *q = m.positions + 3 * (size_t)v;
         /* world directions of the image's x and y: rows 0 and 1 of the view matrix */
@@ -1138,15 +1150,17 @@ static void silhouette_sh_fast_path(void)
     REQUIRE(ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, nrm, NULL) == LS_OK);
     REQUIRE(ls_edge_table_build(&et, m.triangles, m.face_count, m.vertex_count, &arena, NULL) == LS_OK);
     REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, m.vertex_count) == LS_OK);
-    REQUIRE(ls_raster(&vis, &arena, mvp, m.positions, m.vertex_count, m.triangles, m.face_count, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles, .triangle_count = m.face_count,
+            .vertex_count = m.vertex_count, .mvp = mvp}, &arena, NULL) == LS_OK);
     for (i = 0; i < 3 * (size_t)m.vertex_count; i++) ones[i] = 1;
     for (i = 0; i < 4 * (size_t)W * W; i++) gimg[i] = (ls_real)(0.25 + 0.5 * (double)((i * 7919u) % 101u) / 101.0 - (i % 4 == 1 ? 0.6 : 0));
     for (pass = 0; pass < 2; pass++) {
         mv_shade_opts(&o);
         o.vertex_colors = pass == 0 ? NULL : ones; /* pass 1: the general path */
         for (i = 0; i < 3 * (size_t)m.vertex_count; i++) gp[pass][i] = 0;
-        REQUIRE(ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, 1, gimg,
-                                       gp[pass], &arena, NULL) == LS_OK);
+        REQUIRE(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                .vertex_count = m.vertex_count, .normals = nrm, .opts = &o, .mvp = mvp, .table = &et, .boost = 1}, gimg,
+                gp[pass], &arena, NULL) == LS_OK);
     }
     for (i = 0; i < 3 * (size_t)m.vertex_count; i++) {
         d2 += ((double)gp[0][i] - (double)gp[1][i]) * ((double)gp[0][i] - (double)gp[1][i]);
@@ -1214,10 +1228,13 @@ static void silhouette_valleys_hidden(void)
         REQUIRE(ls_edge_table_build(&et, fc, f, n, &arena, NULL) == LS_OK);
         CHECK_EQ(et.boundary_edges, pass == 1 ? 3u : 0u);
         REQUIRE(ls_vis_init(&vis, &arena, W, W, 1, n) == LS_OK);
-        REQUIRE(ls_raster(&vis, &arena, mvp, pos, n, fc, f, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = fc, .triangle_count = f, .vertex_count = n,
+                .mvp = mvp}, &arena, NULL) == LS_OK);
         mv_shade_opts(&o);
         for (i = 0; i < 3 * (size_t)nv; i++) gp[pass][i] = 0;
-        REQUIRE(ls_silhouette_backward(&vis, &et, fc, f, nrm, n, &o, mvp, 1, gimg, gp[pass], &arena, NULL) == LS_OK);
+        REQUIRE(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = fc, .triangle_count = f, .vertex_count = n,
+                .normals = nrm, .opts = &o, .mvp = mvp, .table = &et, .boost = 1}, gimg, gp[pass], &arena,
+                NULL) == LS_OK);
         if (pass == 0) { /* the valleys among the silhouette edges, in world space */
             for (h = 0; h < 3u * m.face_count; h++) {
                 uint32_t tw = et.twin[h], k, a, b, cc, d;
@@ -1293,10 +1310,13 @@ static double pair_loss(const scene *sc, const double *pos_d, ls_real *gp, ls_re
     ls_shade_opts_init(&o);
     for (i = 0; i < 3; i++) o.background[i] = (ls_real)sc->bg[i];
     if (ls_vis_init(&vis, &arena, IMG, IMG, 1, MAXV) != LS_OK ||
-        ls_raster(&vis, &arena, mvp, pos, sc->nv, sc->f, sc->nt, NULL) != LS_OK ||
+        ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+                .mvp = mvp}, &arena, NULL) != LS_OK ||
         ls_edge_table_build(&et, sc->f, sc->nt, sc->nv, &arena, NULL) != LS_OK ||
-        ls_shade(&vis, sc->f, sc->nt, NULL, sc->nv, &o, img, NULL) != LS_OK ||
-        ls_pair_forward(&vis, &et, sc->f, sc->nt, img, out, NULL) != LS_OK)
+        ls_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+                .opts = &o}, img, NULL) != LS_OK ||
+        ls_pair_forward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .table = &et}, img, out,
+                NULL) != LS_OK)
         return 0;
     for (i = 0; i < 4 * IMG * IMG; i++) {
         L += sc->w[i] * (double)out[i];
@@ -1304,12 +1324,14 @@ static double pair_loss(const scene *sc, const double *pos_d, ls_real *gp, ls_re
     }
     if (gp != NULL) {
         for (i = 0; i < 3 * sc->nv; i++) gp[i] = 0;
-        CHECK_STATUS(ls_pair_backward(&vis, &et, sc->f, sc->nt, mvp, 1, img, gimg, NULL, gp, NULL), LS_OK);
+        CHECK_STATUS(ls_pair_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .mvp = mvp,
+                .table = &et, .boost = 1}, img, gimg, NULL, gp, NULL), LS_OK);
     }
     if (g_exact != NULL) {
         for (i = 0; i < 3 * sc->nv; i++) g_exact[i] = 0;
-        CHECK_STATUS(ls_silhouette_backward(&vis, &et, sc->f, sc->nt, NULL, sc->nv, &o, mvp, 1, gimg, g_exact, &arena,
-                                            NULL), LS_OK);
+        CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+                .vertex_count = sc->nv, .opts = &o, .mvp = mvp, .table = &et, .boost = 1}, gimg, g_exact, &arena, NULL),
+                LS_OK);
     }
     return L;
 }

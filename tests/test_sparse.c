@@ -54,7 +54,7 @@ static void sparse_from_triplets_matches_dense(void)
     int i;
     make_triplets();
     REQUIRE(ls_arena_init(&arena, big, sizeof big) == LS_OK);
-    CHECK_STATUS(ls_csc_from_triplets(NR, NC, NT, tr, tc, tv, &arena, &m, NULL), LS_OK);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){NR, NC, NT, tr, tc, tv}, &arena, &m, NULL), LS_OK);
     csc_to_dense(&m, e);
     dense_ref(d);
     for (i = 0; i < NR * NC; i++) CHECK(d[i] == e[i]); /* multiples of 1/64: exact */
@@ -72,12 +72,12 @@ static void sparse_from_triplets_errors(void)
     ls_diag dg;
     uint32_t r[3] = {0, 5, 1}, c[3] = {0, 1, 1};
     REQUIRE(ls_arena_init(&arena, big, sizeof big) == LS_OK);
-    CHECK_STATUS(ls_csc_from_triplets(3, 3, 3, r, c, NULL, &arena, &m, &dg), LS_ERR_INVALID);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, NULL}, &arena, &m, &dg), LS_ERR_INVALID);
     CHECK(dg.has_index && dg.index == 1);
     CHECK(ls_arena_used(&arena) == 0);
-    CHECK_STATUS(ls_csc_from_triplets(3, 3, 3, NULL, c, NULL, &arena, &m, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, NULL, c, NULL}, &arena, &m, NULL), LS_ERR_INVALID);
     /* empty matrix */
-    CHECK_STATUS(ls_csc_from_triplets(0, 0, 0, NULL, NULL, NULL, &arena, &m, NULL), LS_OK);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){0, 0, 0, NULL, NULL, NULL}, &arena, &m, NULL), LS_OK);
     CHECK_EQ(ls_csc_nnz(&m), 0);
 }
 
@@ -89,7 +89,7 @@ typedef struct trip_job {
 static ls_status trip_run(void *ctx, ls_arena *arena)
 {
     trip_job *j = (trip_job *)ctx;
-    return ls_csc_from_triplets(NR, NC, NT, tr, tc, tv, arena, &j->out, NULL);
+    return ls_csc_from_triplets(&(ls_triplets){NR, NC, NT, tr, tc, tv}, arena, &j->out, NULL);
 }
 static uint64_t trip_hash(void *ctx)
 {
@@ -118,7 +118,7 @@ static void grid_matrix(ls_arena *arena, ls_csc *m, int full)
             if (y > 0) { if (full) { r[n] = i; c[n] = i - W; v[n++] = -1; } deg++; }
             r[n] = i; c[n] = i; v[n++] = (ls_real)(deg + 2);
         }
-    (void)ls_csc_from_triplets(W * H, W * H, n, r, c, v, arena, m, NULL);
+    (void)ls_csc_from_triplets(&(ls_triplets){W * H, W * H, n, r, c, v}, arena, m, NULL);
 }
 
 static void sparse_triangle_symperm_matvec(void)
@@ -250,11 +250,11 @@ static void sparse_deterministic_order(void)
     v[1] = (ls_real)LS_REAL_EPSILON / (ls_real)2;
     v[2] = (ls_real)LS_REAL_EPSILON / (ls_real)2;
     REQUIRE(ls_arena_init(&arena, big, sizeof big) == LS_OK);
-    REQUIRE(ls_csc_from_triplets(3, 3, 3, r, c, v, &arena, &m1, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, v}, &arena, &m1, NULL) == LS_OK);
     CHECK(m1.values[0] == (ls_real)1); /* (1 + e/2) + e/2: each sum ties to even, 1 */
     v[0] = v[1];
     v[2] = (ls_real)1;
-    REQUIRE(ls_csc_from_triplets(3, 3, 3, r, c, v, &arena, &m2, NULL) == LS_OK);
+    REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, v}, &arena, &m2, NULL) == LS_OK);
     CHECK(m2.values[0] > (ls_real)1); /* (e/2 + e/2) + 1 = 1 + e exactly */
     CHECK_EQ(ls_csc_nnz(&m1), 1);
 }

@@ -458,10 +458,12 @@ static int lib_run(scene *sc, lib_out *out)
     for (i = 0; i < 3 * sc->nv; i++) pos[i] = (ls_real)sc->p[i];
     for (i = 0; i < 16; i++) mvp[i] = (ls_real)sc->mvp[i];
     if (ls_vis_init(&vis, &arena, IMG, IMG, SS, MAXV) != LS_OK) return 0;
-    if (ls_raster(&vis, &arena, mvp, pos, sc->nv, sc->f, sc->nt, NULL) != LS_OK) return 0;
+    if (ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .mvp = mvp}, &arena, NULL) != LS_OK) return 0;
     memcpy(sc->tri, vis.tri, sizeof sc->tri);
     if (ls_shade_vertex_normals(pos, sc->nv, sc->f, sc->nt, nrm, NULL) != LS_OK) return 0;
-    if (ls_shade(&vis, sc->f, sc->nt, nrm, sc->nv, &sc->opts, out->img, NULL) != LS_OK) return 0;
+    if (ls_shade(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt, .vertex_count = sc->nv,
+            .normals = nrm, .opts = &sc->opts}, out->img, NULL) != LS_OK) return 0;
     for (i = 0; i < 4 * IMG * IMG; i++) gimg[i] = (ls_real)sc->w[i];
     memset(out->gp, 0, sizeof out->gp);
     memset(out->gc, 0, sizeof out->gc);
@@ -473,7 +475,8 @@ static int lib_run(scene *sc, lib_out *out)
     g.colors = out->gc;
     g.texels = out->gt;
     g.uvs = out->guv;
-    if (ls_shade_backward_grads(&vis, sc->f, sc->nt, nrm, sc->nv, &sc->opts, mvp, gimg, &g, NULL) != LS_OK) return 0;
+    if (ls_shade_backward_grads(&(ls_view){.vis = &vis, .indices = sc->f, .triangle_count = sc->nt,
+            .vertex_count = sc->nv, .normals = nrm, .opts = &sc->opts, .mvp = mvp}, gimg, &g, NULL) != LS_OK) return 0;
     if (sc->opts.mode != LS_SHADE_COLOR &&
         ls_vertex_normals_backward(pos, sc->nv, sc->f, sc->nt, gn, out->gp, &arena, NULL) != LS_OK)
         return 0;
@@ -592,18 +595,23 @@ static void white_texture_is_identity(void)
         for (i = 0; i < 3 * sc.nv; i++) pos[i] = (ls_real)sc.p[i];
         for (i = 0; i < 16; i++) mvp[i] = (ls_real)sc.mvp[i];
         REQUIRE(ls_vis_init(&vis, &arena, IMG, IMG, SS, MAXV) == LS_OK);
-        REQUIRE(ls_raster(&vis, &arena, mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+        REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .mvp = mvp}, &arena, NULL) == LS_OK);
         REQUIRE(ls_shade_vertex_normals(pos, sc.nv, sc.f, sc.nt, nrm, NULL) == LS_OK);
         sc.opts.uvs = NULL;
-        CHECK(ls_shade(&vis, sc.f, sc.nt, nrm, sc.nv, &sc.opts, a.img, NULL) == LS_ERR_INVALID);
+        CHECK(ls_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt, .vertex_count = sc.nv,
+                .normals = nrm, .opts = &sc.opts}, a.img, NULL) == LS_ERR_INVALID);
         sc.opts.uvs = uvs_r;
         texture.wrap_u = 9;
-        CHECK(ls_shade(&vis, sc.f, sc.nt, nrm, sc.nv, &sc.opts, a.img, NULL) == LS_ERR_INVALID);
+        CHECK(ls_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt, .vertex_count = sc.nv,
+                .normals = nrm, .opts = &sc.opts}, a.img, NULL) == LS_ERR_INVALID);
         texture.wrap_u = LS_TEXTURE_CLAMP;
         sc.opts.mode = LS_SHADE_COLOR; /* unlit: a texture alone is enough */
         sc.opts.vertex_colors = NULL;
-        CHECK(ls_shade(&vis, sc.f, sc.nt, nrm, sc.nv, &sc.opts, a.img, NULL) == LS_OK);
-        CHECK(ls_shade_backward_grads(&vis, sc.f, sc.nt, nrm, sc.nv, &sc.opts, mvp, a.img, NULL, NULL) ==
+        CHECK(ls_shade(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt, .vertex_count = sc.nv,
+                .normals = nrm, .opts = &sc.opts}, a.img, NULL) == LS_OK);
+        CHECK(ls_shade_backward_grads(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .normals = nrm, .opts = &sc.opts, .mvp = mvp}, a.img, NULL, NULL) ==
               LS_ERR_INVALID);
     }
 }
@@ -633,7 +641,8 @@ static void silhouette_sees_texture(void)
     for (i = 0; i < 3 * sc.nv; i++) pos[i] = (ls_real)sc.p[i];
     for (i = 0; i < 16; i++) mvp[i] = (ls_real)sc.mvp[i];
     REQUIRE(ls_vis_init(&vis, &arena, IMG, IMG, SS, MAXV) == LS_OK);
-    REQUIRE(ls_raster(&vis, &arena, mvp, pos, sc.nv, sc.f, sc.nt, NULL) == LS_OK);
+    REQUIRE(ls_raster(&vis, &(ls_view){.positions = pos, .indices = sc.f, .triangle_count = sc.nt,
+            .vertex_count = sc.nv, .mvp = mvp}, &arena, NULL) == LS_OK);
     REQUIRE(ls_edge_table_build(&et, sc.f, sc.nt, sc.nv, &arena, NULL) == LS_OK);
     REQUIRE(ls_texture_init(&ct[0], 1, 1, LS_TEXTURE_CLAMP, white) == LS_OK);
     REQUIRE(ls_texture_init(&ct[1], 1, 1, LS_TEXTURE_CLAMP, c) == LS_OK);
@@ -642,8 +651,9 @@ static void silhouette_sees_texture(void)
     for (k = 0; k < 4; k++) { /* vertex colours c; + white texture; texture c alone; dark texture alone */
         sc.opts.vertex_colors = k < 2 ? cols : NULL;
         sc.opts.texture = k == 0 ? NULL : &ct[k - 1];
-        REQUIRE(ls_silhouette_backward(&vis, &et, sc.f, sc.nt, NULL, sc.nv, &sc.opts, mvp, 1, gimg, g[k], &arena,
-                                       NULL) == LS_OK);
+        REQUIRE(ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &sc.opts, .mvp = mvp, .table = &et, .boost = 1}, gimg, g[k], &arena,
+                NULL) == LS_OK);
     }
     CHECK(memcmp(g[0], g[1], sizeof g[0]) == 0);
     for (i = 0; i < 3 * sc.nv; i++) {

@@ -78,13 +78,18 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
  * fewer views were added than announced; LS_ERR_INVALID for NULL. O(1). */
 ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss);
 
-/* ls_loss_views: all views at once: rendered[v], target[v] are views
+/* The views ls_loss_views takes at once: the loss and their size. */
+typedef struct ls_loss_shape {
+    uint32_t kind;       /* LS_LOSS_L1 or LS_LOSS_L2 */
+    uint32_t width, height, view_count;
+} ls_loss_shape;
+
+/* ls_loss_views: all views of shape at once: rendered[v], target[v] are views
  * [4 width height]; grad (NULL, or an array whose entries may each be NULL)
  * receives the gradients. Same bits as ls_loss_begin / ls_loss_view /
  * ls_loss_finish in view order. Errors as those (diag->index is the value's
  * index within view diag->offset). O(V width height); no memory. */
-ls_status ls_loss_views(uint32_t kind, uint32_t width, uint32_t height, uint32_t view_count,
-                        const ls_real *const *rendered, const ls_real *const *target,
+ls_status ls_loss_views(const ls_loss_shape *shape, const ls_real *const *rendered, const ls_real *const *target,
                         ls_real *const *grad, ls_real *loss, ls_diag *diag);
 
 #ifdef __cplusplus

@@ -90,6 +90,30 @@ typedef struct ls_vis {
     uint32_t magic;          /* set by ls_vis_init */
 } ls_vis;
 
+struct ls_shade_opts;
+struct ls_edge_table;
+
+/* One view of a mesh, as the passes after ls_raster see it: the visibility
+ * buffer, the mesh's arrays, the shading and the matrix, set once and handed
+ * to every call of the view (ls_raster, ls_shade, ls_shade_backward,
+ * ls_silhouette_backward, ls_pair_*, ls_refine_*). A call reads only the
+ * fields its comment names; the others may be left zero. The struct holds
+ * pointers only: the arrays stay the caller's. */
+typedef struct ls_view {
+    const ls_vis *vis;           /* the view rasterized from these arrays (not read by ls_raster) */
+    const ls_real *positions;    /* [3 vertex_count] xyz (ls_raster) */
+    const uint32_t *indices;     /* [3 triangle_count] vertex indices */
+    uint32_t triangle_count;
+    uint32_t vertex_count;
+    const ls_real *normals;      /* [3 vertex_count] vertex normals, for the shading modes that use them */
+    const struct ls_shade_opts *opts; /* the shading (largesteps/shade.h) */
+    const ls_real *mvp;          /* [16] the matrix (ls_raster, the backward passes) */
+    const struct ls_edge_table *table; /* the mesh's edge table (largesteps/silhouette.h): silhouette,
+                                         * pair mode and refinement */
+    ls_real boost;               /* factor of the silhouette gradient (1: as derived; the fit's
+                                  * config.boost): ls_silhouette_backward, ls_pair_backward */
+} ls_view;
+
 /* ls_vis_bytes: exact bytes ls_vis_init takes for a width x height image with
  * S x S samples per pixel and up to max_vertices vertices. Errors:
  * LS_ERR_INVALID (NULL bytes, zero size, S not 1/2/4, sample grid beyond
@@ -115,12 +139,11 @@ ls_status ls_raster_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_
  * geometry and view (it runs the binning count pass, transforming vertices on
  * the fly). Arguments as ls_raster. Errors as ls_raster except LS_ERR_NOMEM.
  * O(vertices + triangles + tile entries); no memory. */
-ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], const ls_real *positions,
-                                  uint32_t vertex_count, const uint32_t *indices,
-                                  uint32_t triangle_count, size_t *bytes);
+ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_view *view, size_t *bytes);
 
-/* ls_raster: rasterizes triangles (3 uint32 vertex indices each) of the
- * vertices `positions` (3 ls_real each, xyz) transformed by mvp into *vis,
+/* ls_raster: rasterizes the triangles of view (indices, triangle_count:
+ * 3 uint32 vertex indices each) of its vertices (positions, vertex_count:
+ * 3 ls_real each, xyz) transformed by view->mvp into *vis,
  * overwriting its previous content. Scratch (64 bytes per vertex in double
  * builds, 8 per triangle, one size_t per tile, 4 per tile-list entry, ~1 KiB
  * of clipping buffers) comes from the top of the arena and is released before
@@ -131,9 +154,7 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
  * LS_ERR_NONFINITE (a non-finite matrix entry or clip coordinate; diag->index
  * is the vertex), LS_ERR_TOO_LARGE (bin entries beyond size_t), LS_ERR_NOMEM.
  * O(vertices + triangles + tile entries + covered samples). */
-ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
-                    uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
-                    ls_diag *diag);
+ls_status ls_raster(ls_vis *vis, const ls_view *view, ls_arena *arena, ls_diag *diag);
 
 #ifdef __cplusplus
 }

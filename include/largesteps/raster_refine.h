@@ -127,27 +127,24 @@ ls_status ls_refine_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_
                                         uint32_t aa, size_t *bytes);
 
 /* ls_refine_scratch_bytes: the exact scratch of ls_refine_shade /
- * ls_refine_shade_backward for the view in vis (rasterized with these
- * triangles, table of the same mesh); 0 when off. Errors: LS_ERR_INVALID
+ * ls_refine_shade_backward for the view (view->vis rasterized with its
+ * indices and triangle_count, view->table of the same mesh); 0 when off. Errors: LS_ERR_INVALID
  * (NULL, counts differing from the rasterized ones, a table of another mesh,
  * aa above LS_REFINE_MAX), LS_ERR_STATE (vis not rasterized, table not
  * built), LS_ERR_MESH (an index out of range), LS_ERR_TOO_LARGE.
  * O(samples + triangles); no memory. */
-ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                  uint32_t triangle_count, uint32_t aa, size_t *bytes);
+ls_status ls_refine_scratch_bytes(const ls_view *view, uint32_t aa, size_t *bytes);
 
 /* ls_refine_shade: overwrites the edge pixels of image [4 width height]
- * (ls_shade's output for the same arguments) with their A x A value (file
- * comment). table: ls_edge_table_build of the same triangles. info
+ * (ls_shade's output for the same view) with their A x A value (file
+ * comment). view->table: ls_edge_table_build of the same triangles. info
  * (optional) receives the counts. Errors (image, arena and info then
  * unchanged): LS_ERR_INVALID (NULL arrays, counts differing from the
  * rasterized ones, a table of another mesh, aa above LS_REFINE_MAX, as
  * ls_shade), LS_ERR_STATE (vis not rasterized, table not built),
  * LS_ERR_MESH, LS_ERR_NOMEM. Cost: file comment. */
-ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                          uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                          const ls_shade_opts *opts, uint32_t aa, ls_real *image, ls_arena *arena,
-                          ls_refine_info *info, ls_diag *diag);
+ls_status ls_refine_shade(const ls_view *view, uint32_t aa, ls_real *image, ls_arena *arena, ls_refine_info *info,
+                          ls_diag *diag);
 
 /* ls_refine_shade_backward: the interior shading gradient of the refined
  * image: ls_shade_backward_grads over the S x S samples of every pixel that
@@ -157,11 +154,8 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
  * term is ls_silhouette_backward's, unchanged. Errors as ls_refine_shade
  * plus those of ls_shade_backward_grads; nothing is written on error.
  * Cost: that of ls_refine_shade plus the per-sample backward. */
-ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                   uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                                   const ls_shade_opts *opts, uint32_t aa, const ls_real mvp[16],
-                                   const ls_real *grad_image, const ls_shade_grads *grads, ls_arena *arena,
-                                   ls_diag *diag);
+ls_status ls_refine_shade_backward(const ls_view *view, uint32_t aa, const ls_real *grad_image,
+                                   const ls_shade_grads *grads, ls_arena *arena, ls_diag *diag);
 
 #ifdef __cplusplus
 }

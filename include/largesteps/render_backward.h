@@ -47,8 +47,7 @@ extern "C" {
 #endif
 
 /* ls_shade_backward: adds the interior-shading gradient of one view.
- * vis, indices, triangle_count, normals, vertex_count and opts are exactly
- * what ls_shade was given; mvp is the matrix ls_raster was given (the clip
+ * view as ls_shade was given it, with mvp, the matrix ls_raster was given (the clip
  * coordinates in vis->clip are used for the barycentrics, mvp for the chain
  * to positions). grad_image: [4 width height] dL/d(shaded RGBA) (alpha gets
  * no interior gradient). Outputs, each [3 vertex_count] and each optional
@@ -59,9 +58,7 @@ extern "C" {
  * Errors: as ls_shade (LS_ERR_STATE, LS_ERR_INVALID, LS_ERR_MESH), plus
  * LS_ERR_INVALID for NULL mvp or grad_image. Nothing is written on error.
  * O(samples); no memory. */
-ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
-                            const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
-                            const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
+ls_status ls_shade_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag);
 
 /* The outputs of ls_shade_backward_grads; each optional (NULL = not wanted),
@@ -85,9 +82,7 @@ typedef struct ls_shade_grads {
  * cell the point falls in (one-sided on a texel-cell boundary). Errors as
  * ls_shade_backward, plus LS_ERR_INVALID for NULL grads. O(samples); no
  * memory. */
-ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
-                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
-                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
+ls_status ls_shade_backward_grads(const ls_view *view, const ls_real *grad_image, const ls_shade_grads *grads,
                                   ls_diag *diag);
 
 /* ls_vertex_normals_backward_bytes: the exact arena bytes

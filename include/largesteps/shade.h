@@ -99,15 +99,15 @@ void ls_shade_opts_init(ls_shade_opts *opts);
  * Errors: LS_ERR_INVALID (zero side, NULL), LS_ERR_TOO_LARGE. O(1). */
 ls_status ls_shade_image_bytes(uint32_t width, uint32_t height, size_t *bytes);
 
-/* ls_shade: shades *vis (from ls_raster with these indices) into out
- * [4 width height] RGBA. normals: [3 vertex_count] vertex normals (unused by
+/* ls_shade: shades view->vis (from ls_raster with view->indices) into out
+ * [4 width height] RGBA. Reads vis, indices, triangle_count, vertex_count,
+ * opts and normals ([3 vertex_count] vertex normals, unused by
  * LS_SHADE_MASK and LS_SHADE_COLOR, may then be NULL). Errors: LS_ERR_STATE
  * (vis not rasterized), LS_ERR_INVALID (NULL arrays a mode needs, unknown
  * mode, vertex_count differing from the rasterized one, a texture without
  * uvs or failing ls_texture_check), LS_ERR_MESH (an
  * index out of range; diag->index is the triangle). O(samples); no memory. */
-ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
-                   uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag);
+ls_status ls_shade(const ls_view *view, ls_real *out, ls_diag *diag);
 
 /* ls_shade_sh_eval: E_c(n) / pi for the three channels at normal n (as
  * given, not normalised) into rgb. O(1). */

@@ -187,8 +187,8 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
                               uint32_t vertex_count, ls_arena *arena, ls_diag *diag);
 
 /* ls_silhouette_scratch_bytes: the exact scratch ls_silhouette_backward
- * takes for this view (vis rasterized with these indices, table of the same
- * mesh): 2 ls_real and one byte per vertex (window positions, flags), one
+ * takes for this view (reads view->vis, rasterized with view->indices and
+ * triangle_count, and view->table of the same mesh): 2 ls_real and one byte per vertex (window positions, flags), one
  * byte and 4 floats per triangle (orientation, box), one size_t per tile
  * (of 2, 4 or 8 pixels, as chosen for the view) plus one, a uint32 per
  * (triangle, tile) pair of the candidate
@@ -199,8 +199,7 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
  * the rasterized ones), LS_ERR_STATE (vis not rasterized, table not built),
  * LS_ERR_MESH (an index out of range), LS_ERR_TOO_LARGE.
  * O(samples + triangles). */
-ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                      uint32_t triangle_count, size_t *bytes);
+ls_status ls_silhouette_scratch_bytes(const ls_view *view, size_t *bytes);
 
 /* ls_silhouette_scratch_bytes_bound: a worst case of the above for any
  * geometry of this size (every triangle in every tile, one slot per
@@ -221,11 +220,11 @@ ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint
                                            size_t *bytes);
 
 /* ls_silhouette_backward: ADDS the silhouette part of dL/dpositions of one
- * view into grad_positions [3 vertex_count] (see the file comment). vis,
- * indices, normals, opts and mvp as given to ls_raster / ls_shade; table
- * from ls_edge_table_build on the same indices; grad_image [4 width height]
- * dL/dI (RGBA); boost multiplies the result (nvdiffrast's
- * pos_gradient_boost; 1 = the exact derivative). Scratch from the top of the
+ * view into grad_positions [3 vertex_count] (see the file comment). view:
+ * vis, indices, normals, opts and mvp as given to ls_raster / ls_shade;
+ * table from ls_edge_table_build on the same indices; boost multiplies the
+ * result (nvdiffrast's pos_gradient_boost; 1 = the exact derivative).
+ * grad_image [4 width height] dL/dI (RGBA). Scratch from the top of the
  * arena (ls_silhouette_scratch_bytes), released on return. Errors:
  * LS_ERR_INVALID (NULL arrays, sizes differing from the rasterized ones, a
  * table of another mesh, unknown mode), LS_ERR_STATE (vis not rasterized,
@@ -234,11 +233,8 @@ ls_status ls_silhouette_scratch_bytes_bins(uint32_t width, uint32_t height, uint
  * Cost O(triangles + bin entries + runs of silhouette segments x
  * the candidates of their runs, each sub-piece tested against the
  * candidates whose intervals hold it). */
-ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                 uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                                 const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
-                                 const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
-                                 ls_diag *diag);
+ls_status ls_silhouette_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
+                                 ls_arena *arena, ls_diag *diag);
 
 /* The pair mode: nvdiffrast's antialiasing (research notes rasterizer.md
  * 1.3) re-implemented deterministically, a cheap approximation of the
@@ -254,22 +250,22 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
  * near plane are skipped.
  *
  * ls_pair_forward: image_out [4 width height] = image_in (ls_shade's
- * output) blended as above. Errors: LS_ERR_INVALID (NULL, aliasing images,
+ * output) blended as above; reads view->vis, table, indices and
+ * triangle_count. Errors: LS_ERR_INVALID (NULL, aliasing images,
  * S != 1, counts differing), LS_ERR_STATE (vis or table not built),
  * LS_ERR_MESH. O(pixels); no memory. */
-ls_status ls_pair_forward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                          uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag);
+ls_status ls_pair_forward(const ls_view *view, const ls_real *image_in, ls_real *image_out, ls_diag *diag);
 
 /* ls_pair_backward: the backward of ls_pair_forward: from grad_out = dL/d
- * image_out, ADDS dL/dpositions (through the crossings, times boost, to the
+ * image_out, ADDS dL/dpositions (through the crossings, times view->boost, to the
  * two vertices of each blending edge; none for clamped crossings) into
  * grad_positions [3 vertex_count] and, when grad_in is not NULL, ADDS dL/d
  * image_in into grad_in [4 width height] (for ls_shade_backward). image_in
- * is the forward's input. Errors as ls_pair_forward, plus LS_ERR_INVALID for
- * NULL mvp, grad_out or grad_positions. O(pixels); no memory. */
-ls_status ls_pair_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                           uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
-                           const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag);
+ * is the forward's input; view as for ls_pair_forward, with mvp and boost.
+ * Errors as ls_pair_forward, plus LS_ERR_INVALID for NULL mvp, grad_out or
+ * grad_positions. O(pixels); no memory. */
+ls_status ls_pair_backward(const ls_view *view, const ls_real *image_in, const ls_real *grad_out, ls_real *grad_in,
+                           ls_real *grad_positions, ls_diag *diag);
 
 #ifdef __cplusplus
 }

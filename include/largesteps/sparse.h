@@ -41,16 +41,23 @@ uint32_t ls_csc_nnz(const ls_csc *a);
  * Errors: LS_ERR_INVALID (NULL bytes), LS_ERR_TOO_LARGE. */
 ls_status ls_csc_from_triplets_bytes(uint32_t nrows, uint32_t ncols, size_t count, size_t *bytes);
 
-/* ls_csc_from_triplets: builds *out from `count` triplets (rows[t], cols[t],
+/* Entries of an nrows x ncols matrix as triplets (rows[t], cols[t], vals[t]),
+ * t < count; vals may be NULL (pattern only: every value is 1). */
+typedef struct ls_triplets {
+    uint32_t nrows, ncols;
+    size_t count;
+    const uint32_t *rows, *cols;
+    const ls_real *vals;
+} ls_triplets;
+
+/* ls_csc_from_triplets: builds *out from the `count` triplets of t (rows[t], cols[t],
  * vals[t]); duplicates are summed in input order, rows come out sorted in each
  * column. Deterministic: a stable two-pass bucket sort, O(nrows + ncols + count).
  * vals may be NULL (pattern only: every value is 1). The object holds
  * `count` entries of capacity. Errors: LS_ERR_INVALID (NULL arguments, an
  * index out of range: ls_diag index = the triplet), LS_ERR_TOO_LARGE,
  * LS_ERR_NOMEM (arena and *out unchanged). */
-ls_status ls_csc_from_triplets(uint32_t nrows, uint32_t ncols, size_t count, const uint32_t *rows,
-                               const uint32_t *cols, const ls_real *vals, ls_arena *arena,
-                               ls_csc *out, ls_diag *diag);
+ls_status ls_csc_from_triplets(const ls_triplets *t, ls_arena *arena, ls_csc *out, ls_diag *diag);
 
 /* ls_csc_triangle_bytes: exact bytes of ls_csc_triangle(a, upper). O(ncols)
  * plus a pass over the row indices. */

@@ -480,9 +480,20 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const uint32_t n = fit->vertex_count, nf = fit->face_count;
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     ls_loss_acc acc;
+    ls_view view;
     uint32_t v;
     uint64_t t0;
     ls_status st;
+    memset(&view, 0, sizeof view);
+    view.vis = &fit->vis;
+    view.positions = fit->xr;
+    view.indices = fit->triangles;
+    view.triangle_count = nf;
+    view.vertex_count = n;
+    view.normals = fit->normals;
+    view.opts = &c->shading;
+    view.table = &fit->edges;
+    view.boost = c->boost;
     memset(fit->gx, 0, 3u * (size_t)n * sizeof(ls_real));
     memset(fit->gnormals, 0, 3u * (size_t)n * sizeof(ls_real));
     t0 = now(monitor);
@@ -493,18 +504,16 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, fit->views.count);
     if (st != LS_OK) return st;
     for (v = 0; v < fit->views.count; v++) {
-        const ls_real *mvp = fit->mvp + 16u * (size_t)v;
         uint64_t t1, t2, t3;
+        view.mvp = fit->mvp + 16u * (size_t)v;
         st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
-        if (st == LS_OK) st = ls_raster(&fit->vis, &fit->block, mvp, fit->xr, n, fit->triangles, nf, diag);
-        if (st == LS_OK) st = ls_shade(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, fit->image, diag);
-        if (st == LS_OK && c->aa > c->ss)
-            st = ls_refine_shade(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading, c->aa,
-                                 fit->image, &fit->block, NULL, diag);
+        if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
+        if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
+        if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
             /* the loss sees the blended image; its gradient goes back through
              * the blending to the positions and to the shaded image */
-            st = ls_pair_forward(&fit->vis, &fit->edges, fit->triangles, nf, fit->image, fit->pair_image, diag);
+            st = ls_pair_forward(&view, fit->image, fit->pair_image, diag);
             if (st == LS_OK) st = ls_loss_view(&acc, fit->pair_image, fit->views.targets[v], fit->pair_gimage, diag);
         } else if (st == LS_OK) {
             st = ls_loss_view(&acc, fit->image, fit->views.targets[v], fit->gimage, diag);
@@ -513,8 +522,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         fit->timing.render_ns += t1 - t0;
         if (st == LS_OK && pair_mode(c)) {
             memset(fit->gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
-            st = ls_pair_backward(&fit->vis, &fit->edges, fit->triangles, nf, mvp, c->boost, fit->image,
-                                  fit->pair_gimage, fit->gimage, fit->gx, diag);
+            st = ls_pair_backward(&view, fit->image, fit->pair_gimage, fit->gimage, fit->gx, diag);
         }
         t2 = now(monitor);
         fit->timing.silhouette_ns += t2 - t1;
@@ -523,17 +531,14 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
             memset(&sg, 0, sizeof sg);
             sg.positions = fit->gx;
             sg.normals = shaded ? fit->gnormals : NULL;
-            st = ls_refine_shade_backward(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading,
-                                          c->aa, mvp, fit->gimage, &sg, &fit->block, diag);
+            st = ls_refine_shade_backward(&view, c->aa, fit->gimage, &sg, &fit->block, diag);
         } else if (st == LS_OK) {
-            st = ls_shade_backward(&fit->vis, fit->triangles, nf, fit->normals, n, &c->shading, mvp, fit->gimage,
-                                   fit->gx, shaded ? fit->gnormals : NULL, NULL, diag);
+            st = ls_shade_backward(&view, fit->gimage, fit->gx, shaded ? fit->gnormals : NULL, NULL, diag);
         }
         t1 = now(monitor);
         fit->timing.shade_backward_ns += t1 - t2;
         if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
-            st = ls_silhouette_backward(&fit->vis, &fit->edges, fit->triangles, nf, fit->normals, n, &c->shading, mvp,
-                                        c->boost, fit->gimage, fit->gx, &fit->block, diag);
+            st = ls_silhouette_backward(&view, fit->gimage, fit->gx, &fit->block, diag);
         t3 = now(monitor);
         fit->timing.silhouette_ns += t3 - t1;
         t0 = t3;

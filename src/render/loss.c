@@ -229,15 +229,15 @@ ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss)
     return LS_OK;
 }
 
-ls_status ls_loss_views(uint32_t kind, uint32_t width, uint32_t height, uint32_t view_count,
-                        const ls_real *const *rendered, const ls_real *const *target,
+ls_status ls_loss_views(const ls_loss_shape *shape, const ls_real *const *rendered, const ls_real *const *target,
                         ls_real *const *grad, ls_real *loss, ls_diag *diag)
 {
     ls_loss_acc acc;
-    uint32_t v;
+    uint32_t v, view_count;
     ls_status st;
-    if (rendered == NULL || target == NULL || loss == NULL) return LS_ERR_INVALID;
-    st = ls_loss_begin(&acc, kind, width, height, view_count);
+    if (shape == NULL || rendered == NULL || target == NULL || loss == NULL) return LS_ERR_INVALID;
+    view_count = shape->view_count;
+    st = ls_loss_begin(&acc, shape->kind, shape->width, shape->height, view_count);
     if (st != LS_OK) return st;
     /* Check every view before writing any gradient. */
     for (v = 0; v < view_count; v++) {
@@ -258,6 +258,6 @@ ls_status ls_loss_views(uint32_t kind, uint32_t width, uint32_t height, uint32_t
     }
     if (grad != NULL)
         for (v = 0; v < view_count; v++)
-            if (grad[v] != NULL) view_grad(kind, rendered[v], target[v], norm_count(&acc), grad[v], value_count(&acc));
+            if (grad[v] != NULL) view_grad(shape->kind, rendered[v], target[v], norm_count(&acc), grad[v], value_count(&acc));
     return ls_loss_finish(&acc, loss);
 }

@@ -284,9 +284,9 @@ LS_NOINLINE static ls_status count_pass_local(const rctx *cx, cpass *cp)
     return count_pass(cx, &cb, cp);
 }
 
-ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], const ls_real *positions,
-                                  uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
-                                  size_t *bytes)
+static ls_status raster_scratch_bytes_impl(const ls_vis *vis, const ls_real mvp[16], const ls_real *positions,
+                                           uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
+                                           size_t *bytes)
 {
     rctx cx;
     ls_size s;
@@ -320,6 +320,12 @@ ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_real mvp[16], cons
     ls_size_init(&s);
     scratch_size(&s, vertex_count, triangle_count, (size_t)cx.tiles_x * cx.tiles_y, cp.entries);
     return ls_size_get(&s, bytes);
+}
+
+ls_status ls_raster_scratch_bytes(const ls_vis *vis, const ls_view *view, size_t *bytes)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return raster_scratch_bytes_impl(vis, view->mvp, view->positions, view->vertex_count, view->indices, view->triangle_count, bytes);
 }
 
 /* The number of steps along a row before an edge value e, which changes by
@@ -711,8 +717,8 @@ LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t 
     }
 }
 
-ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
-                    uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
+static ls_status raster_impl(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
+                             uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
 {
     rctx cx;
     ls_arena_mark mark;
@@ -812,4 +818,10 @@ ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const l
     vis->clipped_triangles = clipped;
     ls_arena_restore(arena, mark);
     return LS_OK;
+}
+
+ls_status ls_raster(ls_vis *vis, const ls_view *view, ls_arena *arena, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return raster_impl(vis, arena, view->mvp, view->positions, view->vertex_count, view->indices, view->triangle_count, diag);
 }

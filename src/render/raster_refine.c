@@ -216,8 +216,8 @@ static ls_status check_table(const ls_edge_table *table, uint32_t triangle_count
     return LS_OK;
 }
 
-ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                  uint32_t triangle_count, uint32_t aa, size_t *bytes)
+static ls_status refine_scratch_bytes_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                           uint32_t triangle_count, uint32_t aa, size_t *bytes)
 {
     ls_size s;
     size_t entries = 0;
@@ -236,6 +236,12 @@ ls_status ls_refine_scratch_bytes(const ls_vis *vis, const ls_edge_table *table,
     if (st != LS_OK) return st;
     scratch_layout(&s, vis->width, vis->height, triangle_count, aa, tile_count(vis->width, vis->height), entries);
     return ls_size_get(&s, bytes);
+}
+
+ls_status ls_refine_scratch_bytes(const ls_view *view, uint32_t aa, size_t *bytes)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return refine_scratch_bytes_impl(view->vis, view->table, view->indices, view->triangle_count, aa, bytes);
 }
 
 /* Fills the boxes and the bins (offs[k] = start of tile k, offs[tiles] = end). */
@@ -655,10 +661,10 @@ static ls_status refine_begin(rf *c, const ls_vis *vis, const ls_edge_table *tab
     return LS_OK;
 }
 
-ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                          uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                          const ls_shade_opts *opts, uint32_t aa, ls_real *image, ls_arena *arena,
-                          ls_refine_info *info, ls_diag *diag)
+static ls_status refine_shade_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                   uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                   const ls_shade_opts *opts, uint32_t aa, ls_real *image, ls_arena *arena,
+                                   ls_refine_info *info, ls_diag *diag)
 {
     rf c;
     ls_arena_mark mark;
@@ -702,11 +708,19 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
     return LS_OK;
 }
 
-ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                   uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                                   const ls_shade_opts *opts, uint32_t aa, const ls_real mvp[16],
-                                   const ls_real *grad_image, const ls_shade_grads *grads, ls_arena *arena,
-                                   ls_diag *diag)
+ls_status ls_refine_shade(const ls_view *view, uint32_t aa, ls_real *image, ls_arena *arena, ls_refine_info *info,
+                          ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return refine_shade_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals, view->vertex_count,
+                           view->opts, aa, image, arena, info, diag);
+}
+
+static ls_status refine_shade_backward_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                            uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                            const ls_shade_opts *opts, uint32_t aa, const ls_real mvp[16],
+                                            const ls_real *grad_image, const ls_shade_grads *grads, ls_arena *arena,
+                                            ls_diag *diag)
 {
     ls_shade_bctx bc;
     rf c;
@@ -742,4 +756,12 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
     each_marked_pixel(&c, &job);
     ls_arena_restore(arena, mark);
     return LS_OK;
+}
+
+ls_status ls_refine_shade_backward(const ls_view *view, uint32_t aa, const ls_real *grad_image,
+                                   const ls_shade_grads *grads, ls_arena *arena, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return refine_shade_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
+                                    view->vertex_count, view->opts, aa, view->mvp, grad_image, grads, arena, diag);
 }

@@ -312,9 +312,7 @@ LS_NO_VECTORIZE LS_NOINLINE static void pixels_sh_plain(const bctx *bc, uint32_t
 }
 #endif
 
-ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
-                            const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
-                            const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
+ls_status ls_shade_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
 {
     ls_shade_grads g;
@@ -323,8 +321,7 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
     g.colors = grad_colors;
     g.texels = NULL;
     g.uvs = NULL;
-    return ls_shade_backward_grads(vis, indices, triangle_count, normals, vertex_count, opts, mvp, grad_image, &g,
-                                   diag);
+    return ls_shade_backward_grads(view, grad_image, &g, diag);
 }
 
 ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const uint32_t *indices,
@@ -407,10 +404,10 @@ void ls_shade_backward_pixels(const ls_shade_bctx *bc, uint32_t triangle_count, 
     }
 }
 
-ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
-                                  const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
-                                  const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
-                                  ls_diag *diag)
+static ls_status shade_backward_grads_impl(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count,
+                                           const ls_real *normals, uint32_t vertex_count, const ls_shade_opts *opts,
+                                           const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
+                                           ls_diag *diag)
 {
     bctx bc;
     ls_status st = ls_shade_backward_begin(&bc, vis, indices, triangle_count, normals, vertex_count, opts, mvp,
@@ -419,6 +416,14 @@ ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, ui
     if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
     ls_shade_backward_pixels(&bc, triangle_count, grad_image, NULL);
     return LS_OK;
+}
+
+ls_status ls_shade_backward_grads(const ls_view *view, const ls_real *grad_image, const ls_shade_grads *grads,
+                                  ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return shade_backward_grads_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts,
+                                   view->mvp, grad_image, grads, diag);
 }
 
 ls_status ls_vertex_normals_backward_bytes(uint32_t vertex_count, size_t *bytes)

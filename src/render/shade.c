@@ -216,8 +216,8 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
-ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
-                   uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
+static ls_status shade_impl(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
+                            uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
 {
     uint32_t x, y, ss;
     ls_real inv_n, bg_pixel[4];
@@ -293,6 +293,12 @@ ls_status ls_shade(const ls_vis *vis, const uint32_t *indices, uint32_t triangle
         }
     }
     return LS_OK;
+}
+
+ls_status ls_shade(const ls_view *view, ls_real *out, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return shade_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts, out, diag);
 }
 
 /* ls_face_cross, inlined into the sums below. */

@@ -443,8 +443,8 @@ void ls_sil_sctx_init(sctx *sc, const ls_vis *vis, const uint32_t *indices, uint
     sc->tside_inv = 1.0f / (float)(1u << SIL_TILE_LOG2);
 }
 
-ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                      uint32_t triangle_count, size_t *bytes)
+static ls_status silhouette_scratch_bytes_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                               uint32_t triangle_count, size_t *bytes)
 {
     sctx sc;
     size_t count[2] = {0, 0};
@@ -461,6 +461,12 @@ ls_status ls_silhouette_scratch_bytes(const ls_vis *vis, const ls_edge_table *ta
     if (over) return LS_ERR_TOO_LARGE;
     return scratch_size(vis->vertex_count, (size_t)sc.tiles_x * sc.tiles_y, triangle_count, count[0],
                         slot_count(count[1], count[0]), bytes);
+}
+
+ls_status ls_silhouette_scratch_bytes(const ls_view *view, size_t *bytes)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return silhouette_scratch_bytes_impl(view->vis, view->table, view->indices, view->triangle_count, bytes);
 }
 
 /* The scratch for a view of this size whose bins hold `entries` entries. */
@@ -708,11 +714,11 @@ LS_NOINLINE static void edges_pass(const sctx *sc, const ls_edge_table *table, c
     }
 }
 
-ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                                 uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
-                                 const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
-                                 const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
-                                 ls_diag *diag)
+static ls_status silhouette_backward_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                          uint32_t triangle_count, const ls_real *normals, uint32_t vertex_count,
+                                          const ls_shade_opts *opts, const ls_real mvp[16], ls_real boost,
+                                          const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
+                                          ls_diag *diag)
 {
     sctx sc;
     uint32_t t, counts[2];
@@ -748,4 +754,13 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
     for (t = 0; sc.behind > 0 && t < triangle_count; t++) cut_pass(&sc, t);
     ls_arena_restore(arena, mark);
     return LS_OK;
+}
+
+ls_status ls_silhouette_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
+                                 ls_arena *arena, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return silhouette_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
+                                  view->vertex_count, view->opts, view->mvp, view->boost, grad_image, grad_positions,
+                                  arena, diag);
 }

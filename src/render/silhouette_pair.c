@@ -131,8 +131,8 @@ static ls_status pair_check(pctx *pc, const ls_vis *vis, const ls_edge_table *ta
     return ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, diag);
 }
 
-ls_status ls_pair_forward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                          uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
+static ls_status pair_forward_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                   uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
 {
     pctx pc;
     size_t n, p, k = 0;
@@ -150,9 +150,15 @@ ls_status ls_pair_forward(const ls_vis *vis, const ls_edge_table *table, const u
     return LS_OK;
 }
 
-ls_status ls_pair_backward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
-                           uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
-                           const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag)
+ls_status ls_pair_forward(const ls_view *view, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return pair_forward_impl(view->vis, view->table, view->indices, view->triangle_count, image_in, image_out, diag);
+}
+
+static ls_status pair_backward_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
+                                    uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
+                                    const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag)
 {
     pctx pc;
     sctx sc;
@@ -193,4 +199,12 @@ ls_status ls_pair_backward(const ls_vis *vis, const ls_edge_table *table, const 
         ls_sil_clip_to_positions(&sc, it.vb, g4, grad_positions);
     }
     return LS_OK;
+}
+
+ls_status ls_pair_backward(const ls_view *view, const ls_real *image_in, const ls_real *grad_out, ls_real *grad_in,
+                           ls_real *grad_positions, ls_diag *diag)
+{
+    if (view == NULL) return LS_ERR_INVALID;
+    return pair_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->mvp, view->boost, image_in,
+                            grad_out, grad_in, grad_positions, diag);
 }

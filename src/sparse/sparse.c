@@ -49,9 +49,9 @@ ls_status ls_csc_from_triplets_bytes(uint32_t nrows, uint32_t ncols, size_t coun
     return ls_size_get(&s, bytes);
 }
 
-ls_status ls_csc_from_triplets(uint32_t nrows, uint32_t ncols, size_t count, const uint32_t *rows,
-                               const uint32_t *cols, const ls_real *vals, ls_arena *arena,
-                               ls_csc *out, ls_diag *diag)
+static ls_status from_triplets(uint32_t nrows, uint32_t ncols, size_t count, const uint32_t *rows,
+                               const uint32_t *cols, const ls_real *vals, ls_arena *arena, ls_csc *out,
+                               ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_csc m;
@@ -119,6 +119,12 @@ nomem:
     ls_arena_restore(arena, mark);
     diag_set(diag, LS_ERR_NOMEM, "arena too small for the matrix", 0, 0);
     return LS_ERR_NOMEM;
+}
+
+ls_status ls_csc_from_triplets(const ls_triplets *t, ls_arena *arena, ls_csc *out, ls_diag *diag)
+{
+    if (t == NULL) return LS_ERR_INVALID;
+    return from_triplets(t->nrows, t->ncols, t->count, t->rows, t->cols, t->vals, arena, out, diag);
 }
 
 static int csc_ok(const ls_csc *a)

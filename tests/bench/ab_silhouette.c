@@ -17,9 +17,8 @@
 #include "ls_posix.h"
 #include "mesh_view.h"
 
-#define AB_SIGNATURE(name)                                                                                              \
-    ls_status name(const ls_vis *, const ls_edge_table *, const uint32_t *, uint32_t, const ls_real *, uint32_t,        \
-                   const ls_shade_opts *, const ls_real *, ls_real, const ls_real *, ls_real *, ls_arena *, ls_diag *)
+/* both builds have the current signature of ls_silhouette_backward */
+#define AB_SIGNATURE(name) ls_status name(const ls_view *, const ls_real *, ls_real *, ls_arena *, ls_diag *)
 AB_SIGNATURE(ls_silhouette_backward_A);
 AB_SIGNATURE(ls_silhouette_backward_B);
 typedef AB_SIGNATURE((*ab_fn));
@@ -86,8 +85,11 @@ int main(int argc, char **argv)
             ls_real *gpp[1];
             double t0 = now_ms();
             if (ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, nrm, NULL) != LS_OK ||
-                ls_raster(&vis, &arena, mvp, m.positions, m.vertex_count, m.triangles, m.face_count, NULL) != LS_OK ||
-                ls_shade(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, img, NULL) != LS_OK)
+                ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                        .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = mvp}, &arena,
+                        NULL) != LS_OK ||
+                ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                        .vertex_count = m.vertex_count, .normals = nrm, .opts = &o}, img, NULL) != LS_OK)
                 return 1;
             tf[2 * r + (uint32_t)k] = now_ms() - t0;
             rp[0] = img;
@@ -95,15 +97,18 @@ int main(int argc, char **argv)
             gpp[0] = gimg;
             memset(gp, 0, sizeof(ls_real) * 3 * m.vertex_count);
             memset(gn, 0, sizeof(ls_real) * 3 * m.vertex_count);
-            if (ls_loss_views(LS_LOSS_L1, res, res, 1, rp, tp, gpp, &loss, NULL) != LS_OK ||
-                ls_shade_backward(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, gimg, gp, gn, NULL,
-                                  NULL) != LS_OK ||
+            if (ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, res, res, 1}, rp, tp, gpp, &loss, NULL) != LS_OK ||
+                ls_shade_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                        .vertex_count = m.vertex_count, .normals = nrm, .opts = &o, .mvp = mvp}, gimg, gp, gn, NULL,
+                        NULL) != LS_OK ||
                 ls_vertex_normals_backward(m.positions, m.vertex_count, m.triangles, m.face_count, gn, gp, &arena,
                                            NULL) != LS_OK)
                 return 1;
             t0 = now_ms();
-            if (pass[which](&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, 1, gimg, gp, &arena,
-                            NULL) != LS_OK)
+            if (pass[which](&(ls_view){.vis = &vis, .table = &et, .indices = m.triangles,
+                    .triangle_count = m.face_count,
+                                        .normals = nrm, .vertex_count = m.vertex_count, .opts = &o, .mvp = mvp, .boost = 1},
+                            gimg, gp, &arena, NULL) != LS_OK)
                 return 1;
             t[which] = now_ms() - t0;
             memcpy(grad[which], gp, sizeof(ls_real) * 3 * m.vertex_count);

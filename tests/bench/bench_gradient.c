@@ -87,8 +87,11 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
             double t;
             t0 = now_ms();
             if (ls_shade_vertex_normals(m.positions, m.vertex_count, m.triangles, m.face_count, nrm, NULL) != LS_OK ||
-                ls_raster(&vis, &arena, mvp, m.positions, m.vertex_count, m.triangles, m.face_count, NULL) != LS_OK ||
-                ls_shade(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, img, NULL) != LS_OK)
+                ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                        .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = mvp}, &arena,
+                        NULL) != LS_OK ||
+                ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                        .vertex_count = m.vertex_count, .normals = nrm, .opts = &o}, img, NULL) != LS_OK)
                 return 0;
             t = now_ms() - t0;
             rw->fwd = t < rw->fwd ? t : rw->fwd;
@@ -96,14 +99,15 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
             tp[0] = tgt;
             gpp[0] = gimg;
             t0 = now_ms();
-            if (ls_loss_views(LS_LOSS_L1, W, W, 1, rp, tp, gpp, &loss, NULL) != LS_OK) return 0;
+            if (ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, W, W, 1}, rp, tp, gpp, &loss, NULL) != LS_OK) return 0;
             t = now_ms() - t0;
             rw->loss = t < rw->loss ? t : rw->loss;
             memset(gp, 0, sizeof(ls_real) * 3 * m.vertex_count);
             memset(gn, 0, sizeof(ls_real) * 3 * m.vertex_count);
             t0 = now_ms();
-            if (ls_shade_backward(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, gimg, gp, gn, NULL,
-                                  NULL) != LS_OK ||
+            if (ls_shade_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                    .vertex_count = m.vertex_count, .normals = nrm, .opts = &o, .mvp = mvp}, gimg, gp, gn, NULL,
+                    NULL) != LS_OK ||
                 ls_vertex_normals_backward(m.positions, m.vertex_count, m.triangles, m.face_count, gn, gp, &arena,
                                            NULL) != LS_OK)
                 return 0;
@@ -113,16 +117,19 @@ static int bench_mesh(const char *name, const char *path, const char *alt, row *
                 double *best = sm == 0 ? &rw->sil_exact : &rw->sil_mask;
                 o.mode = sm == 0 ? LS_SHADE_SH : LS_SHADE_MASK;
                 t0 = now_ms();
-                if (ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvp, 1, gimg,
-                                           gp, &arena, NULL) != LS_OK)
+                if (ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m.triangles,
+                        .triangle_count = m.face_count, .vertex_count = m.vertex_count, .normals = nrm, .opts = &o,
+                        .mvp = mvp, .table = &et, .boost = 1}, gimg, gp, &arena, NULL) != LS_OK)
                     return 0;
                 t = now_ms() - t0;
                 *best = t < *best ? t : *best;
             }
             o.mode = LS_SHADE_SH;
             t0 = now_ms(); /* pair mode: blend forward + its backward */
-            if (ls_pair_forward(&vis, &et, m.triangles, m.face_count, img, pimg, NULL) != LS_OK ||
-                ls_pair_backward(&vis, &et, m.triangles, m.face_count, mvp, 1, img, gimg, gin, gp, NULL) != LS_OK)
+            if (ls_pair_forward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                    .table = &et}, img, pimg, NULL) != LS_OK ||
+                ls_pair_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                        .mvp = mvp, .table = &et, .boost = 1}, img, gimg, gin, gp, NULL) != LS_OK)
                 return 0;
             t = now_ms() - t0;
             rw->pair = t < rw->pair ? t : rw->pair;

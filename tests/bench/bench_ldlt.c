@@ -79,7 +79,7 @@ int main(int argc, char **argv)
     arena_bytes = (size_t)t.count * 64 + ((size_t)1 << 20);
     mem = (unsigned char *)malloc(arena_bytes);
     ls_arena_init(&arena, mem, arena_bytes);
-    st = ls_csc_from_triplets(t.n, t.n, t.count, t.r, t.c, vals, &arena, &a, NULL);
+    st = ls_csc_from_triplets(&(ls_triplets){t.n, t.n, t.count, t.r, t.c, vals}, &arena, &a, NULL);
     if (st != LS_OK) return 1;
     /* ordering + symbolic */
     ls_ldlt_analyze_mesh_bytes(&a, method, &bytes_a);

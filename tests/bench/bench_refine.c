@@ -91,13 +91,16 @@ int main(int argc, char **argv)
             for (v = 0; v < views; v++) {
                 ls_refine_info info;
                 double t0 = now_ms(), t1;
-                if (ls_raster(&vis, &arena, mvps + 16u * v, m.positions, m.vertex_count, m.triangles, m.face_count,
-                              NULL) != LS_OK ||
-                    ls_shade(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, img, NULL) != LS_OK)
+                if (ls_raster(&vis, &(ls_view){.positions = m.positions, .indices = m.triangles,
+                        .triangle_count = m.face_count, .vertex_count = m.vertex_count, .mvp = mvps + 16u * v}, &arena,
+                        NULL) != LS_OK ||
+                    ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                            .vertex_count = m.vertex_count, .normals = nrm, .opts = &o}, img, NULL) != LS_OK)
                     return 1;
                 t1 = now_ms();
-                if (ls_refine_shade(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, aas[a], img, &arena,
-                                    &info, NULL) != LS_OK)
+                if (ls_refine_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                        .vertex_count = m.vertex_count, .normals = nrm, .opts = &o, .table = &et}, aas[a], img, &arena,
+                        &info, NULL) != LS_OK)
                     return 1;
                 rf += now_ms() - t1;
                 f += now_ms() - t0;
@@ -105,13 +108,15 @@ int main(int argc, char **argv)
                 g.positions = gp;
                 g.normals = gn;
                 t0 = now_ms();
-                if (ls_refine_shade_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, aas[a],
-                                             mvps + 16u * v, gimg, &g, &arena, NULL) != LS_OK)
+                if (ls_refine_shade_backward(&(ls_view){.vis = &vis, .indices = m.triangles,
+                        .triangle_count = m.face_count, .vertex_count = m.vertex_count, .normals = nrm, .opts = &o,
+                        .mvp = mvps + 16u * v, .table = &et}, aas[a], gimg, &g, &arena, NULL) != LS_OK)
                     return 1;
                 b += now_ms() - t0;
                 if (r == 0) {
                     size_t bytes = 0;
-                    if (ls_refine_scratch_bytes(&vis, &et, m.triangles, m.face_count, aas[a], &bytes) != LS_OK) return 1;
+                    if (ls_refine_scratch_bytes(&(ls_view){.vis = &vis, .indices = m.triangles,
+                            .triangle_count = m.face_count, .table = &et}, aas[a], &bytes) != LS_OK) return 1;
                     if (bytes > scr) scr = bytes;
                     edge += info.pixels;
                     /* the error in the edge pixels of A = 32 */
@@ -121,12 +126,15 @@ int main(int argc, char **argv)
                         if (mk == NULL) mk = (unsigned char *)malloc(npx);
                         memcpy(ref, img, 4u * npx * sizeof(ls_real));
                         for (q = 0; q < npx; q++) ref[4 * q + 3] = (ls_real)-7;
-                        if (ls_refine_shade(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o,
-                                            LS_REFINE_MAX, ref, &arena, NULL, NULL) != LS_OK)
+                        if (ls_refine_shade(&(ls_view){.vis = &vis, .indices = m.triangles,
+                                .triangle_count = m.face_count, .vertex_count = m.vertex_count, .normals = nrm,
+                                .opts = &o, .table = &et}, LS_REFINE_MAX, ref, &arena, NULL, NULL) != LS_OK)
                             return 1;
-                        if (ls_shade(&vis, m.triangles, m.face_count, nrm, m.vertex_count, &o, img, NULL) != LS_OK ||
-                            ls_refine_shade(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, aas[a], img,
-                                            &arena, NULL, NULL) != LS_OK)
+                        if (ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                                .vertex_count = m.vertex_count, .normals = nrm, .opts = &o}, img, NULL) != LS_OK ||
+                            ls_refine_shade(&(ls_view){.vis = &vis, .indices = m.triangles,
+                                    .triangle_count = m.face_count, .vertex_count = m.vertex_count, .normals = nrm,
+                                    .opts = &o, .table = &et}, aas[a], img, &arena, NULL, NULL) != LS_OK)
                             return 1;
                         for (q = 0; q < npx; q++) {
                             double e = 0;

@@ -51,8 +51,10 @@ static int render(ls_vis *vis, ls_arena *a, const ls_real *mvp, const ls_mesh *m
                   ls_real *img)
 {
     return ls_shade_vertex_normals(m->positions, m->vertex_count, m->triangles, m->face_count, nrm, NULL) == LS_OK &&
-           ls_raster(vis, a, mvp, m->positions, m->vertex_count, m->triangles, m->face_count, NULL) == LS_OK &&
-           ls_shade(vis, m->triangles, m->face_count, nrm, m->vertex_count, o, img, NULL) == LS_OK;
+           ls_raster(vis, &(ls_view){.positions = m->positions, .indices = m->triangles,
+                   .triangle_count = m->face_count, .vertex_count = m->vertex_count, .mvp = mvp}, a, NULL) == LS_OK &&
+           ls_shade(&(ls_view){.vis = vis, .indices = m->triangles, .triangle_count = m->face_count,
+                   .vertex_count = m->vertex_count, .normals = nrm, .opts = o}, img, NULL) == LS_OK;
 }
 
 int main(int argc, char **argv)
@@ -139,15 +141,17 @@ int main(int argc, char **argv)
             rp[0] = img;
             tp[0] = tgt[v];
             gpp[0] = gimg;
-            if (ls_loss_views(LS_LOSS_L1, res, res, 1, rp, tp, gpp, &loss, NULL) != LS_OK) return 1;
+            if (ls_loss_views(&(ls_loss_shape){LS_LOSS_L1, res, res, 1}, rp, tp, gpp, &loss, NULL) != LS_OK) return 1;
             if (r == 0) {
                 size_t b = 0;
-                if (ls_silhouette_scratch_bytes(&vis, &et, m.triangles, m.face_count, &b) != LS_OK) return 1;
+                if (ls_silhouette_scratch_bytes(&(ls_view){.vis = &vis, .indices = m.triangles,
+                        .triangle_count = m.face_count, .table = &et}, &b) != LS_OK) return 1;
                 if (b > maxscr) maxscr = b;
             }
             t0 = now_ms();
-            st = ls_silhouette_backward(&vis, &et, m.triangles, m.face_count, nrm, m.vertex_count, &o, mvps + 16u * v, 3,
-                                        gimg, gp, &arena, NULL);
+            st = ls_silhouette_backward(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
+                    .vertex_count = m.vertex_count, .normals = nrm, .opts = &o, .mvp = mvps + 16u * v, .table = &et,
+                    .boost = 3}, gimg, gp, &arena, NULL);
             ts += now_ms() - t0;
             if (st != LS_OK) {
                 fprintf(stderr, "silhouette: %s\n", ls_status_str(st));

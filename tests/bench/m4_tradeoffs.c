@@ -74,9 +74,11 @@ static int study(uint32_t res, uint32_t level)
         ls_shade_vertex_normals(target.positions, target.vertex_count, target.triangles, target.face_count, normals,
                                 NULL) != LS_OK ||
         ls_vis_init(&vis, &arena, res, res, 1, target.vertex_count) != LS_OK ||
-        ls_raster(&vis, &arena, mvp, target.positions, target.vertex_count, target.triangles, target.face_count, NULL) !=
+        ls_raster(&vis, &(ls_view){.positions = target.positions, .indices = target.triangles,
+                .triangle_count = target.face_count, .vertex_count = target.vertex_count, .mvp = mvp}, &arena, NULL) !=
             LS_OK ||
-        ls_shade(&vis, target.triangles, target.face_count, normals, target.vertex_count, &c.shading, img, NULL) != LS_OK)
+        ls_shade(&(ls_view){.vis = &vis, .indices = target.triangles, .triangle_count = target.face_count,
+                .vertex_count = target.vertex_count, .normals = normals, .opts = &c.shading}, img, NULL) != LS_OK)
         return 0;
     ls_arena_restore(&arena, mark);
     if (ls_icosphere(level, &arena, &init) != LS_OK) return 0;

@@ -263,8 +263,10 @@ static int bench_main(const double *v, const uint32_t *f, uint32_t nv, uint32_t 
             }
             for (rep = 0; rep < repeats + 1; rep++) {
                 double t0 = cpu_s(), t;
-                if (ls_raster(&vis, &arena, M, pos, nv, f, nf, NULL) != LS_OK) return 1;
-                if (mode == 1 && ls_shade(&vis, f, nf, nrm, nv, &o, out, NULL) != LS_OK) return 1;
+                if (ls_raster(&vis, &(ls_view){.positions = pos, .indices = f, .triangle_count = nf, .vertex_count = nv,
+                        .mvp = M}, &arena, NULL) != LS_OK) return 1;
+                if (mode == 1 && ls_shade(&(ls_view){.vis = &vis, .indices = f, .triangle_count = nf,
+                        .vertex_count = nv, .normals = nrm, .opts = &o}, out, NULL) != LS_OK) return 1;
                 t = cpu_s() - t0;
                 if (rep > 0 && t < best_ls) best_ls = t;
             }
@@ -410,7 +412,8 @@ int main(int argc, char **argv)
             report(max_m < 1e-5, name, detail);
         }
         {
-            ls_status st = ls_raster(&vis, &arena, M, pos, nv, f, nf, NULL);
+            ls_status st = ls_raster(&vis, &(ls_view){.positions = pos, .indices = f, .triangle_count = nf,
+                    .vertex_count = nv, .mvp = M}, &arena, NULL);
             if (st != LS_OK) {
                 report(0, "ls_raster", ls_status_name(st));
                 continue;

@@ -338,8 +338,10 @@ static int render4(tx_problem *p, const ls_real *texels, uint32_t side, uint32_t
     ls_shade_opts o = p->opts;
     if (ls_texture_init(&tex, side, side, p->wrap, texels) != LS_OK) return 0;
     o.texture = &tex;
-    if (ls_raster(&p->vis4, p->arena, p->mvp[k], p->pos, p->nv, p->idx, p->nt, NULL) != LS_OK) return 0;
-    return ls_shade(&p->vis4, p->idx, p->nt, p->nrm, p->nv, &o, rgba, NULL) == LS_OK;
+    if (ls_raster(&p->vis4, &(ls_view){.positions = p->pos, .indices = p->idx, .triangle_count = p->nt,
+            .vertex_count = p->nv, .mvp = p->mvp[k]}, p->arena, NULL) != LS_OK) return 0;
+    return ls_shade(&(ls_view){.vis = &p->vis4, .indices = p->idx, .triangle_count = p->nt, .vertex_count = p->nv,
+            .normals = p->nrm, .opts = &o}, rgba, NULL) == LS_OK;
 }
 
 /* PSNR over the covered pixels of views [k0, k1) of the S = 4 renders. */
@@ -447,7 +449,8 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
         double loss = 0, inv = 1.0 / (3.0 * (double)np * p->ntrain);
         for (i = 0; i < 3u * (size_t)n; i++) g[i] = 0;
         for (k = 0; k < p->ntrain; k++) {
-            if (ls_shade(&p->vis1[k], p->idx, p->nt, p->nrm, p->nv, &o, buf, NULL) != LS_OK) goto done;
+            if (ls_shade(&(ls_view){.vis = &p->vis1[k], .indices = p->idx, .triangle_count = p->nt,
+                    .vertex_count = p->nv, .normals = p->nrm, .opts = &o}, buf, NULL) != LS_OK) goto done;
             for (i = 0; i < 4 * np; i++) {
                 double d = (double)buf[i] - (double)p->targets[k][i];
                 if ((i & 3u) == 3u) {
@@ -457,7 +460,8 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
                 loss += d * d * inv;
                 gimg[i] = (ls_real)(2 * d * inv);
             }
-            if (ls_shade_backward_grads(&p->vis1[k], p->idx, p->nt, p->nrm, p->nv, &o, p->mvp[k], gimg, &gr, NULL) !=
+            if (ls_shade_backward_grads(&(ls_view){.vis = &p->vis1[k], .indices = p->idx, .triangle_count = p->nt,
+                    .vertex_count = p->nv, .normals = p->nrm, .opts = &o, .mvp = p->mvp[k]}, gimg, &gr, NULL) !=
                 LS_OK)
                 goto done;
         }
@@ -594,7 +598,8 @@ static int setup(tx_problem *p, const tx_args *a)
         size_t i;
         view_matrix(p, sphere, k, p->mvp[k]);
         if (ls_vis_init(&p->vis1[k], p->arena, a->res, a->res, a->fit_ss, p->nv) != LS_OK ||
-            ls_raster(&p->vis1[k], p->arena, p->mvp[k], p->pos, p->nv, p->idx, p->nt, NULL) != LS_OK)
+            ls_raster(&p->vis1[k], &(ls_view){.positions = p->pos, .indices = p->idx, .triangle_count = p->nt,
+                    .vertex_count = p->nv, .mvp = p->mvp[k]}, p->arena, NULL) != LS_OK)
             return 0;
         p->targets[k] = (ls_real *)ls_arena_alloc(p->arena, 4 * np, sizeof(ls_real));
         if (p->targets[k] == NULL) return 0;
@@ -603,7 +608,8 @@ static int setup(tx_problem *p, const tx_args *a)
             ls_shade_opts o = p->opts;
             if (ls_texture_init(&tex, p->truth_side, p->truth_side, p->wrap, p->truth) != LS_OK) return 0;
             o.texture = &tex;
-            if (ls_shade(&p->vis1[k], p->idx, p->nt, p->nrm, p->nv, &o, p->targets[k], NULL) != LS_OK) return 0;
+            if (ls_shade(&(ls_view){.vis = &p->vis1[k], .indices = p->idx, .triangle_count = p->nt,
+                    .vertex_count = p->nv, .normals = p->nrm, .opts = &o}, p->targets[k], NULL) != LS_OK) return 0;
         } else if (!render4(p, p->truth, p->truth_side, k, p->targets[k])) {
             return 0;
         }

@@ -236,8 +236,9 @@ static int setup(render_run *r)
     for (v = 0; v < r->a.views && st == LS_OK; v++) {
         st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
         if (st == LS_OK)
-            st = ls_raster_scratch_bytes(&r->vis, mvp, r->mesh.positions, r->mesh.vertex_count, r->mesh.triangles,
-                                         r->mesh.face_count, &sz);
+            st = ls_raster_scratch_bytes(&r->vis, &(ls_view){.positions = r->mesh.positions,
+                    .indices = r->mesh.triangles, .triangle_count = r->mesh.face_count,
+                    .vertex_count = r->mesh.vertex_count, .mvp = mvp}, &sz);
         if (st == LS_OK && sz > scratch) scratch = sz;
     }
     if (st == LS_OK) st = ls_shade_image_bytes(r->a.res, r->a.res, &r->rgba_bytes);
@@ -330,12 +331,13 @@ static int render_views(render_run *r)
         st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
         t0 = ls_posix_clock_ns(NULL);
         if (st == LS_OK)
-            st = ls_raster(&r->vis, &r->work, mvp, r->mesh.positions, r->mesh.vertex_count, r->mesh.triangles,
-                           r->mesh.face_count, &d);
+            st = ls_raster(&r->vis, &(ls_view){.positions = r->mesh.positions, .indices = r->mesh.triangles,
+                    .triangle_count = r->mesh.face_count, .vertex_count = r->mesh.vertex_count, .mvp = mvp}, &r->work,
+                    &d);
         t1 = ls_posix_clock_ns(NULL);
         if (st == LS_OK)
-            st = ls_shade(&r->vis, r->mesh.triangles, r->mesh.face_count, r->normals, r->mesh.vertex_count, &r->opts,
-                          r->rgba, &d);
+            st = ls_shade(&(ls_view){.vis = &r->vis, .indices = r->mesh.triangles, .triangle_count = r->mesh.face_count,
+                    .vertex_count = r->mesh.vertex_count, .normals = r->normals, .opts = &r->opts}, r->rgba, &d);
         t2 = ls_posix_clock_ns(NULL);
         if (st != LS_OK) return fail("render", st, &d);
         for (i = 0; i < n; i++) r->view.pixels[i] = (float)r->rgba[i];

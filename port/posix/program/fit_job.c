@@ -144,14 +144,24 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
 {
     ls_arena_mark mark = ls_arena_save(arena);
     ls_vis vis;
+    ls_view view;
     ls_real *normals = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)m->vertex_count, sizeof(ls_real));
     ls_status st = normals == NULL ? LS_ERR_NOMEM : LS_OK;
     uint32_t v;
     if (st == LS_OK) st = ls_shade_vertex_normals(m->positions, m->vertex_count, m->triangles, m->face_count, normals, d);
     if (st == LS_OK) st = ls_vis_init(&vis, arena, p->width, p->height, ss, m->vertex_count);
+    memset(&view, 0, sizeof view);
+    view.vis = &vis;
+    view.positions = m->positions;
+    view.indices = m->triangles;
+    view.triangle_count = m->face_count;
+    view.vertex_count = m->vertex_count;
+    view.normals = normals;
+    view.opts = &p->shading;
     for (v = 0; v < p->views && st == LS_OK; v++) {
-        st = ls_raster(&vis, arena, p->mvps + 16u * v, m->positions, m->vertex_count, m->triangles, m->face_count, d);
-        if (st == LS_OK) st = ls_shade(&vis, m->triangles, m->face_count, normals, m->vertex_count, &p->shading, rgba[v], d);
+        view.mvp = p->mvps + 16u * v;
+        st = ls_raster(&vis, &view, arena, d);
+        if (st == LS_OK) st = ls_shade(&view, rgba[v], d);
     }
     ls_arena_restore(arena, mark);
     return st;
