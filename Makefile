@@ -449,7 +449,7 @@ install: $(LIB) $(CONFIG_H)
 #   make valgrind      the stage tests/stage_valgrind.sh (a subset of the
 #                      unit tests under valgrind --leak-check=full)
 # New inputs found go to $(FUZZ_BUILD)/work/NAME/, never into the repository.
-FUZZ_TARGETS := obj ply off png ppm pfm scene mitsuba
+FUZZ_TARGETS := obj ply off png ppm pfm scene mitsuba transforms
 FUZZ_BUILD   ?= build/fuzz
 FUZZ_TIME    ?= 60
 FUZZ_CC      ?= clang

@@ -16,7 +16,7 @@ cd "$(dirname "$0")/.." || exit 1
 FUZZ_TIME=${FUZZ_TIME:-10}
 FUZZ_BUILD=${FUZZ_BUILD:-build/fuzz}
 FUZZ_CC=${FUZZ_CC:-clang}
-TARGETS="obj ply off png ppm pfm scene mitsuba"
+TARGETS="obj ply off png ppm pfm scene mitsuba transforms"
 pass=0 fail=0
 ok()  { pass=$((pass + 1)); echo "ok   $1"; }
 bad() { fail=$((fail + 1)); echo "FAIL $1"; if [ -n "$2" ]; then printf '%s\n' "$2" | tail -n 12 | sed 's/^/     /'; fi; }

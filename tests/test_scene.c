@@ -300,6 +300,168 @@ static void scene_mitsuba_errors_are_named(void)
     }
 }
 
+
+/* ---- camera datasets (transforms.json) ---- */
+
+/* Two frames in the NeRF-synthetic form (no w, h; no extension on the first
+ * path), members in an order where frames come before the intrinsics. Frame 0:
+ * the camera at (0, 0, 4) looking down -z; frame 1: at (4, 0, 0) looking
+ * down -x (rotated +90 degrees about y). */
+static const char transforms_text[] =
+    "{\n"
+    "  \"frames\": [\n"
+    "    {\"file_path\": \"./train/r_0\", \"rotation\": 0.012566,\n"
+    "     \"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]},\n"
+    "    {\"transform_matrix\": [[0, 0, 1, 4], [0, 1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1]],\n"
+    "     \"file_path\": \"images\\/caf\\u00e9.jpg\", \"extra\": {\"nested\": [1, {\"a\": null}, true]}}\n"
+    "  ],\n"
+    "  \"camera_angle_x\": 0.6911112070083618,\n"
+    "  \"aabb_scale\": 4\n"
+    "}\n";
+
+static void transforms_reads_back(void)
+{
+    ls_arena arena;
+    ls_scene s;
+    ls_diag d;
+    ls_real proj[16];
+    double p[3];
+    size_t bytes;
+    REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
+    CHECK_STATUS(ls_scene_parse_transforms_bytes(transforms_text, sizeof transforms_text - 1, &bytes, &d), LS_OK);
+    CHECK_STATUS(ls_scene_parse_transforms(transforms_text, sizeof transforms_text - 1, &arena, &s, &d), LS_OK);
+    CHECK_EQ(ls_arena_used(&arena), bytes);
+    REQUIRE(s.camera_count == 2);
+    CHECK(strcmp(s.cameras[0].image, "./train/r_0.png") == 0);
+    CHECK(strcmp(s.cameras[1].image, "images/caf\xc3\xa9.jpg") == 0);
+    CHECK_NEAR(s.cameras[0].fov, 0.6911112070083618, 1e-7);
+    CHECK_EQ(s.cameras[0].fov_axis, LS_FOV_X);
+    CHECK_EQ(s.width, 0); /* no w, h: the images give them */
+    CHECK_EQ(s.lighting, LS_SCENE_LIGHT_UNKNOWN);
+    CHECK_EQ(s.target, LS_SCENE_TARGET_IMAGES);
+    /* the origin is 4 in front of both cameras; a point to the camera's right
+     * (+x of camera 0, -z of the world for camera 1) comes out at +x */
+    to_view(s.cameras[0].view, 0, 0, 0, p);
+    CHECK_NEAR(p[0], 0, 1e-12);
+    CHECK_NEAR(p[2], -4, 1e-12);
+    to_view(s.cameras[1].view, 0, 0, 0, p);
+    CHECK_NEAR(p[0], 0, 1e-12);
+    CHECK_NEAR(p[1], 0, 1e-12);
+    CHECK_NEAR(p[2], -4, 1e-12);
+    to_view(s.cameras[1].view, 0, 0, -1, p);
+    CHECK_NEAR(p[0], 1, 1e-12);
+    /* without a resolution there is no projection yet */
+    CHECK_STATUS(ls_scene_projection(&s, 0, proj), LS_ERR_INVALID);
+}
+
+/* fl_x, w, h, cx, cy and the members `largesteps render` writes. The point on
+ * the optical axis must land on the principal point. */
+static void transforms_intrinsics(void)
+{
+    static const char text[] =
+        "{\"fl_x\": 100, \"fl_y\": 100, \"cx\": 60, \"cy\": 30, \"w\": 160, \"h\": 80,\n"
+        " \"largesteps_sh\": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27],\n"
+        " \"largesteps_background\": [0.5, 0.25, 1], \"largesteps_clip\": [0.1, 20], \"k1\": 0, \"p2\": 0,\n"
+        " \"frames\": [{\"file_path\": \"a.png\", \"transform_matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]]}]}";
+    ls_arena arena;
+    ls_scene s;
+    ls_real proj[16], clip[4];
+    double fov = 2 * atan(160.0 / 200.0);
+    int k;
+    REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
+    CHECK_STATUS(ls_scene_parse_transforms(text, sizeof text - 1, &arena, &s, NULL), LS_OK);
+    REQUIRE(s.camera_count == 1);
+    CHECK_EQ(s.width, 160);
+    CHECK_EQ(s.height, 80);
+    CHECK_NEAR(s.cameras[0].fov, fov, 1e-6);
+    CHECK_NEAR(s.cameras[0].near_plane, 0.1, 1e-7);
+    CHECK_NEAR(s.cameras[0].far_plane, 20, 0);
+    CHECK_EQ(s.lighting, LS_SCENE_LIGHT_SH);
+    for (k = 0; k < 27; k++) CHECK(s.sh[k] == (ls_real)(k + 1));
+    CHECK(s.background[0] == (ls_real)0.5 && s.background[1] == (ls_real)0.25 && s.background[2] == 1);
+    CHECK_STATUS(ls_scene_projection(&s, 0, proj), LS_OK);
+    /* (0, 0, -2) in view space: on the axis; pixel (60, 30) is NDC (-0.25, 0.25) */
+    for (k = 0; k < 4; k++) clip[k] = proj[4 * k + 2] * (ls_real)-2 + proj[4 * k + 3];
+    CHECK_NEAR(clip[0] / clip[3], -0.25, 1e-6);
+    CHECK_NEAR(clip[1] / clip[3], 0.25, 1e-6);
+    /* (1, 0, -2): fl_x 100 pixels per unit at depth 1, so 50 pixels right of cx */
+    for (k = 0; k < 4; k++) clip[k] = proj[4 * k] + proj[4 * k + 2] * (ls_real)-2 + proj[4 * k + 3];
+    CHECK_NEAR((clip[0] / clip[3] + 1) * 80, 60 + 50, 1e-4);
+}
+
+#define FRAME "{\"file_path\": \"a\", \"transform_matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]]}"
+#define TAIL "\"camera_angle_x\": 0.7, \"frames\": [" FRAME "]}"
+static const bad_case bad_json[] = {
+    {"", 1, 1, "empty"},
+    {"[]", 1, 1, "one JSON object"},
+    {"{" TAIL " x", 1, 120, "more text after"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [" FRAME ",]}", 1, 118, "a value was expected"},
+    {"{\"camera_angle_x\" 0.7}", 1, 19, "':' was expected"},
+    {"{\"camera_angle_x\": 07, \"frames\": []}", 1, 20, "malformed number"},
+    {"{\"camera_angle_x\": .7}", 1, 20, "a value was expected"},
+    {"{\"camera_angle_x\": 1.}", 1, 20, "no digit after its decimal point"},
+    {"{\"a\": \"\\q\", " TAIL, 1, 8, "unknown escape"},
+    {"{\"a\": \"x\ty\", " TAIL, 1, 9, "control character"},
+    {"{\"a\": \"\xff\", " TAIL, 1, 8, "not valid UTF-8"},
+    {"{\"a\": tru, " TAIL, 1, 7, "unknown word"},
+    {"{\"a\": [1, 2}, " TAIL, 1, 12, "',' or ']'"},
+    {"{\"a\": 1 " TAIL, 1, 9, "',' or '}'"},
+    {"{" TAIL "\n{", 2, 1, "more text after"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [", 1, 36, "ends inside"},
+    {"{\"a\": \"open", 1, 7, "closing quote"},
+    {"{\"a\": [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]"
+     "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]}",
+     1, 70, "nested more than 64"},
+    {"{\"camera_angle_x\": 0.7}", 1, 24, "no frames"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"transform_matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]]}]}", 1, 36,
+     "without file_path"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\"}]}", 1, 36, "without transform_matrix"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\", \"fl_x\": 3}]}", 1, 56, "intrinsics per frame"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\", \"transform_matrix\": "
+     "[[2,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]]}]}", 1, 56, "orthonormal"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\", \"transform_matrix\": "
+     "[[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,1,1]]}]}", 1, 56, "last row"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\", \"transform_matrix\": [[1,0,0,0]]}]}", 1, 85,
+     "4 rows of 4"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"a\\ud800b\", \"transform_matrix\": "
+     "[[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]]}]}", 1, 51, "unpaired"},
+    {"{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": 3}]}", 1, 50, "must be a string"},
+    {"{\"k1\": 0.1, " TAIL, 1, 3, "lens distortion"},
+    {"{\"frames\": [" FRAME "]}", 1, 96, "no field of view"},
+    {"{\"camera_angle_x\": 4, \"frames\": [" FRAME "]}", 1, 3, "between 0 and pi"},
+    {"{\"fl_x\": 100, \"fl_y\": 120, \"w\": 10, \"h\": 10, \"frames\": [" FRAME "]}", 1, 3, "non-square pixels"},
+    {"{\"w\": 10, " TAIL, 1, 3, "w and h"},
+    {"{\"cx\": 5, \"cy\": 5, " TAIL, 1, 3, "cx and cy need"},
+    {"{\"largesteps_sh\": [1, 2], " TAIL, 1, 24, "27 finite numbers"},
+    {"{\"largesteps_lighting\": \"sun\", " TAIL, 1, 26, "must be \"mask\""},
+    {"{\"largesteps_clip\": [2, 1], " TAIL, 1, 3, "0 < near < far"},
+    {"{\"frames\": [], " TAIL, 1, 40, "frames given twice"},
+};
+
+static void transforms_errors_are_named(void)
+{
+    size_t i;
+    for (i = 0; i < sizeof bad_json / sizeof bad_json[0]; i++) {
+        const bad_case *c = &bad_json[i];
+        ls_arena arena;
+        ls_scene s;
+        ls_diag d;
+        size_t bytes;
+        ls_status st;
+        REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
+        memset(&s, 0x5A, sizeof s);
+        st = ls_scene_parse_transforms(c->text, strlen(c->text), &arena, &s, &d);
+        CHECK_MSG(st == LS_ERR_PARSE, "case %u: %s", (unsigned)i, ls_status_name(st));
+        if (st != LS_ERR_PARSE) continue;
+        CHECK_MSG(d.line == c->line && d.column == c->column, "case %u: at %u:%u, wanted %u:%u (%s)", (unsigned)i,
+                  (unsigned)d.line, (unsigned)d.column, (unsigned)c->line, (unsigned)c->column, d.what);
+        CHECK_MSG(strstr(d.what, c->what) != NULL, "case %u: '%s' lacks '%s'", (unsigned)i, d.what, c->what);
+        CHECK_EQ(ls_arena_used(&arena), 0);
+        CHECK(((const unsigned char *)&s)[0] == 0x5A);
+        CHECK_STATUS(ls_scene_parse_transforms_bytes(c->text, strlen(c->text), &bytes, NULL), LS_ERR_PARSE);
+    }
+}
+
 typedef struct scene_job {
     const char *text;
     int xml;
@@ -308,6 +470,7 @@ typedef struct scene_job {
 static ls_status scene_run(void *ctx, ls_arena *arena)
 {
     scene_job *j = (scene_job *)ctx;
+    if (j->xml == 2) return ls_scene_parse_transforms(j->text, strlen(j->text), arena, &j->s, NULL);
     return j->xml ? ls_scene_parse_mitsuba(j->text, strlen(j->text), arena, &j->s, NULL)
                   : ls_scene_parse(j->text, strlen(j->text), arena, &j->s, NULL);
 }
@@ -342,6 +505,11 @@ static void scene_arena_sweeps(void)
     sj.name = "scene_parse_mitsuba";
     REQUIRE(ls_scene_parse_mitsuba_bytes(mitsuba_text, sizeof mitsuba_text - 1, &sj.answer, NULL) == LS_OK);
     CHECK_EQ(sweep_arena(&sj), 0);
+    job.text = transforms_text;
+    job.xml = 2;
+    sj.name = "scene_parse_transforms";
+    REQUIRE(ls_scene_parse_transforms_bytes(transforms_text, sizeof transforms_text - 1, &sj.answer, NULL) == LS_OK);
+    CHECK_EQ(sweep_arena(&sj), 0);
 }
 
 int main(void)
@@ -351,6 +519,9 @@ int main(void)
     TEST_RUN(scene_text_errors_are_named);
     TEST_RUN(scene_mitsuba_reads_back);
     TEST_RUN(scene_mitsuba_errors_are_named);
+    TEST_RUN(transforms_reads_back);
+    TEST_RUN(transforms_intrinsics);
+    TEST_RUN(transforms_errors_are_named);
     TEST_RUN(scene_arena_sweeps);
     return TEST_END();
 }

@@ -49,6 +49,33 @@
  * down -z with +x to the right, so view = R_y(pi) inverse(to_world). Other
  * elements are skipped. No recursion: an explicit element stack of at most
  * LS_SCENE_XML_DEPTH levels.
+ *
+ * Camera datasets (ls_scene_parse_transforms): the NeRF-synthetic / Blender
+ * / instant-ngp `transforms.json`, one JSON object (RFC 8259, read strictly:
+ * a malformed text is LS_ERR_PARSE with its line and column, also inside
+ * members that are skipped). Members:
+ *   frames             [{"file_path": PATH, "transform_matrix": [[4], [4],
+ *                      [4], [4]]}, ...]: one camera a frame. file_path is
+ *                      relative to the JSON file; ".png" is added when its
+ *                      last component has no extension. transform_matrix is
+ *                      camera-to-world, rows first, OpenGL camera axes (the
+ *                      camera looks down -z, +y up): a rotation and a
+ *                      translation, last row 0 0 0 1. Other frame members are
+ *                      skipped; intrinsics per frame are refused.
+ *   camera_angle_x     horizontal field of view, radians; or camera_angle_y
+ *   fl_x, fl_y         focal lengths in pixels (with w, h; equal: square pixels)
+ *   cx, cy             principal point in pixels (with w, h): camera.center
+ *   w, h               resolution; without them width = height = 0, and the
+ *                      caller sets them from the images' size
+ *   k1 k2 k3 p1 p2     lens distortion: refused unless 0
+ *   largesteps_sh      27 numbers: the SH lighting the images were rendered
+ *                      with; largesteps_lighting "mask": silhouettes only;
+ *                      neither: LS_SCENE_LIGHT_UNKNOWN
+ *   largesteps_background [R, G, B]; largesteps_clip [near, far]
+ *                      (default 0.01 100)
+ * Other members (aabb_scale, scale, offset, ...) are skipped. The target is
+ * LS_SCENE_TARGET_IMAGES (RGBA images: alpha is the mask), the start the
+ * default icosphere.
  */
 #ifndef LARGESTEPS_SCENE_H
 #define LARGESTEPS_SCENE_H
@@ -64,6 +91,7 @@ extern "C" {
 #define LS_SCENE_LIGHT_MASK   0u /* silhouettes only */
 #define LS_SCENE_LIGHT_SH     1u /* scene.sh holds the coefficients */
 #define LS_SCENE_LIGHT_ENVMAP 2u /* scene.envmap names the map, scene.envmap_scale scales it */
+#define LS_SCENE_LIGHT_UNKNOWN 3u /* a dataset that does not say: the caller estimates it or fits masks */
 
 #define LS_SCENE_TARGET_MESH   1u /* render scene.target_mesh */
 #define LS_SCENE_TARGET_IMAGES 2u /* every camera has an image */
@@ -81,6 +109,7 @@ typedef struct ls_scene_camera {
     ls_real near_plane; /* 0 < near < far */
     ls_real far_plane;
     const char *image;  /* target image path, or NULL */
+    ls_real center[2];  /* principal point in normalised device coordinates ((0, 0): the image centre) */
 } ls_scene_camera;
 
 typedef struct ls_scene {
@@ -121,10 +150,17 @@ ls_status ls_scene_parse_mitsuba_bytes(const char *text, size_t length, size_t *
 ls_status ls_scene_parse_mitsuba(const char *text, size_t length, ls_arena *arena, ls_scene *scene,
                                  ls_diag *diag);
 
+/* ls_scene_parse_transforms_bytes / ls_scene_parse_transforms: the same for
+ * a camera dataset (transforms.json, above). Costs and errors as
+ * ls_scene_parse. */
+ls_status ls_scene_parse_transforms_bytes(const char *text, size_t length, size_t *bytes, ls_diag *diag);
+ls_status ls_scene_parse_transforms(const char *text, size_t length, ls_arena *arena, ls_scene *scene,
+                                    ls_diag *diag);
+
 /* ls_scene_projection: the projection matrix of camera `index` for the
- * scene's resolution (ls_camera_perspective with aspect = width / height).
- * Errors: LS_ERR_INVALID (NULL, index out of range), as
- * ls_camera_perspective. O(1). */
+ * scene's resolution (ls_camera_perspective with aspect = width / height),
+ * its principal point moved to camera.center. Errors: LS_ERR_INVALID (NULL,
+ * index out of range, no resolution yet), as ls_camera_perspective. O(1). */
 ls_status ls_scene_projection(const ls_scene *scene, uint32_t index, ls_real proj[16]);
 
 #ifdef __cplusplus

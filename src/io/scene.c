@@ -157,10 +157,18 @@ int ls_scene_projection_ok(ls_real fov, uint32_t fov_axis, ls_real near_plane, l
 ls_status ls_scene_projection(const ls_scene *scene, uint32_t index, ls_real proj[16])
 {
     const ls_scene_camera *c;
-    if (scene == NULL || proj == NULL || index >= scene->camera_count || scene->height == 0) return LS_ERR_INVALID;
+    ls_status st;
+    if (scene == NULL || proj == NULL || index >= scene->camera_count || scene->height == 0 || scene->width == 0)
+        return LS_ERR_INVALID;
     c = &scene->cameras[index];
-    return ls_camera_perspective(c->fov, c->fov_axis, (ls_real)scene->width / (ls_real)scene->height, c->near_plane,
-                                 c->far_plane, proj);
+    st = ls_camera_perspective(c->fov, c->fov_axis, (ls_real)scene->width / (ls_real)scene->height, c->near_plane,
+                               c->far_plane, proj);
+    /* NDC x' = x + cx: X' = X + cx W with W = -z_view */
+    if (st == LS_OK && (c->center[0] != (ls_real)0 || c->center[1] != (ls_real)0)) {
+        proj[2] -= c->center[0];
+        proj[6] -= c->center[1];
+    }
+    return st;
 }
 
 /* ---- the text format ----------------------------------------------------- */

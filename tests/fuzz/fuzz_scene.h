@@ -12,7 +12,10 @@
  * in (0, pi), finite clip planes 0 < near < far and a projection that
  * ls_scene_projection computes finite; lighting, target and initial fields
  * hold known values; every path is a NUL-terminated string in the arena; the
- * SH coefficients, background and environment scale are finite.
+ * SH coefficients, background and environment scale are finite. With
+ * FUZZ_SCENE_DATASET (camera datasets): the resolution may be 0 x 0 (the
+ * images give it; no projection then), the lighting unknown, and each
+ * camera's principal point lies inside the image.
  */
 #ifndef LS_FUZZ_SCENE_H
 #define LS_FUZZ_SCENE_H
@@ -32,7 +35,12 @@ static void check_scene(const ls_scene *s, const fuzz_arena *fa)
 {
     uint32_t v, k;
     ls_real proj[16];
-    FUZZ_ASSERT(s->width >= 1 && s->width <= 65536u && s->height >= 1 && s->height <= 65536u);
+    int sized = 1;
+#ifdef FUZZ_SCENE_DATASET
+    sized = s->width != 0;
+    if (!sized) FUZZ_ASSERT(s->height == 0);
+#endif
+    if (sized) FUZZ_ASSERT(s->width >= 1 && s->width <= 65536u && s->height >= 1 && s->height <= 65536u);
     FUZZ_ASSERT(s->camera_count >= 1 && s->camera_count <= LS_SCENE_MAX_VIEWS);
     FUZZ_ASSERT((const unsigned char *)s->cameras >= fa->buf &&
                 (const unsigned char *)(s->cameras + s->camera_count) <= fa->buf + fa->arena.capacity);
@@ -43,11 +51,13 @@ static void check_scene(const ls_scene *s, const fuzz_arena *fa)
         FUZZ_ASSERT(c->fov_axis == LS_FOV_X || c->fov_axis == LS_FOV_Y);
         FUZZ_ASSERT(c->near_plane > (ls_real)0 && c->far_plane > c->near_plane && fuzz_finite_real(c->far_plane));
         check_path(c->image, fa, 1);
+        for (k = 0; k < 2; k++) FUZZ_ASSERT(c->center[k] > (ls_real)-1 && c->center[k] < (ls_real)1);
+        if (!sized) continue;
         FUZZ_ASSERT(ls_scene_projection(s, v, proj) == LS_OK);
         for (k = 0; k < 16; k++) FUZZ_ASSERT(fuzz_finite_real(proj[k]));
     }
     FUZZ_ASSERT(s->lighting == LS_SCENE_LIGHT_MASK || s->lighting == LS_SCENE_LIGHT_SH ||
-                s->lighting == LS_SCENE_LIGHT_ENVMAP);
+                s->lighting == LS_SCENE_LIGHT_ENVMAP || s->lighting == LS_SCENE_LIGHT_UNKNOWN);
     if (s->lighting == LS_SCENE_LIGHT_SH)
         for (k = 0; k < 27; k++) FUZZ_ASSERT(fuzz_finite_real(s->sh[k]));
     if (s->lighting == LS_SCENE_LIGHT_ENVMAP) {
