@@ -348,7 +348,7 @@ run: $(CLI)
 	@$(CLI) info
 	@$(CLI) fit --quiet -o $(BUILD)/run
 
-# The speed/accuracy study (issue 14): the bunny and the elephant, every knob
+# The speed/accuracy study: the bunny and the elephant, every knob
 # in double, the default configuration in float too; tables and plot in
 # $(BUILD)/tradeoffs/ (TRADEOFFS_ARGS, e.g. --iters 200, scales it down);
 # then the Cortex-M4 study under QEMU (instruction counts, m4-*.md).
@@ -432,7 +432,7 @@ install: $(LIB) $(CONFIG_H)
 	  'Name: $(VARIANT_NAME)' \
 	  'Description: largesteps inverse rendering library (ls_real = $(REAL))' \
 	  'Version: '"$$(sed -n 's/^#define LS_VERSION_STRING "\(.*\)"/\1/p' include/largesteps/core.h)" \
-	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -l$(VARIANT_NAME)' 'Libs.private: -lm' \
+	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -l$(VARIANT_NAME) -lm' \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/$(VARIANT_NAME).pc
 	@echo "installed $(VARIANT_NAME) into $(DESTDIR)$(PREFIX)"
 

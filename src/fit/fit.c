@@ -94,28 +94,59 @@ void ls_fit_config_default(ls_fit_config *c)
     ls_shade_opts_init(&c->shading);
 }
 
-static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m)
+/* NULL when the arguments are in range, else the argument or field that is
+ * not, with its allowed range. */
+static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m)
 {
     uint32_t i;
-    if (c == NULL || v == NULL || m == NULL || m->positions == NULL || m->triangles == NULL) return LS_ERR_INVALID;
-    if (c->method > LS_FIT_BILAPLACIAN || c->loss > LS_LOSS_L2 || c->width == 0 || c->height == 0) return LS_ERR_INVALID;
-    if (v->count == 0 || v->mvp == NULL || v->targets == NULL) return LS_ERR_INVALID;
+    if (c == NULL || v == NULL || m == NULL) return "config, views or initial is NULL";
+    if (m->positions == NULL || m->triangles == NULL) return "initial: positions or triangles is NULL";
+    if (c->method > LS_FIT_BILAPLACIAN)
+        return "config->method: allowed LS_FIT_LARGE_STEPS, LS_FIT_NAIVE, LS_FIT_LAPLACIAN or LS_FIT_BILAPLACIAN";
+    if (c->loss > LS_LOSS_L2) return "config->loss: allowed LS_LOSS_L1 or LS_LOSS_L2";
+    if (c->width == 0 || c->height == 0) return "config->width, height: the render size, allowed >= 1 (e.g. 128)";
+    if (v->count == 0) return "views->count: allowed >= 1";
+    if (v->mvp == NULL || v->targets == NULL) return "views->mvp or views->targets is NULL";
     for (i = 0; i < v->count; i++)
-        if (v->targets[i] == NULL) return LS_ERR_INVALID;
-    if (c->form != LS_SYSTEM_LAMBDA && c->form != LS_SYSTEM_ALPHA) return LS_ERR_INVALID;
-    if (!finite_r(c->weight) || c->weight < (ls_real)0) return LS_ERR_INVALID;
-    if (c->form == LS_SYSTEM_ALPHA && !(c->weight < (ls_real)1)) return LS_ERR_INVALID;
-    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG && c->solver != LS_PARAM_AUTO) return LS_ERR_INVALID;
-    if (!finite_r(c->boost) || !finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return LS_ERR_INVALID;
-    if (c->shading.vertex_colors != NULL || c->shading.mode > LS_SHADE_LAMBERT) return LS_ERR_INVALID;
-    if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;
-    if (c->power > 2u || !finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return LS_ERR_INVALID;
-    if (c->aa > LS_REFINE_MAX || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)) return LS_ERR_INVALID;
-    if (c->guard > 1u) return LS_ERR_INVALID;
-    if (c->mean_mode > LS_FIT_MEAN_PROJECT || (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation))
+        if (v->targets[i] == NULL) return "views->targets[i]: a target image is NULL";
+    if (c->form != LS_SYSTEM_LAMBDA && c->form != LS_SYSTEM_ALPHA)
+        return "config->form: allowed LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA";
+    if (!finite_r(c->weight) || c->weight < (ls_real)0)
+        return "config->weight: lambda finite and >= 0, or alpha in [0, 1) (the paper: lambda 19)";
+    if (c->form == LS_SYSTEM_ALPHA && !(c->weight < (ls_real)1)) return "config->weight: alpha allowed in [0, 1)";
+    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG && c->solver != LS_PARAM_AUTO)
+        return "config->solver: allowed LS_PARAM_LDLT, LS_PARAM_CG or LS_PARAM_AUTO";
+    if (!finite_r(c->boost)) return "config->boost: the silhouette gradient's multiplier, allowed finite (the paper: 3)";
+    if (!finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return "config->reg_weight: allowed finite and >= 0";
+    if (c->shading.vertex_colors != NULL) return "config->shading.vertex_colors: must be NULL in a fit";
+    if (c->shading.mode > LS_SHADE_LAMBERT)
+        return "config->shading.mode: allowed LS_SHADE_MASK, LS_SHADE_SH or LS_SHADE_LAMBERT";
+    if (c->silhouette > LS_FIT_SILHOUETTE_NONE)
+        return "config->silhouette: allowed LS_FIT_SILHOUETTE_EXACT, LS_FIT_SILHOUETTE_PAIR or LS_FIT_SILHOUETTE_NONE";
+    if (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)
+        return "config->ss: the pair silhouette mode needs ss = 1";
+    if (c->power > 2u) return "config->power: allowed 0 (= 2), 1 or 2";
+    if (!finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return "config->cg_tol: allowed finite and >= 0 (0 means 1e-6)";
+    if (c->aa > LS_REFINE_MAX) return "config->aa: allowed 0 .. LS_REFINE_MAX";
+    if (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)
+        return "config->aa: the pair silhouette mode allows aa <= ss only";
+    if (c->guard > 1u) return "config->guard: allowed 0 or 1";
+    if (c->mean_mode > LS_FIT_MEAN_PROJECT) return "config->mean_mode: allowed LS_FIT_MEAN_KEEP or LS_FIT_MEAN_PROJECT";
+    if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
+        return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
+    if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
+    if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
+    return NULL;
+}
+
+static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m, ls_diag *diag)
+{
+    const char *bad = config_error(c, v, m);
+    if (bad != NULL) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID, bad, LS_DIAG_NO_INDEX);
         return LS_ERR_INVALID;
-    if (m->vertex_count == 0 || m->face_count == 0 || m->vertex_count > (UINT32_MAX - 3u) / 3u) return LS_ERR_INVALID;
-    return LS_OK;
+    }
+    return ls_optim_config_check(&c->optim, diag);
 }
 
 static void param_config(const ls_fit_config *c, ls_param_config *pc)
@@ -316,13 +347,12 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     return LS_OK;
 }
 
-ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, ls_arena *scratch, size_t *bytes, ls_diag *diag)
 {
     ls_real scale, radius;
     ls_status st;
     if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
-    st = check_config(config, views, initial);
+    st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     measure_frame(initial, &scale, &radius);
     return fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
@@ -435,7 +465,7 @@ static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *v
                               ls_diag *diag)
 {
     uint32_t i;
-    ls_status st = check_config(config, views, initial);
+    ls_status st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     for (i = 0; i < 3u * initial->vertex_count; i++)
         if (!finite_r(initial->positions[i])) {
@@ -445,8 +475,7 @@ static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *v
     return LS_OK;
 }
 
-ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                      ls_arena *arena, ls_diag *diag)
+static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, ls_arena *arena, ls_diag *diag)
 {
     ls_real scale, radius;
     ls_status st;
@@ -659,7 +688,7 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     return st;
 }
 
-ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_fit_timing timing;
@@ -743,7 +772,7 @@ static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
     return LS_OK;
 }
 
-ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_real *pos;
@@ -905,8 +934,7 @@ static ls_status rebuild(ls_fit *fit, const ls_fit_config *cfg, const ls_mesh *m
 
 static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag);
 
-ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
-                        ls_diag *diag)
+static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
 {
     ls_arena_mark mark, keep;
     ls_fit_config cfg;
@@ -1131,8 +1159,7 @@ static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, con
     return st;
 }
 
-ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+static ls_status fit_job_bytes_call(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
 {
     fit_counts lim, have;
     ls_real scale, radius;
@@ -1151,8 +1178,7 @@ ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *view
     return st;
 }
 
-ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
+static ls_status fit_init_job_call(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_arena region;
@@ -1231,5 +1257,61 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
     st = ls_arena_init(&region, fit->job.base, fit->job_fit_bytes);
     if (st == LS_OK) st = rebuild(fit, &cfg, &out, &region, diag);
     ls_arena_restore(&fit->job, mark);
+    return st;
+}
+
+/* The public calls that take a diag clear it on success (fit.h). */
+
+ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    ls_status st = fit_bytes_call(config, views, initial, scratch, bytes, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                      ls_arena *arena, ls_diag *diag)
+{
+    ls_status st = fit_init_call(fit, config, views, initial, arena, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+{
+    ls_status st = fit_step_call(fit, monitor, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+{
+    ls_status st = fit_tangle_call(fit, out, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
+                        ls_diag *diag)
+{
+    ls_status st = fit_remesh_call(fit, arena, h_factor, lr_factor, info, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    ls_status st = fit_job_bytes_call(config, views, initial, capacity, scratch, bytes, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
+{
+    ls_status st = fit_init_job_call(fit, config, views, initial, capacity, arena, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
     return st;
 }
