@@ -6,6 +6,7 @@
 #                           ends with one line "N passed, M failed"
 #   make check              build and run the tests of one variant (CC, REAL, SAN, BUILD)
 #   make run                print the library's configuration
+#   make examples           build the programs of examples/ ($(BUILD)/examples/)
 #   make install PREFIX=... install the library, headers, config.h and a pkg-config file
 #   make bench              benchmarks (tables in build/bench/)
 #   make bench-fit          the fit suite: default fits on 14 public targets (build/bench/fit_suite.md)
@@ -234,7 +235,7 @@ LIB      := $(BUILD)/liblargesteps.a
 PORTLIB  := $(BUILD)/liblargesteps-posix.a
 CLI      := $(BUILD)/largesteps
 
-.PHONY: all lib check test run install bench bench-fit tradeoffs clean lint cross m4 size size-update digest-update FORCE
+.PHONY: all lib check test run install bench bench-fit tradeoffs clean lint examples cross m4 size size-update digest-update FORCE
 .DEFAULT_GOAL := all
 
 ifeq ($(HOSTED),1)
@@ -340,6 +341,15 @@ test:
 
 lint:
 	@sh tests/lint.sh
+
+# The example programs (examples/*.c), built as a user builds them; run by the
+# stage tests/stage_examples.sh of `make test` against examples/*.expected.
+EXAMPLE_BIN := $(patsubst examples/%.c,$(BUILD)/examples/%,$(sort $(wildcard examples/*.c)))
+examples: $(EXAMPLE_BIN)
+
+$(BUILD)/examples/%: examples/%.c $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 # The default reconstruction: the embedded bunny from an icosphere, 16 views
 # at 128 x 128, 400 iterations, remeshed twice (about 30 s of one core);

@@ -23,7 +23,6 @@ static uint32_t solver_of(const ls_param_config *cfg, int grid)
 static const char *config_error(const ls_param_config *cfg, int grid, ls_real *value)
 {
     uint32_t solver = solver_of(cfg, grid);
-    *value = (ls_real)0;
     if (solver == UINT32_MAX) {
         *value = (ls_real)cfg->solver;
         return grid ? "cfg->solver: allowed LS_PARAM_LDLT, LS_PARAM_CG, LS_PARAM_AUTO or LS_PARAM_GRID"
@@ -375,7 +374,7 @@ ls_status ls_param_mesh_bytes(const ls_mesh *mesh, const ls_param_config *cfg, l
     ls_arena_mark mark;
     ls_size total, lap_peak;
     ls_csc lap;
-    size_t old_peak, start, lap_bytes, pb = 0;
+    size_t old_peak, start, pb = 0;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -387,7 +386,7 @@ ls_status ls_param_mesh_bytes(const ls_mesh *mesh, const ls_param_config *cfg, l
     /* the Laplacian's build, measured: its peak, then its matrix below the rest */
     st = mesh_laplacian(mesh, scratch, &lap, NULL);
     if (st == LS_OK) {
-        lap_bytes = scratch->bottom - mark.bottom;
+        size_t lap_bytes = scratch->bottom - mark.bottom;
         ls_size_init(&lap_peak);
         ls_size_add(&lap_peak, scratch->peak - start, 1);
         st = ls_param_bytes(&lap, cfg, mesh->positions, scratch, &pb);
