@@ -203,6 +203,39 @@ static void diag_cleared_on_success(void)
     CHECK(d.what[0] == 0 && d.status == LS_OK);
 }
 
+/* Every call that takes a diag clears it first: a success leaves no stale
+ * message from an earlier failure (a reader, the Laplacian, the rasterizer). */
+static void diag_cleared_everywhere(void)
+{
+    static const char bad[] = "v 1 2\n", good[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    ls_arena a;
+    ls_mesh m;
+    ls_csc lap;
+    ls_vis vis;
+    ls_diag d;
+    ls_real mvp[16];
+    ls_arena_init(&a, BUF, sizeof BUF);
+    CHECK_STATUS(ls_mesh_read(bad, sizeof bad - 1u, LS_MESH_FORMAT_AUTO, &a, &m, &d), LS_ERR_PARSE);
+    CHECK(d.what[0] != 0 && d.has_line && d.line == 1);
+    CHECK_STATUS(ls_mesh_read(good, sizeof good - 1u, LS_MESH_FORMAT_AUTO, &a, &m, &d), LS_OK);
+    CHECK(d.status == LS_OK && d.what[0] == 0 && !d.has_line);
+    CHECK_EQ(m.vertex_count, 3);
+    m.triangles[2] = 7; /* out of range */
+    CHECK_STATUS(ls_laplacian_uniform(&m, LS_LAP_UPPER, &a, &lap, &d), LS_ERR_MESH);
+    CHECK(d.what[0] != 0);
+    m.triangles[2] = 2;
+    CHECK_STATUS(ls_laplacian_uniform(&m, LS_LAP_UPPER, &a, &lap, &d), LS_OK);
+    CHECK(d.what[0] == 0);
+    ls_mat4_identity(mvp);
+    REQUIRE(ls_vis_init(&vis, &a, 8, 8, 1, 3) == LS_OK);
+    m.triangles[0] = 9;
+    CHECK_STATUS(ls_raster(&vis, &a, mvp, m.positions, 3, m.triangles, 1, &d), LS_ERR_MESH);
+    CHECK(d.what[0] != 0 && d.has_index);
+    m.triangles[0] = 0;
+    CHECK_STATUS(ls_raster(&vis, &a, mvp, m.positions, 3, m.triangles, 1, &d), LS_OK);
+    CHECK(d.what[0] == 0 && !d.has_index);
+}
+
 static void optim_errors_name_the_field(void)
 {
     ls_optim_config c;
@@ -301,6 +334,7 @@ int main(void)
     TEST_RUN(zeros_that_would_do_nothing_are_refused);
     TEST_RUN(param_errors_name_the_field);
     TEST_RUN(diag_cleared_on_success);
+    TEST_RUN(diag_cleared_everywhere);
     TEST_RUN(optim_errors_name_the_field);
     TEST_RUN(fit_errors_name_the_field);
     return TEST_END();

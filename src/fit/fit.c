@@ -18,6 +18,12 @@ static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t ind
 
 static int finite_r(ls_real x) { return x - x == x - x; }
 
+/* LS_ERR_INVALID naming the argument that is wrong (diag may be NULL). */
+static ls_status invalid_arg(ls_diag *diag, const char *what)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+}
+
 /* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
  * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
  * with the mesh by any power of two: the bounds, the halving and the
@@ -351,7 +357,7 @@ static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views 
 {
     ls_real scale, radius;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
     st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     measure_frame(initial, &scale, &radius);
@@ -479,7 +485,7 @@ static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const l
 {
     ls_real scale, radius;
     ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = init_args_ok(config, views, initial, diag);
     if (st != LS_OK) return st;
@@ -696,7 +702,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_real loss, reg_loss, *xs, *warm = NULL;
     size_t nn;
     ls_status st = LS_OK;
-    if (fit == NULL || fit->x == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
     nn = 3u * (size_t)fit->vertex_count;
     /* what a failure restores: the scalars here, the CG warm starts copied
      * to scratch; x is written only once the step has succeeded */
@@ -778,7 +784,8 @@ static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *di
     ls_real *pos;
     ls_mesh m;
     ls_status st;
-    if (fit == NULL || out == NULL || fit->x == NULL || !fit->config.guard) return LS_ERR_INVALID;
+    if (fit == NULL || out == NULL || fit->x == NULL) return invalid_arg(diag, "fit or out is NULL, or fit not initialised");
+    if (!fit->config.guard) return invalid_arg(diag, "fit->config.guard: 0; ls_fit_tangle needs a fit made with guard = 1");
     mark = ls_arena_save(&fit->block);
     pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
@@ -941,13 +948,16 @@ static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor,
     ls_mesh out, copy;
     size_t start, new_bytes, copy_bytes;
     ls_status st;
-    if (fit == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2) ||
-        !(lr_factor > (ls_real)0) || !finite_r(lr_factor))
-        return LS_ERR_INVALID;
+    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
+    if (!(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2))
+        return invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
+    if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor))
+        return invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
     if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
-    if (arena == NULL) return LS_ERR_INVALID;
+    if (arena == NULL) return invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
     start = (size_t)(fit->block.base - arena->base);
-    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom) return LS_ERR_INVALID;
+    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom)
+        return invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
     mark = ls_arena_save(arena);
     st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
     cfg = fit->config;
@@ -1165,7 +1175,7 @@ static ls_status fit_job_bytes_call(const ls_fit_config *config, const ls_fit_vi
     ls_real scale, radius;
     size_t region = 0, job = 0, fit_bytes = 0;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
     *bytes = 0;
     st = init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, scratch, &lim, &region, &job, diag);
@@ -1187,7 +1197,7 @@ static ls_status fit_init_job_call(ls_fit *fit, const ls_fit_config *config, con
     size_t region_bytes = 0, bytes = 0;
     void *mem;
     ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, arena, &lim, &region_bytes, &bytes, diag);

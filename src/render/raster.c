@@ -1198,6 +1198,7 @@ LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t 
 ls_status ls_raster(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
                     uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     rctx cx;
     ls_arena_mark mark;
     vbuf vb;

@@ -660,6 +660,7 @@ ls_status ls_refine_shade(const ls_vis *vis, const ls_edge_table *table, const u
                           const ls_shade_opts *opts, uint32_t aa, ls_real *image, ls_arena *arena,
                           ls_refine_info *info, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     rf c;
     ls_arena_mark mark;
     pixel_job job;
@@ -708,6 +709,7 @@ ls_status ls_refine_shade_backward(const ls_vis *vis, const ls_edge_table *table
                                    const ls_real *grad_image, const ls_shade_grads *grads, ls_arena *arena,
                                    ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_shade_bctx bc;
     rf c;
     ls_arena_mark mark;

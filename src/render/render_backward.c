@@ -317,6 +317,7 @@ ls_status ls_shade_backward(const ls_vis *vis, const uint32_t *indices, uint32_t
                             const ls_real mvp[16], const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_shade_grads g;
     g.positions = grad_positions;
     g.normals = grad_normals;
@@ -412,6 +413,7 @@ ls_status ls_shade_backward_grads(const ls_vis *vis, const uint32_t *indices, ui
                                   const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
                                   ls_diag *diag)
 {
+    ls_diag_clear(diag);
     bctx bc;
     ls_status st = ls_shade_backward_begin(&bc, vis, indices, triangle_count, normals, vertex_count, opts, mvp,
                                            grad_image, grads, diag);
@@ -435,6 +437,7 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
                                      uint32_t triangle_count, const ls_real *grad_normals,
                                      ls_real *grad_positions, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_real *m;
     uint32_t t, v;

@@ -57,6 +57,7 @@ ls_status ls_edge_table_bytes(uint32_t triangle_count, size_t *bytes)
 ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uint32_t triangle_count,
                               uint32_t vertex_count, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     uint32_t *twin = NULL, t, n, boundary = 0;
     if (table == NULL || arena == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
@@ -3070,6 +3071,7 @@ ls_status ls_silhouette_backward(const ls_vis *vis, const ls_edge_table *table, 
                                  const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
                                  ls_diag *diag)
 {
+    ls_diag_clear(diag);
     sctx sc;
     uint32_t t, counts[2];
     ls_arena_mark mark;
@@ -3239,6 +3241,7 @@ static ls_status pair_check(pctx *pc, const ls_vis *vis, const ls_edge_table *ta
 ls_status ls_pair_forward(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                           uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     pctx pc;
     size_t n, p, k = 0;
     pitem it;
@@ -3259,6 +3262,7 @@ ls_status ls_pair_backward(const ls_vis *vis, const ls_edge_table *table, const 
                            uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
                            const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     pctx pc;
     sctx sc;
     size_t k = 0;
