@@ -6,6 +6,7 @@
 #                           ends with one line "N passed, M failed"
 #   make check              build and run the tests of one variant (CC, REAL, SAN, BUILD)
 #   make run                print the library's configuration
+#   make examples           build the programs of examples/ ($(BUILD)/examples/)
 #   make install PREFIX=... install the library, headers, config.h and a pkg-config file
 #   make bench              benchmarks (tables in build/bench/)
 #   make bench-fit          the fit suite: default fits on 14 public targets (build/bench/fit_suite.md)
@@ -234,7 +235,7 @@ LIB      := $(BUILD)/liblargesteps.a
 PORTLIB  := $(BUILD)/liblargesteps-posix.a
 CLI      := $(BUILD)/largesteps
 
-.PHONY: all lib check test run install bench bench-fit tradeoffs clean lint cross m4 size size-update digest-update FORCE
+.PHONY: all lib check test run install bench bench-fit tradeoffs clean lint examples cross m4 size size-update digest-update FORCE
 .DEFAULT_GOAL := all
 
 ifeq ($(HOSTED),1)
@@ -341,6 +342,15 @@ test:
 lint:
 	@sh tests/lint.sh
 
+# The example programs (examples/*.c), built as a user builds them; run by the
+# stage tests/stage_examples.sh of `make test` against examples/*.expected.
+EXAMPLE_BIN := $(patsubst examples/%.c,$(BUILD)/examples/%,$(sort $(wildcard examples/*.c)))
+examples: $(EXAMPLE_BIN)
+
+$(BUILD)/examples/%: examples/%.c $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS_TEST) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
 # The default reconstruction: the embedded bunny from an icosphere, 16 views
 # at 128 x 128, 400 iterations, remeshed twice (about 30 s of one core);
 # prints the stage times and the final metrics, writes $(BUILD)/run/.
@@ -348,7 +358,7 @@ run: $(CLI)
 	@$(CLI) info
 	@$(CLI) fit --quiet -o $(BUILD)/run
 
-# The speed/accuracy study (issue 14): the bunny and the elephant, every knob
+# The speed/accuracy study: the bunny and the elephant, every knob
 # in double, the default configuration in float too; tables and plot in
 # $(BUILD)/tradeoffs/ (TRADEOFFS_ARGS, e.g. --iters 200, scales it down);
 # then the Cortex-M4 study under QEMU (instruction counts, m4-*.md).
@@ -432,7 +442,7 @@ install: $(LIB) $(CONFIG_H)
 	  'Name: $(VARIANT_NAME)' \
 	  'Description: largesteps inverse rendering library (ls_real = $(REAL))' \
 	  'Version: '"$$(sed -n 's/^#define LS_VERSION_STRING "\(.*\)"/\1/p' include/largesteps/core.h)" \
-	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -l$(VARIANT_NAME)' 'Libs.private: -lm' \
+	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -l$(VARIANT_NAME) -lm' \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/$(VARIANT_NAME).pc
 	@echo "installed $(VARIANT_NAME) into $(DESTDIR)$(PREFIX)"
 

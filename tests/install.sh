@@ -1,7 +1,7 @@
 #!/bin/sh
 # install.sh - `make install` of both variants into a scratch prefix, then a
-# user's program built through pkg-config against each (as C and as C++), and
-# the ABI guard: double headers with the float library must fail to link.
+# user's program built through pkg-config against each (as C and as C++), the
+# README's link command as written, and the ABI guard: double headers with the float library must fail to link.
 root=$(pwd)/build/install-test
 prefix=$root/prefix
 rm -rf "$root"
@@ -36,6 +36,22 @@ for pc in largesteps largesteps-float; do
         ok "pkgconfig_cxx_program_$pc"
     else
         bad "pkgconfig_cxx_program_$pc"; cat "$root/probe-cxx-$pc.err"
+    fi
+done
+
+# The README's command exactly as written (no --static: the library is
+# static and its .pc lists -lm in Libs, so the plain line links), for both
+# precisions; the program is the README's first example (examples/selftest.c).
+for pc in largesteps largesteps-float; do
+    want=examples/selftest.expected
+    [ "$pc" = largesteps-float ] && want=examples/selftest.float.expected
+    # shellcheck disable=SC2046
+    if (cd "$root" && gcc "$OLDPWD/examples/selftest.c" $(pkg-config --cflags --libs $pc) -o "readme-$pc") \
+          2> "$root/readme-$pc.err" && "$root/readme-$pc" > "$root/readme-$pc.out" &&
+       cmp -s "$root/readme-$pc.out" "$want"; then
+        ok "readme_pkgconfig_command_$pc"
+    else
+        bad "readme_pkgconfig_command_$pc"; cat "$root/readme-$pc.err" "$root/readme-$pc.out" 2>/dev/null
     fi
 done
 

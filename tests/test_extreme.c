@@ -1,4 +1,4 @@
-/* tests/test_extreme.c - extremes of the inputs (issue 13): mesh scales
+/* tests/test_extreme.c - extremes of the inputs: mesh scales
  * 1e-6 and 1e6, lambda = 0, 1e-8, 1e8 and alpha = 0.999999 through a fit,
  * a camera inside the mesh, every vertex behind the camera, a mesh collapsed
  * to a point, a single triangle, 10^6 triangles inside one pixel, NaN and

@@ -1,4 +1,4 @@
-/* tests/test_fit_knobs.c - the fit's speed/accuracy knobs (issue 14): the
+/* tests/test_fit_knobs.c - the fit's speed/accuracy knobs: the
  * preconditioner's power p, the silhouette modes (exact, pair, none) and the
  * CG tolerance. One plain-SGD step is checked against a dense computation of
  * x - lr M^-p g with M = I + lambda L built here from the triangles; the

@@ -147,7 +147,7 @@ static void job_ldlt(ls_arena *arena)
               (unsigned long long)want);
 }
 
-/* A fit on the MCU (issue 11): one view at 32 x 32 (float; 16 x 16 in double,
+/* A fit on the MCU: one view at 32 x 32 (float; 16 x 16 in double,
  * whose buffers are twice as large) of an ellipsoid, from an icosphere of
  * level 1 (level 0 in double), 10 iterations of large steps. The memory is
  * sized by ls_fit_bytes on the target itself, and the fit runs in what the

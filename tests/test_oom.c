@@ -15,7 +15,7 @@
  * output line) AND at every size the arena's `need` leads to, which is every
  * allocation point: each allocation is made to fail once.
  *
- * Audit (which objects are swept where), issue 13:
+ * Audit (which objects are swept where):
  *   parsers       mesh read (OBJ, binary PLY, OFF), image decode (PNG in
  *                 several colour types, interlaced, palette + tRNS; PFM;
  *                 PNM 16-bit), scenes (text, Mitsuba): here, every size

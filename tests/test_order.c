@@ -110,7 +110,7 @@ static void order_random_graphs(void)
 static void order_mesh_fill(void)
 {
     /* nnz(L) including the diagonal, compared with CHOLMOD's AMD on the same
-     * icosphere (issue 6: 84.8k at 2562 vertices) and with natural order. */
+     * icosphere (84.8k at 2562 vertices) and with natural order. */
     struct { int level; double cholmod; } cases[] = {{4, 84.8e3}};
     size_t k;
     for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -261,7 +261,7 @@ static void order_nd_geometric(void)
         amd = fill_of(&a, LS_ORDER_AMD);
         printf("     %s n %u: nnz(L) strictly lower nd %u, amd %u\n", k == 1 ? "grid" : "icosphere", m.nv, nd, amd);
         if (k == 0) CHECK(nd < amd); /* 10242-vertex sphere: 372.6k vs 472.3k (with diagonal) */
-        /* issue 6 target: <= 1.05 x CHOLMOD-METIS's nnz(L) (369880 with the
+        /* the target: <= 1.05 x CHOLMOD-METIS's nnz(L) (369880 with the
          * diagonal, 359638 strictly lower; tests/bench/run_ldlt.sh): 1.008 */
         if (k == 0) CHECK_MSG(nd <= 377620u, "nd fill %u", nd);
         /* all vertices at one point: still a permutation */

@@ -1,6 +1,6 @@
-/* test_toy1d.c - the seed's 1D toy: the library's trajectories against an
+/* test_toy1d.c - the paper's 1D toy: the library's trajectories against an
  * independent simulation written here (dense path-graph Laplacian, dense
- * Gaussian elimination in double), and the claims of issue 7 asserted on
+ * Gaussian elimination in double), and the paper's claims asserted on
  * both: naive descent inverts within a few iterations; large steps never
  * invert for p = 2, lambda >= 19 and p = 1, lambda = 99, and do for lambda = 1;
  * the end points converge; the interior points stop short of the target. */

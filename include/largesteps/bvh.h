@@ -95,8 +95,7 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
  * closer than sqrt(max_dist2) are searched (pass an infinite or huge value for
  * an unbounded search); when none is, hit->face is UINT32_MAX and the
  * other fields are unspecified. Time about O(log F) for points near the surface
- * (armadillo, 52k faces: ~4 us per query 1 % of the diagonal off the surface);
- * no memory, about 750 bytes of stack. Errors: LS_ERR_INVALID (NULL, NaN
+ * (measured: docs/remeshing-and-metrics.md); no memory, about 750 bytes of stack. Errors: LS_ERR_INVALID (NULL, NaN
  * max_dist2), LS_ERR_NONFINITE (p not finite), LS_ERR_STATE (a tree deeper
  * than ls_bvh_build makes: not built by it). */
 ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, ls_bvh_hit *hit);

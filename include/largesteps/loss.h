@@ -68,8 +68,7 @@ ls_status ls_loss_begin(ls_loss_acc *acc, uint32_t kind, uint32_t width, uint32_
  * target value; diag->index is the first such value's index in the view,
  * *acc and grad unchanged). O(width height): two passes, the sum (a
  * non-finite input makes it non-finite; only then are the values scanned one
- * by one) and then the gradient; with gradient, about 11 instructions per
- * value in the double build and 6 in float (x86-64 SSE2, gcc 12 -O2). No
+ * by one) and then the gradient (its cost: docs/rendering.md). No
  * memory. diag may be NULL. */
 ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real *target, ls_real *grad,
                        ls_diag *diag);

@@ -126,8 +126,8 @@ ls_status ls_mesh_weld_bytes(const ls_mesh *mesh, size_t *bytes);
  * their centroids, equal codes keeping their order, each face's corners as
  * they were (orientation kept); vertices in order of first use by the sorted
  * faces, unused ones last in their order. Loops over the faces then read
- * nearby vertices one after another (the renderer's per-view passes over a
- * remeshed bunny measured ~8 % faster). remap (optional, vertex_count
+ * nearby vertices one after another (what it saves the renderer:
+ * docs/remeshing-and-metrics.md). remap (optional, vertex_count
  * entries) receives each old vertex's new index. O(F log F + V); scratch
  * ls_mesh_reorder_bytes. Errors: LS_ERR_INVALID, LS_ERR_MESH (an index out of
  * range), LS_ERR_NOMEM; the mesh is unchanged on any error. */

@@ -82,6 +82,12 @@ typedef struct ls_optim {
  * 0.9. Errors: LS_ERR_INVALID (NULL or unknown method: *config unchanged). O(1). */
 ls_status ls_optim_config_default(uint32_t method, ls_optim_config *config);
 
+/* ls_optim_config_check: LS_OK when *config is in range for ls_optim_init,
+ * else LS_ERR_INVALID with diag->what naming the field and its allowed
+ * range and diag->value the value (ls_optim_init has no diag: call this to
+ * learn why it refused). On success *diag is cleared. O(1). */
+ls_status ls_optim_config_check(const ls_optim_config *config, ls_diag *diag);
+
 /* ls_optim_bytes: exact arena bytes of ls_optim_init with this capacity
  * (2 * capacity reals). O(1). Errors: LS_ERR_INVALID (NULL), LS_ERR_TOO_LARGE. */
 ls_status ls_optim_bytes(uint32_t capacity, size_t *bytes);
@@ -104,9 +110,10 @@ ls_status ls_optim_reset(ls_optim *opt, uint32_t block_count, const uint32_t *bl
 
 /* ls_optim_step: one step: params (opt->count reals, in block order) move
  * against grad (same layout) as the method above says. O(count); no memory.
- * Errors: LS_ERR_INVALID (NULL, opt not initialised), LS_ERR_NONFINITE (a NaN
- * or infinite gradient; diag->index = its element, diag->value = it; nothing
- * changed). A parameter that overflows to infinity is not detected here. */
+ * Errors: LS_ERR_INVALID (NULL, opt not initialised; diag->what says which),
+ * LS_ERR_NONFINITE (a NaN or infinite gradient; diag->index = its element,
+ * diag->value = it; nothing changed). On success *diag is cleared. A
+ * parameter that overflows to infinity is not detected here. */
 ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag);
 
 /* ls_optim_step_mapped: the step of ls_optim_step on parameters u, applied

@@ -27,7 +27,7 @@
  *   to_differential     u = M x
  *   from_differential   x = M^{-1} u
  *   adjoint             dloss/du = M^{-1} dloss/dx (M is symmetric)
- *   step                x <- x - eta M^{-p} g, p = 1, 2, ... (the seed's
+ *   step                x <- x - eta M^{-p} g, p = 1, 2, ... (the paper's
  *                       direct preconditioned descent)
  *   set_weight          a new lambda/alpha: M's values rewritten and the
  *                       factor refactored numerically (no memory, the
@@ -95,6 +95,34 @@ typedef struct ls_param {
     ls_grid_solver gs;   /* LS_PARAM_GRID: the transform solver */
 } ls_param;
 
+/* ls_param_config_default: the paper's settings for a mesh: the LDL^T,
+ * M = I + lambda L with lambda = 19, k = 3 (x, y, z), ordering LS_ORDER_AUTO
+ * (AMD without coordinates), and for LS_PARAM_CG a cap of 1000 iterations
+ * and a relative tolerance of 1e-6. Start from it and change what you need.
+ * O(1). NULL is ignored. */
+void ls_param_config_default(ls_param_config *cfg);
+
+/* ls_param_mesh_bytes: the exact arena bytes of ls_param_init_mesh with
+ * these arguments, the Laplacian included: an arena with this many free
+ * bytes builds the object, one with fewer fails with LS_ERR_NOMEM and
+ * leaves the arena and *p unchanged. The query builds the Laplacian and runs
+ * the LDL^T's symbolic analysis in `scratch` (released before return): it
+ * needs at most as many free bytes there as it answers, so the arena you
+ * will build in serves. Cost: the Laplacian and one analysis. Errors:
+ * LS_ERR_INVALID (NULL, a bad config), LS_ERR_MESH (a face index out of
+ * range), LS_ERR_TOO_LARGE, LS_ERR_NOMEM (scratch too small). */
+ls_status ls_param_mesh_bytes(const ls_mesh *mesh, const ls_param_config *cfg, ls_arena *scratch, size_t *bytes);
+
+/* ls_param_init_mesh: the parameterization of a triangle mesh in one call,
+ * as the reference's compute_matrix: builds the mesh's uniform Laplacian
+ * (laplacian.h, upper storage; owned by the object, kept at the bottom of
+ * the arena below it) and then ls_param_init with the mesh's positions as
+ * the ordering's coordinates. Memory: ls_param_mesh_bytes. Errors: as
+ * ls_laplacian_uniform and ls_param_init; on failure the arena and *p are
+ * as before. */
+ls_status ls_param_init_mesh(ls_param *p, const ls_mesh *mesh, const ls_param_config *cfg, ls_arena *arena,
+                             ls_diag *diag);
+
 /* ls_param_bytes: exact arena bytes of ls_param_init with these arguments.
  * For the LDL^T the factor's size depends on the ordering, so the query runs
  * the symbolic analysis in `scratch` (it needs ls_ldlt_analyze_mesh_bytes /
@@ -128,9 +156,12 @@ ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, co
  * (LDL^T) or prepares the CG (zero warm starts). Cost: the analysis and the
  * factorization (LDL^T) or O(nnz) (CG). Memory: ls_param_bytes from the
  * arena's bottom. Errors: LS_ERR_INVALID (NULL, cfg out of range: solver,
- * form, weight, k, tol), LS_ERR_NOT_SPD (the weight is too large for the
- * precision, or a pivot failed), LS_ERR_NONFINITE, LS_ERR_NOMEM; on failure
- * the arena and *p are as before. */
+ * form, weight, k, and with CG cg_max_iter = 0 or a negative tol;
+ * diag->what names the argument or field and its allowed range,
+ * diag->value holds the value), LS_ERR_NOT_SPD (the weight is too large for
+ * the precision, or a pivot failed), LS_ERR_NONFINITE, LS_ERR_NOMEM; on
+ * failure the arena and *p are as before. On success *diag is cleared (as
+ * by every init and set_weight call here). */
 ls_status ls_param_init(ls_param *p, const ls_csc *lap, const ls_param_config *cfg, const ls_real *xyz,
                         ls_arena *arena, ls_diag *diag);
 

@@ -12,132 +12,26 @@
  * channel (inside: the edge's face, alpha 1; behind: the nearest surface
  * farther than the edge at that point, or the background with alpha 0).
  *
- * Algorithm (ls_silhouette_backward), per view:
- *  1. Silhouette segments: from the edge table (built once per mesh by
- *     ls_edge_table_build: every half-edge's twin), an edge is a silhouette
- *     when it has no twin (a boundary, or a non-manifold edge) or when the
- *     third vertices of its two faces project onto the same side of it (one
- *     face front-, the other back-facing; orientation-independent test).
- *     Also, for every triangle cut by the near plane, the cut (the side of
- *     its clipped polygon on the plane) is a segment of that face with
- *     nothing behind it on the face's side. For a closed mesh seen from
- *     outside (as in 2.) the silhouette edges that are valleys of the
- *     surface (the back face's far corner on the eye's side of the front
- *     face's plane, the two faces wound alike) are left out: the ray to
- *     such an edge arrives through the solid, so a front face hides it
- *     (41 % of the armadillo's silhouette edges in the fit's views). Like
- *     the back-face culling, this assumes no inside-out fold: in a tangled
- *     mesh a valley can show.
- *  2. Candidate bins: every triangle's window polygon (clipped at the near
- *     plane) is binned by its box into square tiles (count, prefix sum,
- *     fill; triangles in index order) of 2, 4 or 8 pixels: 2 below 1/8
- *     covered pixel per triangle, 8 from 1/2 up (counted on every 4th sample
- *     row), so small triangles meet few candidates per run and large ones
- *     few tiles. For a closed mesh seen from outside
- *     (no boundary edge, nothing across the near plane, fewer than 1/64 of
- *     the covered samples showing the minority orientation) the back-facing
- *     orientation is left out: it is never the nearest surface.
- *  3. Each segment is clipped to the image and walked pixel by pixel (the
- *     parameters where it crosses integer x and y lines, merged in order);
- *     the pixels it crosses in one bin tile form a run. The candidates of
- *     a run are the triangles of the tile's bin whose box meets the run's
- *     box, less those whose corners all lie on one side of the segment's
- *     line (by a margin far above rounding), and less the faces that have
- *     an end vertex of the segment as a corner and whose cone at that
- *     corner misses the segment's direction (beyond rounding: a triangle
- *     lies in the cone of its corner's edges, so it holds no other point of
- *     the segment; on the fit's end mesh this halves the candidates).
- *     Every pixel piece is split
- *     where a candidate's polygon edges cross it, so between two splits the
- *     surface in front of the segment and the one behind it do not change.
- *     Each sub-piece's visibility is decided at its midpoint (exact
- *     homogeneous barycentrics and NDC depth of every candidate containing
- *     the point: a nearer one hides it, the nearest farther one is the
- *     surface behind, none: the background) - no occluder is missed for
- *     want of a sample. Only the candidates whose interval along the
- *     segment (where their polygon, grown by far more than rounding, meets
- *     it) holds the midpoint are tested, swept along the run (sorted by
- *     their starts when a run has many), the last occluder first: the cost
- *     of a sub-piece is its depth complexity, not its tile's bin size, and
- *     the intervals decide which candidates are tested, never the answer.
- *     Before that, a run is skipped when a walk proves it hidden: from the
- *     triangle the forward drew under the run's middle, across shared
- *     edges, through faces that contain the segment's points by a margin
- *     and lie in front of it by a margin (containment and NDC depth are
- *     affine along the segment, checked at each face's stretch ends); the
- *     walk goes on along the segment as far as it can, so the runs that
- *     follow inside what it proved cost nothing.
- *  4. Each visible sub-piece is integrated (consecutive ones of a pixel
- *     with the same surface behind as one: the split between them changed
- *     neither side): in mask mode df is constant (one evaluation, exact
- *     moments); otherwise (perspective-correct shading is rational along
- *     the edge) Gauss-Legendre with 3 points, the interval halved (depth
- *     first, at most 4 times) until the 2-point rule agrees with it to 1e-9
- *     (double) / 1e-4 (float) relative. The barycentric areas are affine
- *     along the segment (the face's own once per segment). SH shading
- *     without renormalisation, vertex colours or texture is a quadratic form
- *     of the homogeneous interpolated normal: g . E = (q0 + q1 s + q2 s^2) /
- *     S(s)^2 along a sub-piece, its coefficients set up once per sub-piece
- *     and side; other shading evaluates ls_shade_point per point.
- *  5. g_P = dL/dI_P (RGBA) dotted with df; the sums over the pieces go to a
- *     and b (times the multiplier `boost`), then through the window ->
- *     clip -> positions chain: x = (X/W + 1) width / 2, y = (1 - Y/W) height / 2.
- * Silhouette edges are integrated in the order of the Morton code of their
- * window midpoint's 4 x 4-pixel cell, then of their half-edge (nearby
- * edges share bins, triangles and pixels while these are cached; in
- * half-edge order when there are more than T / 2 of them), then the
- * near-plane cuts in triangle order, and each segment's pieces in order
- * along it: the gradient is the same bits on every run and platform.
- *
- * Near plane: an edge with an endpoint behind Z = -W is clipped there in
- * clip space (p + s (q - p), s = (Z_p + W_p) / ((Z_p + W_p) - (Z_q + W_q)));
- * the clipped point's gradient goes to both vertices, through (1 - s), s
- * and through s itself (that last term is zero in exact arithmetic: the
- * clipped point moves along its own edge line). The cut segments' ends are
- * such points. The side tests use the homogeneous determinant det(X, Y, W)
- * of the segment's ends and a point of the face, valid wherever that point
- * is. Segments are not clipped at the guard band (their window coordinates
- * are computed in floating point).
- *
- * Measured (tests/test_silhouette.c, 12 x 12 views, central differences of
- * an independent float64 exact-coverage reference, smooth weights, double):
- * single and layered triangles, ortho and perspective, closed tetrahedra,
- * icospheres (levels 1 and 2, sub-pixel faces), overlapping triangles whose
- * edges cross inside pixels, perspective-varying colours (silhouette term
- * isolated by holding the reference's polygons), near-plane cuts inside the
- * image, sub-pixel triangles: 76 of 76 configurations within 1e-3 relative,
- * most within 1e-6. Cost (tests/bench/bench_silhouette.c on the fit's
- * meshes, tests/bench/bench_gradient.c): see README.
+ * Algorithm (ls_silhouette_backward), per view: silhouette segments from the
+ * edge table (boundary edges, edges between a front- and a back-facing face,
+ * near-plane cuts; valley edges of a closed mesh seen from outside left
+ * out); candidate occluders binned by tile; each segment walked pixel by
+ * pixel, every pixel piece split where a candidate's edges cross it, each
+ * sub-piece's visibility decided exactly at its midpoint (a run proven hidden
+ * by a walk over faces is skipped); the visible pieces integrated (exact
+ * moments in mask mode, adaptive Gauss-Legendre otherwise), dotted with
+ * dL/dI and chained to the vertices through window and clip coordinates.
+ * Edges are visited in a fixed order: the gradient is the same bits on every
+ * run and platform. The full description, the near-plane handling, the
+ * accuracy measured against finite differences and the pair mode's error:
+ * docs/silhouette.md.
  *
  * The pair mode (ls_pair_forward / ls_pair_backward below) is the cheap
  * alternative, selected per render by calling it instead of
- * ls_silhouette_backward: its backward is the derivative of its own blended
- * forward (FD: 4e-7 relative), but against the exact derivative of the box
- * image its position gradient is off by a relative L2 error of 0.38
- * (median, smooth weights; cosine 0.97) and 0.57 (random weights; cosine
- * 0.87) on single triangles at 12 x 12, and zero for triangles that hit no
- * pixel centre.
- *
- * Forward consistency: ls_shade is point sampled, so in pixels crossed by a
- * silhouette its image is not the box-filtered one this module
- * differentiates; largesteps/raster_refine.h re-evaluates exactly those
- * pixels with A x A sub-samples (forward and interior gradient), which
- * brings the two together as A grows (the fit's knob `aa`, off by default).
- *
- * The hot loops avoid branches whose outcome has no pattern (which half of
- * an edge comes first, which bin entries meet a run, a tile range of one or
- * two tiles): mispredictions were a quarter of the pass's time on the fit's
- * meshes (callgrind's branch simulation), and selects gave the same bits.
- *
- * Speed (README): the armadillo (52k faces) at 512^2 costs 0.43-0.49 x
- * the forward's time (30 runs of bench_gradient; target 0.5 x); a sixth of
- * it is O(triangles) (orientations, boxes, bins), the rest the visible
- * runs' candidate search, visibility and quadrature (about half), the
- * walks (an eighth), the marked edges' tests and the segments' own work;
- * what moved it last was memory (the edge order, cache hints ahead of each
- * edge and of each marked edge's tests), GCC's code for |x| and the
- * candidates' activation in order (36.4M instructions a view over the
- * fit's 16 cameras).
+ * ls_silhouette_backward. Forward consistency: ls_shade is point sampled;
+ * largesteps/raster_refine.h re-evaluates the silhouette pixels with A x A
+ * sub-samples so that the forward matches the box filter differentiated
+ * here as A grows.
  *
  * Not handled: interpenetrating triangles (intersection curves are not
  * mesh edges); depth ties within 64 eps are neither hiding nor behind. The

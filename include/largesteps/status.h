@@ -3,6 +3,8 @@
  * Every call that can fail returns an ls_status; outputs go through pointers.
  * Calls that read caller input (files, meshes, images) also take an optional
  * `ls_diag *` (may be NULL) that receives where and why the input was rejected.
+ * Every call that takes a diag clears it first, so after a success it holds
+ * no stale message (status LS_OK, what = "").
  * There is no global "last error": the details travel with the call.
  */
 #ifndef LARGESTEPS_STATUS_H

@@ -1,4 +1,4 @@
-/* largesteps/toy1d.h - the seed's 1D toy: why large steps keep a "mesh"
+/* largesteps/toy1d.h - the paper's 1D toy: why large steps keep a "mesh"
  * from tangling where plain gradient descent does not.
  *
  * A 1D "mesh" of LS_TOY1D_N = 32 points starts at the linear progression

@@ -18,6 +18,12 @@ static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t ind
 
 static int finite_r(ls_real x) { return x - x == x - x; }
 
+/* LS_ERR_INVALID naming the argument that is wrong (diag may be NULL). */
+static ls_status invalid_arg(ls_diag *diag, const char *what)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+}
+
 /* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
  * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
  * with the mesh by any power of two: the bounds, the halving and the
@@ -94,28 +100,59 @@ void ls_fit_config_default(ls_fit_config *c)
     ls_shade_opts_init(&c->shading);
 }
 
-static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m)
+/* NULL when the arguments are in range, else the argument or field that is
+ * not, with its allowed range. */
+static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m)
 {
     uint32_t i;
-    if (c == NULL || v == NULL || m == NULL || m->positions == NULL || m->triangles == NULL) return LS_ERR_INVALID;
-    if (c->method > LS_FIT_BILAPLACIAN || c->loss > LS_LOSS_L2 || c->width == 0 || c->height == 0) return LS_ERR_INVALID;
-    if (v->count == 0 || v->mvp == NULL || v->targets == NULL) return LS_ERR_INVALID;
+    if (c == NULL || v == NULL || m == NULL) return "config, views or initial is NULL";
+    if (m->positions == NULL || m->triangles == NULL) return "initial: positions or triangles is NULL";
+    if (c->method > LS_FIT_BILAPLACIAN)
+        return "config->method: allowed LS_FIT_LARGE_STEPS, LS_FIT_NAIVE, LS_FIT_LAPLACIAN or LS_FIT_BILAPLACIAN";
+    if (c->loss > LS_LOSS_L2) return "config->loss: allowed LS_LOSS_L1 or LS_LOSS_L2";
+    if (c->width == 0 || c->height == 0) return "config->width, height: the render size, allowed >= 1 (e.g. 128)";
+    if (v->count == 0) return "views->count: allowed >= 1";
+    if (v->mvp == NULL || v->targets == NULL) return "views->mvp or views->targets is NULL";
     for (i = 0; i < v->count; i++)
-        if (v->targets[i] == NULL) return LS_ERR_INVALID;
-    if (c->form != LS_SYSTEM_LAMBDA && c->form != LS_SYSTEM_ALPHA) return LS_ERR_INVALID;
-    if (!finite_r(c->weight) || c->weight < (ls_real)0) return LS_ERR_INVALID;
-    if (c->form == LS_SYSTEM_ALPHA && !(c->weight < (ls_real)1)) return LS_ERR_INVALID;
-    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG && c->solver != LS_PARAM_AUTO) return LS_ERR_INVALID;
-    if (!finite_r(c->boost) || !finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return LS_ERR_INVALID;
-    if (c->shading.vertex_colors != NULL || c->shading.mode > LS_SHADE_LAMBERT) return LS_ERR_INVALID;
-    if (c->silhouette > LS_FIT_SILHOUETTE_NONE || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)) return LS_ERR_INVALID;
-    if (c->power > 2u || !finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return LS_ERR_INVALID;
-    if (c->aa > LS_REFINE_MAX || (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)) return LS_ERR_INVALID;
-    if (c->guard > 1u) return LS_ERR_INVALID;
-    if (c->mean_mode > LS_FIT_MEAN_PROJECT || (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation))
+        if (v->targets[i] == NULL) return "views->targets[i]: a target image is NULL";
+    if (c->form != LS_SYSTEM_LAMBDA && c->form != LS_SYSTEM_ALPHA)
+        return "config->form: allowed LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA";
+    if (!finite_r(c->weight) || c->weight < (ls_real)0)
+        return "config->weight: lambda finite and >= 0, or alpha in [0, 1) (the paper: lambda 19)";
+    if (c->form == LS_SYSTEM_ALPHA && !(c->weight < (ls_real)1)) return "config->weight: alpha allowed in [0, 1)";
+    if (c->solver != LS_PARAM_LDLT && c->solver != LS_PARAM_CG && c->solver != LS_PARAM_AUTO)
+        return "config->solver: allowed LS_PARAM_LDLT, LS_PARAM_CG or LS_PARAM_AUTO";
+    if (!finite_r(c->boost)) return "config->boost: the silhouette gradient's multiplier, allowed finite (the paper: 3)";
+    if (!finite_r(c->reg_weight) || c->reg_weight < (ls_real)0) return "config->reg_weight: allowed finite and >= 0";
+    if (c->shading.vertex_colors != NULL) return "config->shading.vertex_colors: must be NULL in a fit";
+    if (c->shading.mode > LS_SHADE_LAMBERT)
+        return "config->shading.mode: allowed LS_SHADE_MASK, LS_SHADE_SH or LS_SHADE_LAMBERT";
+    if (c->silhouette > LS_FIT_SILHOUETTE_NONE)
+        return "config->silhouette: allowed LS_FIT_SILHOUETTE_EXACT, LS_FIT_SILHOUETTE_PAIR or LS_FIT_SILHOUETTE_NONE";
+    if (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->ss != 1)
+        return "config->ss: the pair silhouette mode needs ss = 1";
+    if (c->power > 2u) return "config->power: allowed 0 (= 2), 1 or 2";
+    if (!finite_r(c->cg_tol) || c->cg_tol < (ls_real)0) return "config->cg_tol: allowed finite and >= 0 (0 means 1e-6)";
+    if (c->aa > LS_REFINE_MAX) return "config->aa: allowed 0 .. LS_REFINE_MAX";
+    if (c->silhouette == LS_FIT_SILHOUETTE_PAIR && c->aa > c->ss)
+        return "config->aa: the pair silhouette mode allows aa <= ss only";
+    if (c->guard > 1u) return "config->guard: allowed 0 or 1";
+    if (c->mean_mode > LS_FIT_MEAN_PROJECT) return "config->mean_mode: allowed LS_FIT_MEAN_KEEP or LS_FIT_MEAN_PROJECT";
+    if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
+        return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
+    if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
+    if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
+    return NULL;
+}
+
+static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, const ls_mesh *m, ls_diag *diag)
+{
+    const char *bad = config_error(c, v, m);
+    if (bad != NULL) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID, bad, LS_DIAG_NO_INDEX);
         return LS_ERR_INVALID;
-    if (m->vertex_count == 0 || m->face_count == 0 || m->vertex_count > (UINT32_MAX - 3u) / 3u) return LS_ERR_INVALID;
-    return LS_OK;
+    }
+    return ls_optim_config_check(&c->optim, diag);
 }
 
 static void param_config(const ls_fit_config *c, ls_param_config *pc)
@@ -316,13 +353,12 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     return LS_OK;
 }
 
-ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, ls_arena *scratch, size_t *bytes, ls_diag *diag)
 {
     ls_real scale, radius;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
-    st = check_config(config, views, initial);
+    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
+    st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     measure_frame(initial, &scale, &radius);
     return fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
@@ -435,7 +471,7 @@ static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *v
                               ls_diag *diag)
 {
     uint32_t i;
-    ls_status st = check_config(config, views, initial);
+    ls_status st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     for (i = 0; i < 3u * initial->vertex_count; i++)
         if (!finite_r(initial->positions[i])) {
@@ -445,12 +481,11 @@ static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *v
     return LS_OK;
 }
 
-ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                      ls_arena *arena, ls_diag *diag)
+static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, ls_arena *arena, ls_diag *diag)
 {
     ls_real scale, radius;
     ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = init_args_ok(config, views, initial, diag);
     if (st != LS_OK) return st;
@@ -664,7 +699,7 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     return st;
 }
 
-ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_fit_timing timing;
@@ -672,7 +707,7 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
     ls_real loss, reg_loss, *xs, *warm = NULL;
     size_t nn;
     ls_status st = LS_OK;
-    if (fit == NULL || fit->x == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
     nn = 3u * (size_t)fit->vertex_count;
     /* what a failure restores: the scalars here, the CG warm starts copied
      * to scratch; x is written only once the step has succeeded */
@@ -748,13 +783,14 @@ static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
     return LS_OK;
 }
 
-ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_real *pos;
     ls_mesh m;
     ls_status st;
-    if (fit == NULL || out == NULL || fit->x == NULL || !fit->config.guard) return LS_ERR_INVALID;
+    if (fit == NULL || out == NULL || fit->x == NULL) return invalid_arg(diag, "fit or out is NULL, or fit not initialised");
+    if (!fit->config.guard) return invalid_arg(diag, "fit->config.guard: 0; ls_fit_tangle needs a fit made with guard = 1");
     mark = ls_arena_save(&fit->block);
     pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
@@ -910,21 +946,23 @@ static ls_status rebuild(ls_fit *fit, const ls_fit_config *cfg, const ls_mesh *m
 
 static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag);
 
-ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
-                        ls_diag *diag)
+static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
 {
     ls_arena_mark mark, keep;
     ls_fit_config cfg;
     ls_mesh out, copy;
     size_t start, new_bytes, copy_bytes;
     ls_status st;
-    if (fit == NULL || fit->x == NULL || !(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2) ||
-        !(lr_factor > (ls_real)0) || !finite_r(lr_factor))
-        return LS_ERR_INVALID;
+    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
+    if (!(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2))
+        return invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
+    if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor))
+        return invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
     if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
-    if (arena == NULL) return LS_ERR_INVALID;
+    if (arena == NULL) return invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
     start = (size_t)(fit->block.base - arena->base);
-    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom) return LS_ERR_INVALID;
+    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom)
+        return invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
     mark = ls_arena_save(arena);
     st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
     cfg = fit->config;
@@ -1136,14 +1174,13 @@ static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, con
     return st;
 }
 
-ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+static ls_status fit_job_bytes_call(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
 {
     fit_counts lim, have;
     ls_real scale, radius;
     size_t region = 0, job = 0, fit_bytes = 0;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
     *bytes = 0;
     st = init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, scratch, &lim, &region, &job, diag);
@@ -1156,8 +1193,7 @@ ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *view
     return st;
 }
 
-ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
+static ls_status fit_init_job_call(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_arena region;
@@ -1166,7 +1202,7 @@ ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit
     size_t region_bytes = 0, bytes = 0;
     void *mem;
     ls_status st;
-    if (fit == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, arena, &lim, &region_bytes, &bytes, diag);
@@ -1236,5 +1272,61 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
     st = ls_arena_init(&region, fit->job.base, fit->job_fit_bytes);
     if (st == LS_OK) st = rebuild(fit, &cfg, &out, &region, diag);
     ls_arena_restore(&fit->job, mark);
+    return st;
+}
+
+/* The public calls that take a diag clear it on success (fit.h). */
+
+ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                       ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    ls_status st = fit_bytes_call(config, views, initial, scratch, bytes, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                      ls_arena *arena, ls_diag *diag)
+{
+    ls_status st = fit_init_call(fit, config, views, initial, arena, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+{
+    ls_status st = fit_step_call(fit, monitor, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+{
+    ls_status st = fit_tangle_call(fit, out, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
+                        ls_diag *diag)
+{
+    ls_status st = fit_remesh_call(fit, arena, h_factor, lr_factor, info, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
+{
+    ls_status st = fit_job_bytes_call(config, views, initial, capacity, scratch, bytes, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
+{
+    ls_status st = fit_init_job_call(fit, config, views, initial, capacity, arena, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
     return st;
 }

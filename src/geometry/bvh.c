@@ -167,6 +167,7 @@ static uint32_t split_axis(const ls_bvh *bvh, const ls_real *cent, uint32_t star
 
 ls_status ls_bvh_check_mesh(const ls_mesh *mesh, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     uint32_t f, v;
     if (mesh == NULL || (mesh->face_count > 0 && mesh->triangles == NULL) ||
         (mesh->vertex_count > 0 && mesh->positions == NULL)) {
@@ -195,6 +196,7 @@ ls_status ls_bvh_check_mesh(const ls_mesh *mesh, ls_diag *diag)
 
 ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_bvh t;
     ls_real *cent;

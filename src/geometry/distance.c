@@ -234,6 +234,7 @@ static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samp
 ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samples, ls_dist_one_way *out,
                               ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_dist_one_way r;
     ls_status st;
     if (src == NULL || target == NULL || out == NULL || target->nodes == NULL ||
@@ -272,6 +273,7 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
 ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
                            ls_arena *arena, ls_distance_report *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_bvh ta, tb;
     ls_distance_report r;

@@ -194,6 +194,7 @@ static ls_status build_pairs(const ls_mesh *mesh, ls_hemesh *he, ls_arena *arena
 ls_status ls_he_build(const ls_mesh *mesh, uint32_t vertex_cap, ls_arena *arena, ls_hemesh *he,
                       ls_mesh_report *report, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_mesh_report rep;
     ls_arena_mark mark;
     ls_hemesh m;

@@ -358,6 +358,7 @@ ls_status ls_mesh_validate(const ls_mesh *mesh, ls_arena *arena, ls_mesh_report 
 
 ls_status ls_mesh_require(const ls_mesh_report *r, uint32_t flags, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (r == NULL) return LS_ERR_INVALID;
     if ((flags & LS_MESH_REQ_INDICES) && r->bad_index_faces > 0) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", r->first_bad_index_face);
@@ -607,6 +608,7 @@ ls_status ls_mesh_edges_bytes(uint32_t face_count, uint32_t edge_count, size_t *
 
 ls_status ls_mesh_edges_build(const ls_mesh *mesh, ls_arena *arena, ls_mesh_edges *edges, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     uint64_t *keys;
     uint32_t *idx, *tmp, *out, bad, count = 0;
@@ -768,6 +770,7 @@ static int face_unit_normal(const ls_real *p, const uint32_t *t, ls_real n[3])
 
 ls_status ls_mesh_face_normals(const ls_mesh *mesh, ls_real *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     uint32_t f, bad;
     if (check_mesh(mesh) != LS_OK || (out == NULL && mesh->face_count > 0)) return LS_ERR_INVALID;
     bad = first_bad_face(mesh);
@@ -798,6 +801,7 @@ static ls_real corner_angle(const ls_real *a, const ls_real *b, const ls_real *c
 
 ls_status ls_mesh_vertex_normals(const ls_mesh *mesh, uint32_t weighting, ls_real *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     uint32_t f, v, k, bad;
     const ls_real *p;
     if (check_mesh(mesh) != LS_OK || (out == NULL && mesh->vertex_count > 0)) return LS_ERR_INVALID;

@@ -758,6 +758,7 @@ static ls_status rm_prepare(const ls_mesh *in, const ls_remesh_params *params, l
 ls_status ls_remesh(const ls_mesh *in, const ls_remesh_params *params, ls_arena *arena, ls_mesh *out,
                     ls_remesh_info *info, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_arena sub; /* the builds' own arenas over scratch blocks; the objects outlive it */
     ls_remesh_info inf;

@@ -409,6 +409,7 @@ static void intersections(const ls_mesh *m, const ls_bvh *bvh, uint32_t *flags, 
 ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,
                     ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_tangle_report r;
     ls_bvh bvh;

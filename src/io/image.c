@@ -222,6 +222,7 @@ ls_status ls_image_encode(const ls_image *image, const ls_image_format *format, 
 
 ls_status ls_image_decode_info(const void *data, size_t bytes, ls_image_info *info, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     const unsigned char *p = (const unsigned char *)data;
     ls_status st;
     if (diag != NULL) ls_diag_clear(diag);
@@ -245,6 +246,7 @@ ls_status ls_image_decode_info(const void *data, size_t bytes, ls_image_info *in
 ls_status ls_image_decode(const void *data, size_t bytes, ls_image *image, ls_arena *arena,
                           ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_image_info info;
     ls_image out;
     ls_arena_mark mark;

@@ -437,6 +437,7 @@ ls_status ls_inflate_bytes(size_t *arena_bytes)
 ls_status ls_zlib_decompress(const void *src, size_t src_bytes, void *dst, size_t dst_bytes,
                              size_t *out_bytes, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_inflate_input in;
     set_input(&in, src, src_bytes, dst, dst_bytes);
     in.zlib = 1;
@@ -446,6 +447,7 @@ ls_status ls_zlib_decompress(const void *src, size_t src_bytes, void *dst, size_
 ls_status ls_inflate(const void *src, size_t src_bytes, void *dst, size_t dst_bytes,
                      size_t *out_bytes, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_inflate_input in;
     set_input(&in, src, src_bytes, dst, dst_bytes);
     return run_public(&in, out_bytes, arena, diag);

@@ -918,6 +918,7 @@ static uint32_t ply_is_binary(const void *data, size_t bytes)
 
 ls_status ls_mesh_read_info(const void *data, size_t bytes, uint32_t format, ls_mesh_file_info *info, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     sink k;
     ls_mesh_file_info i;
     ls_status st;
@@ -939,6 +940,7 @@ ls_status ls_mesh_read_bytes(const ls_mesh_file_info *info, size_t *bytes)
 
 ls_status ls_mesh_read(const void *data, size_t bytes, uint32_t format, ls_arena *arena, ls_mesh *mesh, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_mesh_file_info info;
     ls_mesh m;
     ls_arena_mark mark;

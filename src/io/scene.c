@@ -522,6 +522,7 @@ static ls_status text_pass(ls_scene_builder *b, const char *text, size_t length,
 
 ls_status ls_scene_parse_bytes(const char *text, size_t length, size_t *bytes, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_scene_input in;
     if (bytes == NULL) return LS_ERR_INVALID;
     in.text = text;
@@ -531,6 +532,7 @@ ls_status ls_scene_parse_bytes(const char *text, size_t length, size_t *bytes, l
 
 ls_status ls_scene_parse(const char *text, size_t length, ls_arena *arena, ls_scene *scene, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_scene_input in;
     if (arena == NULL || scene == NULL) return LS_ERR_INVALID;
     in.text = text;

@@ -511,6 +511,7 @@ static ls_status xml_pass(ls_scene_builder *b, const char *text, size_t length, 
 
 ls_status ls_scene_parse_mitsuba_bytes(const char *text, size_t length, size_t *bytes, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_scene_input in;
     if (bytes == NULL) return LS_ERR_INVALID;
     in.text = text;
@@ -520,6 +521,7 @@ ls_status ls_scene_parse_mitsuba_bytes(const char *text, size_t length, size_t *
 
 ls_status ls_scene_parse_mitsuba(const char *text, size_t length, ls_arena *arena, ls_scene *scene, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_scene_input in;
     if (arena == NULL || scene == NULL) return LS_ERR_INVALID;
     in.text = text;

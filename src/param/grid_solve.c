@@ -289,6 +289,7 @@ ls_status ls_grid_solver_init(ls_grid_solver *g, uint32_t width, uint32_t height
 
 ls_status ls_grid_solver_set_weight(ls_grid_solver *g, uint32_t form, ls_real weight, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (g == NULL || g->fx.mu == NULL)
         return ls_diag_set(diag, LS_ERR_INVALID, "NULL or uninitialized grid solver", LS_DIAG_NO_INDEX);
     if (form != LS_SYSTEM_LAMBDA && form != LS_SYSTEM_ALPHA)

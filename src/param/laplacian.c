@@ -196,6 +196,7 @@ static int args_ok(const ls_mesh *mesh, uint32_t storage, const ls_arena *arena,
 
 ls_status ls_laplacian_uniform(const ls_mesh *mesh, uint32_t storage, ls_arena *arena, ls_csc *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_csc m;
     ls_status st;
@@ -251,6 +252,7 @@ static int face_cots(const ls_real *pa, const ls_real *pb, const ls_real *pc, ls
 ls_status ls_laplacian_cot(const ls_mesh *mesh, uint32_t convention, uint32_t storage, ls_arena *arena,
                            ls_csc *out, uint32_t *clamped, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_csc m;
     ls_status st;
@@ -461,6 +463,7 @@ static void system_fill(const ls_csc *lap, ls_real weight, ls_real shift, ls_rea
 ls_status ls_laplacian_system(const ls_csc *lap, uint32_t form, ls_real weight, ls_arena *arena, ls_csc *m,
                               ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_real shift = (ls_real)1, *values;
     ls_status st;
     if (arena == NULL || m == NULL) {
@@ -486,6 +489,7 @@ ls_status ls_laplacian_system(const ls_csc *lap, uint32_t form, ls_real weight, 
 
 ls_status ls_laplacian_system_update(const ls_csc *lap, uint32_t form, ls_real weight, ls_csc *m, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_real shift = (ls_real)1;
     ls_status st;
     if (m == NULL || lap == NULL || m->colptr != lap->colptr || m->rowidx != lap->rowidx || m->ncols != lap->ncols ||

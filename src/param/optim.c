@@ -23,13 +23,50 @@ static int valid_beta(ls_real b)
     return is_finite(b) && b >= (ls_real)0 && b < (ls_real)1;
 }
 
+/* NULL when c is in range, else the field and its allowed range (*value:
+ * the offending value). */
+static const char *config_error(const ls_optim_config *c, ls_real *value)
+{
+    *value = (ls_real)c->method;
+    if (c->method != LS_OPTIM_UNIFORM_ADAM && c->method != LS_OPTIM_ADAM && c->method != LS_OPTIM_SGD)
+        return "config->method: allowed LS_OPTIM_UNIFORM_ADAM, LS_OPTIM_ADAM or LS_OPTIM_SGD";
+    *value = c->lr;
+    if (!is_finite(c->lr) || c->lr <= (ls_real)0) return "config->lr: the learning rate, allowed finite and > 0";
+    *value = c->beta1;
+    if (!valid_beta(c->beta1)) return "config->beta1: allowed [0, 1) (the reference: 0.9)";
+    if (c->method == LS_OPTIM_SGD) return NULL;
+    *value = c->beta2;
+    if (!valid_beta(c->beta2)) return "config->beta2: allowed [0, 1) (the reference: 0.999)";
+    *value = c->eps;
+    if (!is_finite(c->eps) || c->eps < (ls_real)0) return "config->eps: allowed finite and >= 0 (the reference: 1e-8)";
+    return NULL;
+}
+
 static int valid_config(const ls_optim_config *c)
 {
-    if (c->method != LS_OPTIM_UNIFORM_ADAM && c->method != LS_OPTIM_ADAM && c->method != LS_OPTIM_SGD) return 0;
-    if (!is_finite(c->lr) || c->lr <= (ls_real)0) return 0;
-    if (!valid_beta(c->beta1)) return 0;
-    if (c->method == LS_OPTIM_SGD) return 1;
-    return valid_beta(c->beta2) && is_finite(c->eps) && c->eps >= (ls_real)0;
+    ls_real v;
+    return config_error(c, &v) == NULL;
+}
+
+ls_status ls_optim_config_check(const ls_optim_config *config, ls_diag *diag)
+{
+    ls_real v = (ls_real)0;
+    const char *bad;
+    if (config == NULL) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID, "config is NULL", LS_DIAG_NO_INDEX);
+        return LS_ERR_INVALID;
+    }
+    bad = config_error(config, &v);
+    if (bad != NULL) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID, bad, LS_DIAG_NO_INDEX);
+        if (diag != NULL) {
+            diag->has_value = 1;
+            diag->value = v;
+        }
+        return LS_ERR_INVALID;
+    }
+    ls_diag_clear(diag);
+    return LS_OK;
 }
 
 /* The sum of the block sizes, or 0 when the blocks are invalid for capacity. */
@@ -224,19 +261,39 @@ static ls_status step(ls_optim *opt, ls_real *params, const ls_real *g1, const l
     return LS_OK;
 }
 
+/* The arguments of a step: LS_OK, or LS_ERR_INVALID naming the first that is wrong. */
+static ls_status step_args(const ls_optim *opt, const ls_real *params, const ls_real *grad, int mapped_ok,
+                           ls_diag *diag)
+{
+    const char *what = NULL;
+    if (opt == NULL || params == NULL || grad == NULL || !mapped_ok) what = "opt, params, grad or mapped is NULL";
+    else if (opt->m1 == NULL || opt->count == 0) what = "opt: not initialised (ls_optim_init)";
+    else if (!valid_config(&opt->config)) return ls_optim_config_check(&opt->config, diag);
+    if (what == NULL) return LS_OK;
+    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+    return LS_ERR_INVALID;
+}
+
 ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_diag *diag)
 {
-    if (opt == NULL || params == NULL || grad == NULL || opt->m1 == NULL || opt->count == 0 ||
-        !valid_config(&opt->config))
-        return LS_ERR_INVALID;
-    return step(opt, params, grad, grad, diag);
+    ls_status st = step_args(opt, params, grad, 1, diag);
+    if (st == LS_OK) st = step(opt, params, grad, grad, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
 }
 
 ls_status ls_optim_step_mapped(ls_optim *opt, ls_real *params, const ls_real *grad, const ls_real *mapped,
                                ls_diag *diag)
 {
-    if (opt == NULL || params == NULL || grad == NULL || mapped == NULL || opt->m1 == NULL || opt->count == 0 ||
-        !valid_config(&opt->config) || opt->config.method == LS_OPTIM_ADAM)
+    ls_status st = step_args(opt, params, grad, mapped != NULL, diag);
+    if (st == LS_OK && opt->config.method == LS_OPTIM_ADAM) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID,
+                          "opt->config.method: LS_OPTIM_ADAM does not commute with the map; allowed "
+                          "LS_OPTIM_UNIFORM_ADAM or LS_OPTIM_SGD",
+                          LS_DIAG_NO_INDEX);
         return LS_ERR_INVALID;
-    return step(opt, params, mapped, grad, diag);
+    }
+    if (st == LS_OK) st = step(opt, params, mapped, grad, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
 }

@@ -18,18 +18,81 @@ static uint32_t solver_of(const ls_param_config *cfg, int grid)
     return cfg->solver;
 }
 
-static int config_valid(const ls_param_config *cfg, int grid)
+/* NULL when cfg is in range, else what is wrong: the field and its allowed
+ * range (*value: the offending value). */
+static const char *config_error(const ls_param_config *cfg, int grid, ls_real *value)
 {
     uint32_t solver = solver_of(cfg, grid);
-    if (solver == UINT32_MAX || cfg->k == 0 || cfg->k > LS_CG_MAX_K) return 0;
-    if (solver == LS_PARAM_CG && !(cfg->cg_tol >= (ls_real)0)) return 0;
-    return cfg->form == LS_SYSTEM_LAMBDA || cfg->form == LS_SYSTEM_ALPHA;
+    if (solver == UINT32_MAX) {
+        *value = (ls_real)cfg->solver;
+        return grid ? "cfg->solver: allowed LS_PARAM_LDLT, LS_PARAM_CG, LS_PARAM_AUTO or LS_PARAM_GRID"
+                    : "cfg->solver: allowed LS_PARAM_LDLT, LS_PARAM_CG or LS_PARAM_AUTO (LS_PARAM_GRID is for "
+                      "grids)";
+    }
+    if (cfg->k == 0 || cfg->k > LS_CG_MAX_K) {
+        *value = (ls_real)cfg->k;
+        return "cfg->k: the vectors' columns, allowed 1 .. LS_CG_MAX_K (4); 3 for x, y, z";
+    }
+    if (cfg->form != LS_SYSTEM_LAMBDA && cfg->form != LS_SYSTEM_ALPHA) {
+        *value = (ls_real)cfg->form;
+        return "cfg->form: allowed LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA";
+    }
+    *value = cfg->weight;
+    if (cfg->form == LS_SYSTEM_LAMBDA && !(LS_RISFINITE(cfg->weight) && cfg->weight >= (ls_real)0))
+        return "cfg->weight: lambda must be finite and >= 0 (the paper: 19)";
+    if (cfg->form == LS_SYSTEM_ALPHA && !(cfg->weight >= (ls_real)0 && cfg->weight < (ls_real)1))
+        return "cfg->weight: alpha must be in [0, 1) (the paper: 0.95)";
+    if (solver == LS_PARAM_CG && cfg->cg_max_iter == 0) {
+        *value = (ls_real)0;
+        return "cfg->cg_max_iter: 0 with the CG solver would not solve; allowed >= 1 (e.g. 1000)";
+    }
+    if (solver == LS_PARAM_CG && !(cfg->cg_tol >= (ls_real)0)) {
+        *value = cfg->cg_tol;
+        return "cfg->cg_tol: the CG's relative tolerance, allowed >= 0 (e.g. 1e-6)";
+    }
+    return NULL;
+}
+
+static int config_valid(const ls_param_config *cfg, int grid)
+{
+    ls_real v;
+    return config_error(cfg, grid, &v) == NULL;
 }
 
 static int config_ok(const ls_csc *lap, const ls_param_config *cfg)
 {
     if (lap == NULL || cfg == NULL || lap->colptr == NULL || lap->nrows != lap->ncols) return 0;
     return config_valid(cfg, 0);
+}
+
+/* Names the invalid argument of an init call in *diag; returns LS_ERR_INVALID. */
+static ls_status invalid(ls_diag *diag, const char *what, const ls_param_config *cfg, int grid)
+{
+    ls_real v = (ls_real)0;
+    const char *bad = cfg != NULL ? config_error(cfg, grid, &v) : NULL;
+    if (what == NULL && bad != NULL) {
+        (void)ls_diag_set(diag, LS_ERR_INVALID, bad, LS_DIAG_NO_INDEX);
+        if (diag != NULL) {
+            diag->has_value = 1;
+            diag->value = v;
+        }
+        return LS_ERR_INVALID;
+    }
+    (void)ls_diag_set(diag, LS_ERR_INVALID, what != NULL ? what : "cfg is NULL", LS_DIAG_NO_INDEX);
+    return LS_ERR_INVALID;
+}
+
+void ls_param_config_default(ls_param_config *cfg)
+{
+    if (cfg == NULL) return;
+    memset(cfg, 0, sizeof *cfg);
+    cfg->solver = LS_PARAM_LDLT;
+    cfg->form = LS_SYSTEM_LAMBDA;
+    cfg->weight = (ls_real)19;
+    cfg->k = 3;
+    cfg->order = LS_ORDER_AUTO;
+    cfg->cg_max_iter = 1000;
+    cfg->cg_tol = (ls_real)1e-6;
 }
 
 /* The ordering actually used: AUTO and ND need coordinates. */
@@ -281,16 +344,77 @@ ls_status ls_param_init(ls_param *p, const ls_csc *lap, const ls_param_config *c
     coord_src c;
     ls_param q;
     ls_status st;
-    if (p == NULL || arena == NULL || !config_ok(lap, cfg)) {
-        set_diag(diag, LS_ERR_INVALID, "NULL argument or configuration out of range");
-        return LS_ERR_INVALID;
-    }
+    if (p == NULL || arena == NULL || cfg == NULL) return invalid(diag, "p, cfg or arena is NULL", cfg, 0);
+    if (lap == NULL || lap->colptr == NULL || lap->nrows != lap->ncols)
+        return invalid(diag, "lap: NULL or not a square matrix", cfg, 0);
+    if (!config_valid(cfg, 0)) return invalid(diag, NULL, cfg, 0);
     memset(&q, 0, sizeof q);
     q.solver = solver_of(cfg, 0);
     c.xyz = xyz;
     c.width = c.height = 0;
     mark = ls_arena_save(arena);
     st = build(&q, lap, cfg, &c, arena, diag);
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        return st;
+    }
+    *p = q;
+    ls_diag_clear(diag);
+    return LS_OK;
+}
+
+/* The Laplacian of ls_param_init_mesh. */
+static ls_status mesh_laplacian(const ls_mesh *mesh, ls_arena *arena, ls_csc *lap, ls_diag *diag)
+{
+    return ls_laplacian_uniform(mesh, LS_LAP_UPPER, arena, lap, diag);
+}
+
+ls_status ls_param_mesh_bytes(const ls_mesh *mesh, const ls_param_config *cfg, ls_arena *scratch, size_t *bytes)
+{
+    ls_arena_mark mark;
+    ls_size total, lap_peak;
+    ls_csc lap;
+    size_t old_peak, start, pb = 0;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (mesh == NULL || scratch == NULL || cfg == NULL || !config_valid(cfg, 0)) return LS_ERR_INVALID;
+    mark = ls_arena_save(scratch);
+    old_peak = scratch->peak;
+    start = ls_arena_used(scratch);
+    scratch->peak = start;
+    /* the Laplacian's build, measured: its peak, then its matrix below the rest */
+    st = mesh_laplacian(mesh, scratch, &lap, NULL);
+    if (st == LS_OK) {
+        size_t lap_bytes = scratch->bottom - mark.bottom;
+        ls_size_init(&lap_peak);
+        ls_size_add(&lap_peak, scratch->peak - start, 1);
+        st = ls_param_bytes(&lap, cfg, mesh->positions, scratch, &pb);
+        ls_size_init(&total);
+        ls_size_add(&total, lap_bytes, 1);
+        ls_size_add(&total, pb, 1);
+        ls_size_max(&total, &lap_peak);
+        if (st == LS_OK) st = ls_size_get(&total, bytes);
+    }
+    ls_arena_restore(scratch, mark);
+    if (scratch->peak < old_peak) scratch->peak = old_peak;
+    return st;
+}
+
+ls_status ls_param_init_mesh(ls_param *p, const ls_mesh *mesh, const ls_param_config *cfg, ls_arena *arena,
+                             ls_diag *diag)
+{
+    ls_arena_mark mark;
+    ls_csc lap;
+    ls_param q;
+    ls_status st;
+    if (p == NULL || mesh == NULL || arena == NULL || cfg == NULL)
+        return invalid(diag, "p, mesh, cfg or arena is NULL", cfg, 0);
+    if (!config_valid(cfg, 0)) return invalid(diag, NULL, cfg, 0);
+    mark = ls_arena_save(arena);
+    st = mesh_laplacian(mesh, arena, &lap, diag);
+    if (st == LS_ERR_NOMEM) set_diag(diag, LS_ERR_NOMEM, "arena too small for the parameterization's Laplacian");
+    if (st == LS_OK) st = ls_param_init(&q, &lap, cfg, mesh->positions, arena, diag);
     if (st != LS_OK) {
         ls_arena_restore(arena, mark);
         return st;
@@ -375,10 +499,10 @@ ls_status ls_param_grid_init(ls_param *p, const ls_grid_shape *shape, const ls_p
     ls_arena_mark mark;
     ls_param q;
     ls_status st;
-    if (p == NULL || arena == NULL || !grid_ok(shape, cfg)) {
-        set_diag(diag, LS_ERR_INVALID, "NULL argument or configuration out of range");
-        return LS_ERR_INVALID;
-    }
+    if (p == NULL || arena == NULL || cfg == NULL) return invalid(diag, "p, cfg or arena is NULL", cfg, 1);
+    if (shape == NULL || shape->width == 0 || shape->height == 0)
+        return invalid(diag, "shape: NULL, or a width or height of 0 (allowed >= 1)", cfg, 1);
+    if (!config_valid(cfg, 1)) return invalid(diag, NULL, cfg, 1);
     memset(&q, 0, sizeof q);
     q.solver = solver_of(cfg, 1);
     q.grid = 1;
@@ -403,6 +527,7 @@ ls_status ls_param_grid_init(ls_param *p, const ls_grid_shape *shape, const ls_p
         return st;
     }
     *p = q;
+    ls_diag_clear(diag);
     return LS_OK;
 }
 
@@ -508,15 +633,16 @@ ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, 
 ls_status ls_param_set_weight(ls_param *p, ls_real weight, ls_diag *diag)
 {
     ls_status st;
-    if (p == NULL) return LS_ERR_INVALID;
+    if (p == NULL) return invalid(diag, "p is NULL", NULL, 0);
     if (p->solver == LS_PARAM_GRID) {
         st = ls_grid_solver_set_weight(&p->gs, p->form, weight, diag);
         if (st != LS_OK) return st;
         p->weight = weight;
         p->identity = weight == (ls_real)0;
+        ls_diag_clear(diag);
         return LS_OK;
     }
-    if (p->m.values == NULL) return LS_ERR_INVALID;
+    if (p->m.values == NULL) return invalid(diag, "p: not initialised (ls_param_init)", NULL, 0);
     st = ls_laplacian_system_update(&p->lap, p->form, weight, &p->m, diag);
     if (st != LS_OK) return st;
     if (p->solver == LS_PARAM_LDLT) {
@@ -530,5 +656,6 @@ ls_status ls_param_set_weight(ls_param *p, ls_real weight, ls_diag *diag)
     }
     p->weight = weight;
     p->identity = weight == (ls_real)0;
+    ls_diag_clear(diag);
     return LS_OK;
 }

@@ -1,4 +1,4 @@
-/* toy1d.c - the seed's 1D toy: naive, regularized and large-steps descent on
+/* toy1d.c - the paper's 1D toy: naive, regularized and large-steps descent on
  * 32 points with gradients at the two ends only. */
 #include <largesteps/toy1d.h>
 #include <largesteps/laplacian.h>

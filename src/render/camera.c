@@ -254,6 +254,7 @@ static ls_status frame_nonfinite(uint32_t i, ls_diag *diag)
 ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_real fov, uint32_t fov_axis,
                           ls_real aspect, ls_real margin, ls_camera_framing *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_real lo[3], hi[3], c[3], r2 = (ls_real)0, t, proj[16];
     ls_real r, dist, near_plane, far_plane;
     uint32_t i;

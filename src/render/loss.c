@@ -210,6 +210,7 @@ ls_status ls_loss_begin(ls_loss_acc *acc, uint32_t kind, uint32_t width, uint32_
 ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real *target, ls_real *grad,
                        ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_real s = (ls_real)0;
     ls_status st;
     if (acc == NULL || rendered == NULL || target == NULL || !acc_ok(acc)) return LS_ERR_INVALID;
@@ -232,6 +233,7 @@ ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss)
 ls_status ls_loss_views(const ls_loss_shape *shape, const ls_real *const *rendered, const ls_real *const *target,
                         ls_real *const *grad, ls_real *loss, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_loss_acc acc;
     uint32_t v, view_count;
     ls_status st;

@@ -720,6 +720,7 @@ LS_NOINLINE static void draw_tile(const dpass *dp, const uint32_t *list, size_t 
 static ls_status raster_impl(ls_vis *vis, ls_arena *arena, const ls_real mvp[16], const ls_real *positions,
                              uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     rctx cx;
     ls_arena_mark mark;
     vbuf vb;
@@ -822,6 +823,7 @@ static ls_status raster_impl(ls_vis *vis, ls_arena *arena, const ls_real mvp[16]
 
 ls_status ls_raster(ls_vis *vis, const ls_view *view, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return raster_impl(vis, arena, view->mvp, view->positions, view->vertex_count, view->indices, view->triangle_count, diag);
 }

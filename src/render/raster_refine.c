@@ -666,6 +666,7 @@ static ls_status refine_shade_impl(const ls_vis *vis, const ls_edge_table *table
                                    const ls_shade_opts *opts, uint32_t aa, ls_real *image, ls_arena *arena,
                                    ls_refine_info *info, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     rf c;
     ls_arena_mark mark;
     pixel_job job;
@@ -711,6 +712,7 @@ static ls_status refine_shade_impl(const ls_vis *vis, const ls_edge_table *table
 ls_status ls_refine_shade(const ls_view *view, uint32_t aa, ls_real *image, ls_arena *arena, ls_refine_info *info,
                           ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return refine_shade_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals, view->vertex_count,
                            view->opts, aa, image, arena, info, diag);
@@ -722,6 +724,7 @@ static ls_status refine_shade_backward_impl(const ls_vis *vis, const ls_edge_tab
                                             const ls_real *grad_image, const ls_shade_grads *grads, ls_arena *arena,
                                             ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_shade_bctx bc;
     rf c;
     ls_arena_mark mark;
@@ -761,6 +764,7 @@ static ls_status refine_shade_backward_impl(const ls_vis *vis, const ls_edge_tab
 ls_status ls_refine_shade_backward(const ls_view *view, uint32_t aa, const ls_real *grad_image,
                                    const ls_shade_grads *grads, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return refine_shade_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
                                     view->vertex_count, view->opts, aa, view->mvp, grad_image, grads, arena, diag);

@@ -315,6 +315,7 @@ LS_NO_VECTORIZE LS_NOINLINE static void pixels_sh_plain(const bctx *bc, uint32_t
 ls_status ls_shade_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
                             ls_real *grad_normals, ls_real *grad_colors, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_shade_grads g;
     g.positions = grad_positions;
     g.normals = grad_normals;
@@ -409,6 +410,7 @@ static ls_status shade_backward_grads_impl(const ls_vis *vis, const uint32_t *in
                                            const ls_real mvp[16], const ls_real *grad_image, const ls_shade_grads *grads,
                                            ls_diag *diag)
 {
+    ls_diag_clear(diag);
     bctx bc;
     ls_status st = ls_shade_backward_begin(&bc, vis, indices, triangle_count, normals, vertex_count, opts, mvp,
                                            grad_image, grads, diag);
@@ -421,6 +423,7 @@ static ls_status shade_backward_grads_impl(const ls_vis *vis, const uint32_t *in
 ls_status ls_shade_backward_grads(const ls_view *view, const ls_real *grad_image, const ls_shade_grads *grads,
                                   ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return shade_backward_grads_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts,
                                    view->mvp, grad_image, grads, diag);
@@ -440,6 +443,7 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
                                      uint32_t triangle_count, const ls_real *grad_normals,
                                      ls_real *grad_positions, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_real *m;
     uint32_t t, v;

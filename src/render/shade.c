@@ -219,6 +219,7 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
 static ls_status shade_impl(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, const ls_real *normals,
                             uint32_t vertex_count, const ls_shade_opts *opts, ls_real *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     uint32_t x, y, ss;
     ls_real inv_n, bg_pixel[4];
     uint32_t counts[2];
@@ -297,6 +298,7 @@ static ls_status shade_impl(const ls_vis *vis, const uint32_t *indices, uint32_t
 
 ls_status ls_shade(const ls_view *view, ls_real *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return shade_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts, out, diag);
 }
@@ -352,6 +354,7 @@ void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, cons
 ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
                                   uint32_t triangle_count, ls_real *out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     uint32_t v;
     if ((vertex_count > 0 && (positions == NULL || out == NULL)) || (triangle_count > 0 && indices == NULL))
         return LS_ERR_INVALID;

@@ -720,6 +720,7 @@ static ls_status silhouette_backward_impl(const ls_vis *vis, const ls_edge_table
                                           const ls_real *grad_image, ls_real *grad_positions, ls_arena *arena,
                                           ls_diag *diag)
 {
+    ls_diag_clear(diag);
     sctx sc;
     uint32_t t, counts[2];
     ls_arena_mark mark;
@@ -759,6 +760,7 @@ static ls_status silhouette_backward_impl(const ls_vis *vis, const ls_edge_table
 ls_status ls_silhouette_backward(const ls_view *view, const ls_real *grad_image, ls_real *grad_positions,
                                  ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return silhouette_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
                                   view->vertex_count, view->opts, view->mvp, view->boost, grad_image, grad_positions,

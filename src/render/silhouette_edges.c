@@ -39,6 +39,7 @@ ls_status ls_edge_table_bytes(uint32_t triangle_count, size_t *bytes)
 ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uint32_t triangle_count,
                               uint32_t vertex_count, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     uint32_t *twin = NULL, t, n, boundary = 0;
     if (table == NULL || arena == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;

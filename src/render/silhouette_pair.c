@@ -134,6 +134,7 @@ static ls_status pair_check(pctx *pc, const ls_vis *vis, const ls_edge_table *ta
 static ls_status pair_forward_impl(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                                    uint32_t triangle_count, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     pctx pc;
     size_t n, p, k = 0;
     pitem it;
@@ -152,6 +153,7 @@ static ls_status pair_forward_impl(const ls_vis *vis, const ls_edge_table *table
 
 ls_status ls_pair_forward(const ls_view *view, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return pair_forward_impl(view->vis, view->table, view->indices, view->triangle_count, image_in, image_out, diag);
 }
@@ -160,6 +162,7 @@ static ls_status pair_backward_impl(const ls_vis *vis, const ls_edge_table *tabl
                                     uint32_t triangle_count, const ls_real mvp[16], ls_real boost, const ls_real *image_in,
                                     const ls_real *grad_out, ls_real *grad_in, ls_real *grad_positions, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     pctx pc;
     sctx sc;
     size_t k = 0;
@@ -204,6 +207,7 @@ static ls_status pair_backward_impl(const ls_vis *vis, const ls_edge_table *tabl
 ls_status ls_pair_backward(const ls_view *view, const ls_real *image_in, const ls_real *grad_out, ls_real *grad_in,
                            ls_real *grad_positions, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     if (view == NULL) return LS_ERR_INVALID;
     return pair_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->mvp, view->boost, image_in,
                             grad_out, grad_in, grad_positions, diag);

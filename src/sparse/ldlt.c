@@ -456,6 +456,7 @@ nomem:
 ls_status ls_ldlt_analyze(const ls_csc *a, uint32_t method, const uint32_t *perm, ls_arena *arena,
                           ls_ldlt *f, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     order_in in;
     if (method == LS_ORDER_ND || method == LS_ORDER_AUTO) {
         diag_fill(diag, LS_ERR_INVALID, "this ordering needs vertex coordinates: ls_ldlt_analyze_mesh");
@@ -469,6 +470,7 @@ ls_status ls_ldlt_analyze(const ls_csc *a, uint32_t method, const uint32_t *perm
 ls_status ls_ldlt_analyze_mesh(const ls_csc *a, uint32_t method, const ls_real *xyz, ls_arena *arena, ls_ldlt *f,
                                ls_diag *diag)
 {
+    ls_diag_clear(diag);
     order_in in;
     in.perm = NULL;
     in.xyz = xyz;
@@ -666,6 +668,7 @@ static ls_status check_matrix(const ls_ldlt *f, const ls_csc *a, ls_diag *diag)
 
 ls_status ls_ldlt_factor(ls_ldlt *f, const ls_csc *a, ls_arena *arena, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_ldlt g;
     ls_status st = check_matrix(f, a, diag);
@@ -702,6 +705,7 @@ ls_status ls_ldlt_factor(ls_ldlt *f, const ls_csc *a, ls_arena *arena, ls_diag *
 
 ls_status ls_ldlt_refactor(ls_ldlt *f, const ls_csc *a, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_status st = check_matrix(f, a, diag);
     if (st != LS_OK) return st;
     if (f->li == NULL) {

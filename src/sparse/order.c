@@ -452,6 +452,7 @@ static int amd_graph_run(const ls_csc *g, int32_t *block, int32_t *iw, size_t iw
 
 ls_status ls_order_amd(const ls_csc *a, ls_arena *arena, uint32_t *perm, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     int32_t *block, *iw;
     uint32_t n, j, q;
@@ -660,6 +661,7 @@ static uint32_t nd_cut(const nd_ctx *cx, uint32_t lo, uint32_t hi, const ls_real
 
 ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena, uint32_t *perm, ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     uint32_t n, j, q, *xadj, *adj, *stamp, *tmp, *sepw, *stack, top = 0, task = 0;
     int32_t *cons, *setlist, *setptr, *block, *iw;

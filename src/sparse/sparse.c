@@ -53,6 +53,7 @@ static ls_status from_triplets(uint32_t nrows, uint32_t ncols, size_t count, con
                                const uint32_t *cols, const ls_real *vals, ls_arena *arena, ls_csc *out,
                                ls_diag *diag)
 {
+    ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_csc m;
     uint32_t *rs, *order, j, w, p, start, end;

@@ -1,4 +1,4 @@
-/* m4_tradeoffs.c - the low end of the trade study (issue 14): memory and
+/* m4_tradeoffs.c - the low end of the trade study: memory and
  * instruction counts of the reconstruction on the Cortex-M4 port, against
  * render resolution and mesh size, so that an integrator can size a part.
  *

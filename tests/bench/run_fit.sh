@@ -1,6 +1,6 @@
 #!/bin/sh
 # tests/bench/run_fit.sh - time per iteration of the reconstruction against
-# the vertex count, with the stage breakdown (issue 11): the embedded bunny as
+# the vertex count, with the stage breakdown: the embedded bunny as
 # the target, 16 views at 128 x 128, large steps (lambda 19, LDL^T), no
 # remeshing, from icospheres of level 3 to 6 (642 to 40962 vertices), 20
 # iterations each (one thread). Writes $BUILD/bench/fit.md and prints it.

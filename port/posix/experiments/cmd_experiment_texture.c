@@ -1,5 +1,5 @@
 /* cmd_experiment_texture.c - `largesteps experiment texture [options] -o DIR`:
- * texture reconstruction from renders (the seed's texture figure).
+ * texture reconstruction from renders (the paper's texture figure).
  *
  * Target: a photo-like image read from a PNG (default: the "softwaves"
  * wallpaper of Debian's desktop-base package,
