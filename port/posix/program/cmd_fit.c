@@ -9,7 +9,8 @@
  * time, and the dense distances to the target every --track iterations),
  * convergence.svg (loss and Hausdorff distance against iteration and
  * time), contact.png (target,
- * initial and final render of every view, one row each).
+ * initial and final render of every view, one row each, each tile labelled
+ * with its row and view, over a grey checkerboard so that masks show).
  *
  * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset)
  * gives the cameras, the resolution, the lighting (SH coefficients, or an
@@ -464,6 +465,7 @@ int ls_cmd_fit(int argc, char **argv)
             if (st == LS_OK) st = ls_contact_put_rgba(&sheet, p.views + v, renders[v]);
             if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * p.views + v, renders[p.views + v]);
         }
+        if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
         ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
         if (!ls_posix_write_whole_in(a.out, "result.obj", write_obj, &run.result) ||

@@ -80,3 +80,17 @@ void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t)
     fprintf(f, "%s quality   min %.4f p1 %.4f p5 %.4f p50 %.4f mean %.4f (2 r / R)\n", name, (double)t->quality_min,
             (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50, (double)t->quality_mean);
 }
+
+ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views)
+{
+    static const char *const rows[3] = {"target", "initial", "result"};
+    char text[32];
+    uint32_t r, v;
+    ls_status st = LS_OK;
+    for (r = 0; r < 3u && st == LS_OK; r++)
+        for (v = 0; v < views && st == LS_OK; v++) {
+            snprintf(text, sizeof text, "%s %u", rows[r], (unsigned)v);
+            st = ls_contact_label(sheet, r * views + v, text);
+        }
+    return st == LS_OK ? ls_contact_backdrop(sheet, 8, 0.35f, 0.55f) : st;
+}

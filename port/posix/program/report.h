@@ -21,4 +21,10 @@ void ls_report_json_tangle(FILE *f, const char *name, const ls_tangle_report *t,
 void ls_report_text_distance(FILE *f, const ls_distance_report *d);
 void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t);
 
+/* The finishing of `largesteps fit`'s contact sheet (3 rows of `views`
+ * tiles: target, initial, result): each tile labelled "<row> <view>", then
+ * the sheet put over a grey checkerboard (ls_contact_backdrop: 8-pixel
+ * squares of 0.35 and 0.55) so that a mask fit's white silhouettes show. */
+ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views);
+
 #endif /* LS_REPORT_H */
