@@ -22,7 +22,7 @@
  * LS_IMAGE_PNG is compressed: each row takes the PNG filter (None, Sub, Up,
  * Average, Paeth) with the smallest sum of byte magnitudes, then deflate
  * (LZ77 over a 32 KiB window with zlib's level-6 parameters, each block the
- * smallest of stored, fixed and dynamic Huffman), from about 260 KiB of
+ * smallest of stored, fixed and dynamic Huffman), from about 282 KiB of
  * arena scratch; LS_IMAGE_PNG_STORED writes stored (uncompressed) deflate
  * blocks with no compressor and no filter (for small targets: 4 KiB of
  * scratch, a file size known in advance). Either way the bytes depend only
