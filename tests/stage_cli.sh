@@ -9,7 +9,9 @@
 # file and on a text scene; every output file present and complete; bad
 # options, unreadable and malformed inputs give the documented exit status
 # and message and leave no file behind; `largesteps experiment` writes its
-# table. Native gcc double build only.
+# table; the outputs people look at (complete log.csv rows, the plot's log
+# axes, ticks and remesh markers, an opaque labelled contact sheet, an ETA
+# that counts the remeshes). Native gcc double build only.
 jobs=${JOBS:-2}
 build=build/cli
 out=$build/out
@@ -53,8 +55,8 @@ if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --quiet -o "$out/bu
     if less "$rms" 0.025 && less "$h" 0.25; then ok "fit_bunny_close (RMS/diag $rms < 0.025, H/diag $h < 0.25)"; else bad "fit_bunny_close (RMS/diag $rms, H/diag $h)"; fi
     if [ "$pairs" = 0 ]; then ok "fit_bunny_untangled"; else bad "fit_bunny_untangled ($pairs pairs)"; fi
     if [ "$its" = 200 ] && [ "$(wc -l < "$out/bunny/log.csv")" = 202 ]; then ok "fit_log_has_every_iteration"; else bad "fit_log_has_every_iteration"; fi
-    # the log's last row is the final mesh's distance: the metrics' dense Hausdorff
-    last_h=$(tail -n 1 "$out/bunny/log.csv" | awk -F, '$1 == 200 && $2 == "" { print $4 }')
+    # the log's last row is the final mesh's distance: the metrics' dense Hausdorff (and its image loss)
+    last_h=$(tail -n 1 "$out/bunny/log.csv" | awk -F, '$1 == 200 && $2 != "" { print $4 }')
     dense_h=$(field "$m" hausdorff_rel)
     if [ -n "$last_h" ] && awk -v a="$last_h" -v b="$dense_h" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-5 * b) }'; then
         ok "fit_log_tracks_hausdorff ($last_h = metrics $dense_h)"; else bad "fit_log_tracks_hausdorff ('$last_h' vs $dense_h)"; fi
@@ -173,6 +175,81 @@ if [ "$(grep -c '^| large steps (Adam on u' "$out/texadam/texture.md" 2>/dev/nul
     ok "experiment_texture_ls_adam_rows"; else bad "experiment_texture_ls_adam_rows"; fi
 expect experiment_texture_bad_method 2 "usage" "$ls" experiment texture --methods ls,foo -o "$out/x"
 expect experiment_texture_bad_grid 2 "usage" "$ls" experiment texture --lr-ls 0.1,0 -o "$out/x"
+
+# 7. outputs people look at (log.csv, convergence.svg, contact.png, the ETA)
+# A short fit with two remeshes and distances every 10 iterations: every row
+# of log.csv has its loss and time (the last row, the final mesh, too); the
+# plot's y axes are logarithmic (ticks at powers of ten, minor ticks) with
+# x ticks, and each panel marks both remeshes; the contact sheet is opaque
+# (the checkerboard under the tiles).
+check outputs_fit "$ls" fit --iters 40 --res 32 --views 3 --remesh 10,25 --track 10 --quiet -o "$out/outputs"
+csv=$out/outputs/log.csv
+if [ -s "$csv" ] && awk -F, 'NR > 1 && ($2 !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/ || $3 !~ /^[0-9.]+$/) { bad = 1 } END { exit bad + 0 }' "$csv" &&
+    [ "$(tail -n 1 "$csv" | cut -d, -f1)" = 40 ] && [ -n "$(tail -n 1 "$csv" | cut -d, -f4)" ]; then
+    ok "outputs_csv_rows_complete (last: $(tail -n 1 "$csv"))"
+else bad "outputs_csv_rows_complete"; tail -n 2 "$csv"; fi
+svg=$out/outputs/convergence.svg
+if [ "$(grep -c 'class="remesh"' "$svg" 2>/dev/null)" = 8 ]; then ok "outputs_svg_remesh_markers (2 remeshes x 4 panels)"
+else bad "outputs_svg_remesh_markers ($(grep -c 'class="remesh"' "$svg" 2>/dev/null) markers)"; fi
+# every y tick label a power of ten, at least 2 per panel; minor ticks; x ticks
+if sed -n 's/.*class="ytick".*>\([^<]*\)<\/text><\/g>$/\1/p' "$svg" |
+        awk '{ if ($1 <= 0) bad = 1; else { l = log($1) / log(10); d = l - sprintf("%.0f", l); if (d * d > 1e-12) bad = 1 } n++ }
+             END { exit !(n >= 8 && !bad) }' &&
+    [ "$(grep -c 'class="yminor"' "$svg")" -ge 8 ] && [ "$(grep -c 'class="xtick"' "$svg")" -ge 8 ]; then
+    ok "outputs_svg_log_axes_and_ticks ($(grep -c 'class="ytick"' "$svg") decade ticks)"
+else bad "outputs_svg_log_axes_and_ticks"; fi
+if python3 - "$out/outputs/contact.png" <<'PY'
+import sys, struct, zlib
+b = open(sys.argv[1], 'rb').read()
+p, z, ihdr = 8, b'', None
+while p < len(b):
+    n = struct.unpack('>I', b[p:p + 4])[0]
+    t, d = b[p + 4:p + 8], b[p + 8:p + 8 + n]
+    if t == b'IHDR': ihdr = d
+    if t == b'IDAT': z += d
+    p += 12 + n
+w, h, bits, ct = struct.unpack('>IIBB', ihdr[:10])
+assert ct == 6 and bits == 8
+r, prev, rb = zlib.decompress(z), bytearray(4 * w), 4 * w
+for y in range(h):
+    f, cur = r[y * (rb + 1)], bytearray(r[y * (rb + 1) + 1:(y + 1) * (rb + 1)])
+    for i in range(rb):
+        a = cur[i - 4] if i >= 4 else 0
+        c = prev[i - 4] if i >= 4 else 0
+        u = prev[i]
+        q = a + u - c
+        pr = [0, a, u, (a + u) >> 1, a if abs(q - a) <= abs(q - u) and abs(q - a) <= abs(q - c) else u if abs(q - u) <= abs(q - c) else c][f]
+        cur[i] = (cur[i] + pr) & 255
+    assert all(cur[i] == 255 for i in range(3, rb, 4)), 'a transparent pixel in row %d' % y
+    prev = cur
+PY
+then ok "outputs_contact_sheet_opaque"; else bad "outputs_contact_sheet_opaque"; fi
+# The ETA counts the remeshes: ls_report_eta_ms (report.c) against hand-worked
+# figures: 10 ms per iteration, remeshes before 200 and 500 of 800 at h = 1/2
+# (growth guessed 2: 100 x 10 + 300 x 20 + 300 x 40 = 19000 ms, not the
+# 7000 ms of the average alone); after the first remesh (500 ms) the
+# iterations take 30 ms: growth measured 3, 290 x 30 + 500 x 3 + 300 x 90.
+cat > "$build/eta_test.c" <<'C'
+#include <stdio.h>
+#include "report.h"
+int main(void)
+{
+    static const uint32_t at[2] = {200, 500};
+    ls_report_eta e;
+    double a, b, c;
+    ls_report_eta_init(&e, at, 2, 0.5);
+    a = ls_report_eta_ms(&e, 100, 800, 1000.0);
+    ls_report_eta_remesh(&e, 200, 2000.0, 2500.0);
+    b = ls_report_eta_ms(&e, 210, 800, 2800.0);
+    c = ls_report_eta_ms(&e, 800, 800, 30000.0);
+    printf("%.3f %.3f %.3f\n", a, b, c);
+    return !(a > 18999.999 && a < 19000.001 && b > 37199.999 && b < 37200.001 && c == 0.0);
+}
+C
+if gcc -std=c99 -Iinclude -I"$build/include" -Iport/posix -Iport/posix/program "$build/eta_test.c" "$build/liblargesteps-posix.a" \
+        "$build/liblargesteps.a" -lm -o "$build/eta_test" 2> "$build/eta_test.log" && "$build/eta_test" > "$build/eta_test.out"; then
+    ok "outputs_eta_counts_remeshes ($(cat "$build/eta_test.out"))"
+else bad "outputs_eta_counts_remeshes"; cat "$build/eta_test.log" "$build/eta_test.out" 2>/dev/null | head -n 5; fi
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

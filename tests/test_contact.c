@@ -139,11 +139,150 @@ static void sizing_and_arena_sweep(void)
     }
 }
 
+
+/* The glyphs as drawn: ink (1) or box (0) at glyph pixel (c, r) of the
+ * 5 x 7 cell, written out here independently of the library's table. */
+static const char *const glyph_1[7] = {"..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###."};
+static const char *const glyph_t[7] = {".#...", ".#...", "###..", ".#...", ".#...", ".#..#", "..##."};
+
+/* Labels: the box and the glyphs pixel by pixel, the tile around them
+ * untouched, the neighbouring cell untouched, clipping, scale, errors. */
+static void labels_are_drawn_pixel_by_pixel(void)
+{
+    static LS_ARENA_BUFFER(m, 64u << 10);
+    ls_arena a;
+    ls_contact s;
+    const float grey[4] = {0.25f, 0.25f, 0.25f, 1.0f};
+    uint32_t x, y, k, t, bad = 0;
+    ls_arena_init(&a, m.bytes, sizeof m.bytes);
+    REQUIRE(ls_contact_init(&s, &a, 3, 40, 20, 3, 1, grey) == LS_OK);
+    for (t = 0; t < 3; t++)
+        for (y = 0; y < 20; y++)
+            for (x = 0; x < 40; x++)
+                for (k = 0; k < 4; k++) s.image.pixels[4 * (y * s.image.width + t * 41 + x) + k] = 0.5f;
+    CHECK_STATUS(ls_contact_label(&s, 1, "1t"), LS_OK);
+    for (y = 0; y < 20; y++)
+        for (x = 0; x < 40; x++) {
+            const float *p = s.image.pixels + 4 * (y * s.image.width + 41 + x);
+            float want = 0.5f, a_want = 0.5f;
+            if (x < 13 && y < 9) { /* the box: 6 n + 1 by 9 */
+                int ink = 0;
+                if (x >= 1 && y >= 1 && y <= 7 && (x - 1) % 6 < 5) {
+                    const char *const *g = (x - 1) / 6 == 0 ? glyph_1 : glyph_t;
+                    ink = g[y - 1][(x - 1) % 6] == '#';
+                }
+                want = ink ? 1.0f : 0.0f;
+                a_want = 1.0f;
+            }
+            if (p[0] != want || p[1] != want || p[2] != want || p[3] != a_want) bad++;
+        }
+    CHECK_EQ(bad, 0);
+    /* the cells on either side and the separators */
+    for (y = 0; y < 20; y++) {
+        CHECK(s.image.pixels[4 * (y * s.image.width + 39)] == 0.5f);
+        CHECK(s.image.pixels[4 * (y * s.image.width + 40)] == 0.25f);
+        CHECK(s.image.pixels[4 * (y * s.image.width + 80)] == 0.5f);
+        CHECK(s.image.pixels[4 * (y * s.image.width + 81)] == 0.25f);
+        CHECK(s.image.pixels[4 * (y * s.image.width + 82)] == 0.5f);
+    }
+    /* upper case as lower case, unknown bytes as '?' */
+    {
+        float first[4 * 13 * 9];
+        for (y = 0; y < 9; y++) memcpy(first + 4 * 13 * y, s.image.pixels + 4 * (y * s.image.width + 41), sizeof(float) * 4 * 13);
+        CHECK_STATUS(ls_contact_label(&s, 1, "1T"), LS_OK);
+        for (y = 0; y < 9; y++)
+            CHECK(memcmp(first + 4 * 13 * y, s.image.pixels + 4 * (y * s.image.width + 41), sizeof(float) * 4 * 13) == 0);
+        CHECK_STATUS(ls_contact_label(&s, 0, "\x01"), LS_OK);
+        CHECK_STATUS(ls_contact_label(&s, 2, "?"), LS_OK);
+        for (y = 0; y < 9; y++)
+            CHECK(memcmp(s.image.pixels + 4 * (y * s.image.width), s.image.pixels + 4 * (y * s.image.width + 82),
+                         sizeof(float) * 4 * 7) == 0);
+    }
+    /* a label longer than the cell is clipped to it */
+    CHECK_STATUS(ls_contact_label(&s, 0, "a long label that does not fit"), LS_OK);
+    for (y = 0; y < 20; y++) CHECK(s.image.pixels[4 * (y * s.image.width + 40)] == 0.25f);
+    for (y = 9; y < 20; y++) CHECK(s.image.pixels[4 * (y * s.image.width + 5)] == 0.5f);
+    CHECK_EQ(ls_contact_label_scale(40), 1);
+    CHECK_EQ(ls_contact_label_scale(256), 2);
+    CHECK_EQ(ls_contact_label_scale(100000), 4);
+    CHECK_STATUS(ls_contact_label(&s, 3, "x"), LS_ERR_INVALID);
+    CHECK_STATUS(ls_contact_label(&s, 0, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_contact_label(NULL, 0, "x"), LS_ERR_INVALID);
+}
+
+/* Scale 2 (tiles 256 wide): every glyph pixel is 2 x 2. */
+static void labels_scale_with_the_tile(void)
+{
+    ls_arena a;
+    ls_contact s;
+    uint32_t x, y, bad = 0;
+    size_t bytes;
+    void *mem;
+    REQUIRE(ls_contact_bytes(1, 256, 32, 1, 0, &bytes) == LS_OK);
+    mem = malloc(bytes + 64);
+    REQUIRE(mem != NULL && ls_arena_init(&a, mem, bytes + 64) == LS_OK);
+    REQUIRE(ls_contact_init(&s, &a, 1, 256, 32, 1, 0, NULL) == LS_OK);
+    CHECK_STATUS(ls_contact_label(&s, 0, "1"), LS_OK);
+    for (y = 0; y < 32; y++)
+        for (x = 0; x < 256; x++) {
+            float want = 0.0f; /* the box and the black initial sheet */
+            if (x >= 2 && x < 12 && y >= 2 && y < 16) want = glyph_1[y / 2 - 1][x / 2 - 1] == '#' ? 1.0f : 0.0f;
+            if (s.image.pixels[4 * (y * 256 + x)] != want) bad++;
+        }
+    CHECK_EQ(bad, 0);
+    free(mem);
+}
+
+/* The backdrop: transparent pixels show the checkerboard, partly covered
+ * ones blend (premultiplied), opaque ones and the separators keep their
+ * values; alpha becomes 1. */
+static void backdrop_shows_masks(void)
+{
+    static LS_ARENA_BUFFER(m, 16u << 10);
+    ls_arena a;
+    ls_contact s;
+    const float sepc[4] = {0.1f, 0.2f, 0.3f, 1.0f};
+    uint32_t x, y, k, bad = 0;
+    ls_arena_init(&a, m.bytes, sizeof m.bytes);
+    REQUIRE(ls_contact_init(&s, &a, 2, 8, 6, 2, 1, sepc) == LS_OK);
+    /* tile 0: a white mask (alpha = coverage) on transparent black; tile 1 opaque */
+    for (y = 0; y < 6; y++)
+        for (x = 0; x < 8; x++) {
+            float *p0 = s.image.pixels + 4 * (y * s.image.width + x), *p1 = p0 + 4 * 9;
+            float cov = x < 3 ? 1.0f : x == 3 ? 0.5f : 0.0f;
+            for (k = 0; k < 3; k++) p0[k] = cov, p1[k] = 0.75f;
+            p0[3] = cov;
+            p1[3] = 1.0f;
+        }
+    CHECK_STATUS(ls_contact_backdrop(&s, 2, 0.25f, 0.5f), LS_OK);
+    for (y = 0; y < 6; y++)
+        for (x = 0; x < s.image.width; x++) {
+            const float *p = s.image.pixels + 4 * (y * s.image.width + x);
+            float grey = ((x / 2 + y / 2) & 1) ? 0.5f : 0.25f, want[4];
+            if (x == 8) memcpy(want, sepc, sizeof want);
+            else if (x > 8) want[0] = want[1] = want[2] = 0.75f;
+            else if (x < 3) want[0] = want[1] = want[2] = 1.0f;
+            else if (x == 3) want[0] = want[1] = want[2] = 0.5f + 0.5f * grey;
+            else want[0] = want[1] = want[2] = grey;
+            want[3] = 1.0f;
+            if (x == 8) want[3] = sepc[3];
+            if (memcmp(p, want, sizeof want) != 0) bad++;
+        }
+    CHECK_EQ(bad, 0);
+    CHECK_STATUS(ls_contact_backdrop(&s, 0, 1.5f, 0.5f), LS_ERR_INVALID);
+    CHECK_STATUS(ls_contact_backdrop(NULL, 0, 0.5f, 0.5f), LS_ERR_INVALID);
+    s.magic = 0;
+    CHECK_STATUS(ls_contact_backdrop(&s, 0, 0.5f, 0.5f), LS_ERR_STATE);
+}
+
 int main(void)
 {
     TEST_INIT("test_contact");
     TEST_RUN(layout_matches_the_formula);
     TEST_RUN(every_pixel_lands_in_its_cell);
     TEST_RUN(sizing_and_arena_sweep);
+    TEST_RUN(labels_are_drawn_pixel_by_pixel);
+    TEST_RUN(labels_scale_with_the_tile);
+    TEST_RUN(backdrop_shows_masks);
     return TEST_END();
 }

@@ -310,8 +310,15 @@ static void round_trip_every_format(void)
                 f.bits = bits;
                 f.big_endian = 0;
                 n = encode(&src, LS_IMAGE_PNG, ch, bits, 0);
-                CHECK(ls_image_encoded_size(src.width, src.height, &f, &want) == LS_OK && want == n);
+                /* compressed: the size query is a bound */
+                CHECK(ls_image_encoded_size(src.width, src.height, &f, &want) == LS_OK && n > 0 && n <= want);
                 sprintf(what, "png %ux%u ch%u %u-bit", src.width, src.height, ch, bits);
+                CHECK_MSG(decode(outbuf, n, &dec, &d) == LS_OK, "%s: %s", what, d.what);
+                check_decoded(&src, &dec, ch, what);
+                f.type = LS_IMAGE_PNG_STORED;
+                n = encode(&src, LS_IMAGE_PNG_STORED, ch, bits, 0);
+                CHECK(ls_image_encoded_size(src.width, src.height, &f, &want) == LS_OK && want == n);
+                sprintf(what, "stored png %ux%u ch%u %u-bit", src.width, src.height, ch, bits);
                 CHECK_MSG(decode(outbuf, n, &dec, &d) == LS_OK, "%s: %s", what, d.what);
                 check_decoded(&src, &dec, ch, what);
                 if (ch == 1 || ch == 3) {
@@ -356,7 +363,7 @@ static void round_trip_every_format(void)
 }
 
 /* Python's zlib.compress(level 0) of a 1x1 grey PNG with value 0x80: our
- * encoder writes the same bytes. */
+ * stored encoder writes the same bytes. */
 static void png_bytes_match_reference(void)
 {
     static const unsigned char want[70] = {
@@ -370,7 +377,7 @@ static void png_bytes_match_reference(void)
     size_t n;
     REQUIRE(ls_image_create(&img, 1, 1, &a) == LS_OK);
     img.pixels[0] = 128.0f / 255.0f;
-    n = encode(&img, LS_IMAGE_PNG, 1, 8, 0);
+    n = encode(&img, LS_IMAGE_PNG_STORED, 1, 8, 0);
     CHECK_EQ(n, 70);
     CHECK(memcmp(outbuf, want, 70) == 0);
     n = encode(&img, LS_IMAGE_PNM, 1, 8, 0);
@@ -394,7 +401,7 @@ static void large_png_spans_blocks_and_chunks(void)
     ls_arena_init(&sa, src_mem.bytes, sizeof src_mem.bytes);
     REQUIRE(ls_image_create(&src, 250, 240, &sa) == LS_OK); /* 480 KB of raw RGBA16 */
     fill_pattern(&src, 65535.0f);
-    n = encode(&src, LS_IMAGE_PNG, 4, 16, 0);
+    n = encode(&src, LS_IMAGE_PNG_STORED, 4, 16, 0);
     REQUIRE(n > 480000);
     while (pos + 12 <= n) {
         if (memcmp(outbuf + pos + 4, "IDAT", 4) == 0) {
@@ -407,6 +414,183 @@ static void large_png_spans_blocks_and_chunks(void)
     CHECK_EQ(pos, n);
     REQUIRE(decode(outbuf, n, &dec, &d) == LS_OK);
     check_decoded(&src, &dec, 4, "large rgba16");
+}
+
+
+/* --- the compressor --------------------------------------------------------- */
+
+/* A render-like picture (what the program writes): a shaded disc on a
+ * transparent background, samples quantised to q / m. */
+static void fill_render(ls_image *img, float m)
+{
+    uint32_t x, y, k;
+    float cx = 0.5f * (float)img->width, cy = 0.45f * (float)img->height;
+    float r = 0.38f * (float)(img->width < img->height ? img->width : img->height);
+    for (y = 0; y < img->height; y++)
+        for (x = 0; x < img->width; x++) {
+            float *p = img->pixels + 4 * ((size_t)y * img->width + x);
+            float dx = ((float)x + 0.5f - cx) / r, dy = ((float)y + 0.5f - cy) / r, r2 = dx * dx + dy * dy;
+            if (r2 < 1.0f) {
+                float nz = sqrtf(1.0f - r2), l = 0.15f + 0.85f * (0.3f * -dx + 0.5f * -dy + 0.81f * nz);
+                if (l < 0.05f) l = 0.05f;
+                p[0] = 0.9f * l;
+                p[1] = 0.75f * l;
+                p[2] = 0.6f * l;
+                p[3] = 1.0f;
+            } else {
+                p[0] = p[1] = p[2] = p[3] = 0.0f;
+            }
+            for (k = 0; k < 4; k++) p[k] = (float)(m > 255.0f ? ls_unorm16(p[k]) : ls_unorm8(p[k])) / m;
+        }
+}
+
+static void fill_noise(ls_image *img, float m)
+{
+    size_t i, n = (size_t)img->width * img->height * 4;
+    uint32_t x = 2463534242u;
+    for (i = 0; i < n; i++) {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        img->pixels[i] = (float)((x >> 7) % ((uint32_t)m + 1u)) / m;
+    }
+}
+
+/* Every pattern, shape, channel count and depth: the file decodes (our
+ * inflate) to the pixels, and its size is within ls_image_encoded_size. */
+static void png_deflate_round_trips(void)
+{
+    static const uint32_t sizes[][2] = {{1, 1}, {2, 3}, {300, 2}, {257, 9}, {513, 3}, {1, 300}, {64, 48}};
+    static LS_ARENA_BUFFER(src_mem, 600000);
+    uint32_t s, pat, ch, bits;
+    char what[96];
+    for (s = 0; s < sizeof sizes / sizeof sizes[0]; s++)
+        for (pat = 0; pat < 4; pat++)
+            for (bits = 8; bits <= 16; bits += 8)
+                for (ch = 1; ch <= 4; ch++) {
+                    ls_arena sa;
+                    ls_image src, dec;
+                    ls_image_format f = {LS_IMAGE_PNG, 0, 0, 0};
+                    ls_diag d;
+                    size_t n, want = 0, k;
+                    float m = bits == 8 ? 255.0f : 65535.0f;
+                    ls_arena_init(&sa, src_mem.bytes, sizeof src_mem.bytes);
+                    REQUIRE(ls_image_create(&src, sizes[s][0], sizes[s][1], &sa) == LS_OK);
+                    if (pat == 0) fill_pattern(&src, m);
+                    else if (pat == 1) fill_noise(&src, m);
+                    else if (pat == 2) fill_render(&src, m);
+                    else
+                        for (k = 0; k < 4u * src.width * src.height; k++) src.pixels[k] = 0.25f;
+                    if (pat == 3) fill_pattern(&src, 1.0f); /* 0 and 1 only: long runs */
+                    f.channels = ch;
+                    f.bits = bits;
+                    n = encode(&src, LS_IMAGE_PNG, ch, bits, 0);
+                    CHECK(ls_image_encoded_size(src.width, src.height, &f, &want) == LS_OK);
+                    sprintf(what, "deflate %ux%u pattern %u ch%u %u-bit", src.width, src.height, pat, ch, bits);
+                    CHECK_MSG(n > 0 && n <= want, "%s: %lu bytes, bound %lu", what, (unsigned long)n, (unsigned long)want);
+                    CHECK_MSG(decode(outbuf, n, &dec, &d) == LS_OK, "%s: %s", what, d.what);
+                    check_decoded(&src, &dec, ch, what);
+                }
+}
+
+/* Beyond one window and one block: window slides, blocks ended by a full
+ * symbol buffer and by a slide, stored fallback for noise, IDAT chunks of
+ * 16 KiB; the same bytes from a second run (no state kept between calls). */
+static void png_deflate_large_images(void)
+{
+    static const uint32_t dims[][3] = {{400, 300, 0}, {300, 200, 1}, {400, 300, 2}};
+    size_t i;
+    unsigned char *mem = (unsigned char *)malloc(6u << 20);
+    REQUIRE(mem != NULL);
+    for (i = 0; i < 3; i++) {
+        ls_arena sa;
+        ls_image src, dec;
+        ls_diag d;
+        size_t n, n2, pos = 8, idats = 0, want = 0, last = 0;
+        uint64_t h;
+        ls_image_format f = {LS_IMAGE_PNG, 4, 8, 0};
+        ls_arena_init(&sa, mem, 6u << 20);
+        REQUIRE(ls_image_create(&src, dims[i][0], dims[i][1], &sa) == LS_OK);
+        if (dims[i][2] == 0) fill_render(&src, 255.0f);
+        else if (dims[i][2] == 1) fill_noise(&src, 255.0f);
+        else fill_pattern(&src, 255.0f);
+        n = encode(&src, LS_IMAGE_PNG, 4, 8, 0);
+        REQUIRE(n > 0);
+        CHECK(ls_image_encoded_size(src.width, src.height, &f, &want) == LS_OK && n <= want);
+        while (pos + 12 <= n) {
+            if (memcmp(outbuf + pos + 4, "IDAT", 4) == 0) {
+                CHECK(idats == 0 || last == 16384u); /* every IDAT but the last is full */
+                last = be32r(outbuf + pos);
+                CHECK(last > 0 && last <= 16384u);
+                idats++;
+            }
+            pos += 12 + be32r(outbuf + pos);
+        }
+        CHECK_EQ(pos, n);
+        CHECK(idats >= 1);
+        h = test_hash(outbuf, n, TEST_HASH_SEED);
+        REQUIRE(decode(outbuf, n, &dec, &d) == LS_OK);
+        check_decoded(&src, &dec, 4, "large deflate");
+        n2 = encode(&src, LS_IMAGE_PNG, 4, 8, 0);
+        CHECK(n2 == n && test_hash(outbuf, n, TEST_HASH_SEED) == h);
+        if (dims[i][2] == 0) CHECK(n < 480300u / 10u); /* raw: 480300 bytes */
+        if (dims[i][2] == 1) CHECK(n > 240200u);       /* noise: stored blocks */
+        if (dims[i][2] == 2) CHECK(n < 480300u / 4u);
+    }
+    free(mem);
+}
+
+/* The size against zlib: the render-like 128 x 128 RGBA8 picture. zlib -6 of
+ * its unfiltered rows (Python: zlib.compress(rows, 6), rows = a filter byte 0
+ * and the 512 samples of each row) is ZLIB6 bytes; the file must be within
+ * 1.3 x that plus the PNG chunks (57 bytes), and far below the stored file. */
+#define ZLIB6_RENDER128 10152u
+static void png_deflate_size_against_zlib(void)
+{
+    ls_arena a = fresh_arena();
+    ls_image img;
+    size_t n, stored;
+    REQUIRE(ls_image_create(&img, 128, 128, &a) == LS_OK);
+    fill_render(&img, 255.0f);
+    stored = encode(&img, LS_IMAGE_PNG_STORED, 4, 8, 0);
+    n = encode(&img, LS_IMAGE_PNG, 4, 8, 0);
+    CHECK_EQ(stored, 65749);
+    CHECK_MSG(n > 0 && (double)n <= 1.3 * ZLIB6_RENDER128 + 57.0, "%lu bytes, zlib -6 %u", (unsigned long)n,
+              (unsigned)ZLIB6_RENDER128);
+    printf("     png 128x128 render-like RGBA8: stored %lu bytes, compressed %lu, zlib -6 of the rows %u\n",
+           (unsigned long)stored, (unsigned long)n, (unsigned)ZLIB6_RENDER128);
+}
+
+
+/* The compressed bytes are a function of the pixels only: the same hash on
+ * every target (tests/digest.c hashes stored PNG: the compressor's state does
+ * not fit the MCU profile). */
+static void png_deflate_bytes_are_pinned(void)
+{
+    static const struct { uint32_t w, h, pattern, ch, bits; uint64_t hash; size_t n; } cases[] = {
+        {128, 128, 0, 4, 8, 0xcc45813ef3b1cbeaull, 6934},
+        {64, 48, 1, 3, 16, 0x74ac049e73d003d3ull, 4379},
+        {300, 200, 2, 4, 8, 0xe3e7c887f6c9288eull, 240506}};
+    unsigned char *mem = (unsigned char *)malloc(2u << 20);
+    size_t i;
+    REQUIRE(mem != NULL);
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        ls_arena sa;
+        ls_image img;
+        size_t n;
+        uint64_t h;
+        float m = cases[i].bits == 8 ? 255.0f : 65535.0f;
+        ls_arena_init(&sa, mem, 2u << 20);
+        REQUIRE(ls_image_create(&img, cases[i].w, cases[i].h, &sa) == LS_OK);
+        if (cases[i].pattern == 0) fill_render(&img, m);
+        else if (cases[i].pattern == 1) fill_pattern(&img, m);
+        else fill_noise(&img, m);
+        n = encode(&img, LS_IMAGE_PNG, cases[i].ch, cases[i].bits, 0);
+        h = test_hash(outbuf, n, TEST_HASH_SEED);
+        CHECK_MSG(h == cases[i].hash && n == cases[i].n, "case %lu: %016llx, %lu bytes", (unsigned long)i,
+                  (unsigned long long)h, (unsigned long)n);
+    }
+    free(mem);
 }
 
 /* --- fixtures from Python's zlib ------------------------------------------ */
@@ -765,7 +949,7 @@ static size_t small_png(uint32_t ch, uint32_t bits)
     ls_arena_init(&a, m.bytes, sizeof m.bytes);
     ls_image_create(&img, 5, 4, &a);
     fill_pattern(&img, 255.0f);
-    return encode(&img, LS_IMAGE_PNG, ch, bits, 0);
+    return encode(&img, LS_IMAGE_PNG_STORED, ch, bits, 0); /* the tests below edit its stored data */
 }
 
 static void expect_png_error(unsigned char *png, size_t n, ls_status want, const char *what)
@@ -1203,7 +1387,7 @@ static void sweep_encoders(void)
     ls_arena_init(&a, m.bytes, sizeof m.bytes);
     REQUIRE(ls_image_create(&j.img, 9, 7, &a) == LS_OK);
     fill_pattern(&j.img, 255.0f);
-    for (t = 1; t <= 3; t++) {
+    for (t = 1; t <= 4; t++) { /* PNG, PNM, PFM, PNG_STORED */
         j.f.type = t;
         j.f.channels = 3;
         j.f.bits = t == 3 ? 32 : 16;
@@ -1230,8 +1414,15 @@ static void sweep_encoders(void)
         small.capacity = 100;
         small.size = 0;
         small.overflow = 0;
-        j.f.type = LS_IMAGE_PNG;
+        j.f.type = LS_IMAGE_PNG_STORED;
         j.f.bits = 8;
+        CHECK_STATUS(ls_image_encode(&j.img, &j.f, ls_membuf_write, &small, &b), LS_ERR_IO);
+        CHECK_EQ(ls_arena_used(&b), 0);
+        CHECK_EQ(small.overflow, 1);
+        j.f.type = LS_IMAGE_PNG;
+        small.capacity = 40;
+        small.size = 0;
+        small.overflow = 0;
         CHECK_STATUS(ls_image_encode(&j.img, &j.f, ls_membuf_write, &small, &b), LS_ERR_IO);
         CHECK_EQ(ls_arena_used(&b), 0);
         CHECK_EQ(small.overflow, 1);
@@ -1290,6 +1481,10 @@ int main(void)
     TEST_RUN(round_trip_every_format);
     TEST_RUN(png_bytes_match_reference);
     TEST_RUN(large_png_spans_blocks_and_chunks);
+    TEST_RUN(png_deflate_round_trips);
+    TEST_RUN(png_deflate_large_images);
+    TEST_RUN(png_deflate_size_against_zlib);
+    TEST_RUN(png_deflate_bytes_are_pinned);
     TEST_RUN(python_fixtures_decode_exactly);
     TEST_RUN(inflate_handcrafted_dynamic_block);
     TEST_RUN(inflate_rejects_malformed_streams);

@@ -10,8 +10,10 @@
  *     height = rows tile_h + (rows - 1) sep.
  * Separator lines and cells without a tile keep the separator colour the
  * sheet was created with. columns = 0 picks the smallest c with c^2 >= count
- * (a near-square grid). The sheet is an ls_image (largesteps/image.h), to be
- * encoded with ls_image_encode.
+ * (a near-square grid). Tiles can be labelled (ls_contact_label: a built-in
+ * bitmap font) and the sheet put over a grey checkerboard so that masks and
+ * transparent backgrounds show (ls_contact_backdrop). The sheet is an
+ * ls_image (largesteps/image.h), to be encoded with ls_image_encode.
  */
 #ifndef LARGESTEPS_CONTACT_H
 #define LARGESTEPS_CONTACT_H
@@ -66,6 +68,31 @@ ls_status ls_contact_put_image(ls_contact *sheet, uint32_t index, const ls_image
  * rows top first (the layout of ls_shade's output), each value rounded to
  * float. Errors as ls_contact_put_image. O(tile pixels); no memory. */
 ls_status ls_contact_put_rgba(ls_contact *sheet, uint32_t index, const ls_real *rgba);
+
+/* ls_contact_label: writes `text` at the top-left corner of cell `index` in
+ * the built-in 5 x 7 pixel font (digits, letters, space and - . : / = + %
+ * ( ) _ ? , #; upper case is drawn as lower case, other bytes as '?'), white
+ * glyphs on an opaque black box, the glyphs and their margin of one glyph
+ * pixel scaled by ls_contact_label_scale(tile_w); the box is
+ * (6 n + 1) s x 9 s pixels for n characters at scale s, clipped to the cell.
+ * Call it after the tile is put (putting a tile overwrites its cell).
+ * Errors as ls_contact_put_image (a NULL text: LS_ERR_INVALID).
+ * O(label pixels); no memory. */
+ls_status ls_contact_label(ls_contact *sheet, uint32_t index, const char *text);
+
+/* ls_contact_label_scale: the label's pixel scale for tiles tile_w wide:
+ * 1 + tile_w / 256, at most 4. O(1). */
+uint32_t ls_contact_label_scale(uint32_t tile_w);
+
+/* ls_contact_backdrop: puts every pixel with alpha below 1 over an opaque
+ * checkerboard of `square`-pixel squares (0: plain) of the greys dark (the
+ * top-left square) and light, both in [0, 1]: the colour channels are taken
+ * as premultiplied by alpha (ls_shade's output over its default black
+ * background), so c = c + (1 - a) grey and a = 1 (alpha below 0 or NaN
+ * counts as 0). A white mask, invisible over white in a viewer, shows
+ * against the greys. Errors: LS_ERR_INVALID (NULL sheet, a grey outside
+ * [0, 1]), LS_ERR_STATE (sheet not initialised). O(sheet pixels); no memory. */
+ls_status ls_contact_backdrop(ls_contact *sheet, uint32_t square, float dark, float light);
 
 #ifdef __cplusplus
 }

@@ -18,9 +18,15 @@
  * M = 2^bits - 1), so decode followed by encode at the same depth gives back
  * the file's integers exactly.
  *
- * Encoding writes through a caller's ls_write_fn (largesteps/stream.h); PNG
- * is written with stored (uncompressed) deflate blocks, so no compressor is
- * needed and the bytes depend only on the pixels. Decoding reads from memory
+ * Encoding writes through a caller's ls_write_fn (largesteps/stream.h).
+ * LS_IMAGE_PNG is compressed: each row takes the PNG filter (None, Sub, Up,
+ * Average, Paeth) with the smallest sum of byte magnitudes, then deflate
+ * (LZ77 over a 32 KiB window with zlib's level-6 parameters, each block the
+ * smallest of stored, fixed and dynamic Huffman), from about 282 KiB of
+ * arena scratch; LS_IMAGE_PNG_STORED writes stored (uncompressed) deflate
+ * blocks with no compressor and no filter (for small targets: 4 KiB of
+ * scratch, a file size known in advance). Either way the bytes depend only
+ * on the pixels and the format. Decoding reads from memory
  * in two phases: ls_image_decode_info parses and checks the header (and, for
  * PNG, every chunk and CRC) and states the exact arena bytes; ls_image_decode
  * then decodes. PNG decoding has a full inflate (stored, fixed and dynamic
@@ -55,13 +61,14 @@ typedef struct ls_image {
 } ls_image;
 
 /* File formats (ls_image_format.type). */
-#define LS_IMAGE_PNG 1u /* PNG */
+#define LS_IMAGE_PNG 1u /* PNG (written deflate-compressed) */
 #define LS_IMAGE_PNM 2u /* binary PGM (P5, 1 channel) and PPM (P6, 3 channels) */
 #define LS_IMAGE_PFM 3u /* Portable Float Map: "Pf" (1 channel) or "PF" (3 channels) */
+#define LS_IMAGE_PNG_STORED 4u /* encoding only: PNG with stored (uncompressed) deflate blocks */
 
 /* How an image is (to be) stored. Channels: 1 grey (the R channel when
  * encoding), 2 grey + alpha (R and A), 3 RGB, 4 RGBA. Allowed combinations
- * for encoding: PNG 1-4 channels at 8 or 16 bits; PNM 1 or 3 channels at 8
+ * for encoding: PNG and PNG_STORED 1-4 channels at 8 or 16 bits; PNM 1 or 3 channels at 8
  * or 16 bits (16-bit samples big-endian, maxval 65535); PFM 1 or 3 channels,
  * bits = 32, big_endian 0 (scale -1.0) or 1 (scale 1.0). */
 typedef struct ls_image_format {
@@ -118,17 +125,21 @@ ls_status ls_image_from_unorm(ls_image *image, uint32_t channels, uint32_t bits,
                               const void *in, size_t in_bytes);
 
 /* ls_image_encode_bytes: the exact arena bytes ls_image_encode takes for a
- * width x height image in `format` (a fixed staging buffer, taken as scratch
- * and released on return). LS_ERR_INVALID for a format it cannot write, errors
+ * width x height image in `format` (a fixed staging buffer, plus for
+ * LS_IMAGE_PNG the compressor's fixed state, taken as scratch and released
+ * on return; the same for every image size). LS_ERR_INVALID for a format it cannot write, errors
  * of ls_image_bytes for the size. O(1). */
 ls_status ls_image_encode_bytes(uint32_t width, uint32_t height, const ls_image_format *format,
                                 size_t *arena_bytes);
 
-/* ls_image_encoded_size: the exact length in bytes of the file ls_image_encode
- * writes for a width x height image in `format` (PNG: signature, IHDR, IDAT
- * chunks of at most 65536 bytes holding a zlib stream of stored blocks of at
- * most 65535 bytes, IEND; PNM and PFM: header and samples). LS_ERR_TOO_LARGE
- * when it overflows size_t. O(1). */
+/* ls_image_encoded_size: the length in bytes of the file ls_image_encode
+ * writes for a width x height image in `format`: exact for
+ * LS_IMAGE_PNG_STORED (signature, IHDR, IDAT chunks of at most 65536 bytes
+ * holding a zlib stream of stored blocks of at most 65535 bytes, IEND), PNM
+ * and PFM (header and samples); for LS_IMAGE_PNG an upper bound that holds
+ * for any pixels (a few bytes per 16 KiB above the stored size: the
+ * compressor falls back to stored blocks), so a buffer of that size always
+ * holds the file. LS_ERR_TOO_LARGE when it overflows size_t. O(1). */
 ls_status ls_image_encoded_size(uint32_t width, uint32_t height, const ls_image_format *format,
                                 size_t *file_bytes);
 

@@ -132,6 +132,7 @@ static int format_writable(const ls_image_format *f)
     if (f == NULL) return 0;
     switch (f->type) {
     case LS_IMAGE_PNG:
+    case LS_IMAGE_PNG_STORED:
         return f->channels >= 1u && f->channels <= 4u && (f->bits == 8u || f->bits == 16u);
     case LS_IMAGE_PNM:
         return (f->channels == 1u || f->channels == 3u) && (f->bits == 8u || f->bits == 16u);
@@ -173,7 +174,7 @@ ls_status ls_image_encode_bytes(uint32_t width, uint32_t height, const ls_image_
     if (!format_writable(format)) return LS_ERR_INVALID;
     st = ls_image_bytes(width, height, &image);
     if (st != LS_OK) return st;
-    *arena_bytes = LS_ARENA_ROUND(LS_IMAGE_STAGING);
+    *arena_bytes = LS_ARENA_ROUND(LS_IMAGE_STAGING) + LS_ARENA_ROUND(ls_png_encode_scratch_(format));
     return LS_OK;
 }
 
@@ -187,7 +188,8 @@ ls_status ls_image_encoded_size(uint32_t width, uint32_t height, const ls_image_
     if (!format_writable(format)) return LS_ERR_INVALID;
     st = ls_image_bytes(width, height, &image);
     if (st != LS_OK) return st;
-    if (format->type == LS_IMAGE_PNG) return ls_png_encoded_size_(width, height, format, file_bytes);
+    if (format->type == LS_IMAGE_PNG || format->type == LS_IMAGE_PNG_STORED)
+        return ls_png_encoded_size_(width, height, format, file_bytes);
     return ls_pnm_encoded_size_(width, height, format, file_bytes);
 }
 
@@ -196,21 +198,27 @@ ls_status ls_image_encode(const ls_image *image, const ls_image_format *format, 
 {
     ls_arena_mark mark;
     ls_image_sink sink;
-    size_t bytes;
+    size_t bytes, extra;
+    void *scratch = NULL;
     if (image == NULL || image->pixels == NULL || write == NULL || arena == NULL ||
         !format_writable(format))
         return LS_ERR_INVALID;
     if (ls_image_bytes(image->width, image->height, &bytes) != LS_OK) return LS_ERR_INVALID;
     mark = ls_arena_save(arena);
     sink.buf = (unsigned char *)ls_arena_scratch(arena, LS_IMAGE_STAGING, 1);
-    if (sink.buf == NULL) return LS_ERR_NOMEM;
+    extra = ls_png_encode_scratch_(format);
+    if (sink.buf != NULL && extra > 0) scratch = ls_arena_scratch(arena, extra, 1);
+    if (sink.buf == NULL || (extra > 0 && scratch == NULL)) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
     sink.write = write;
     sink.user = user;
     sink.len = 0;
     sink.cap = LS_IMAGE_STAGING;
     sink.status = LS_OK;
-    if (format->type == LS_IMAGE_PNG)
-        ls_png_encode_(image, format, &sink);
+    if (format->type == LS_IMAGE_PNG || format->type == LS_IMAGE_PNG_STORED)
+        ls_png_encode_(image, format, &sink, scratch);
     else
         ls_pnm_encode_(image, format, &sink);
     ls_image_sink_flush_(&sink);

@@ -1,5 +1,5 @@
 /* image_codec.h - private declarations shared by the image codecs (image.c,
- * png.c, pnm.c, inflate.c). Not installed; not part of the API. */
+ * png.c, pnm.c, inflate.c, deflate.c). Not installed; not part of the API. */
 #ifndef LS_IMAGE_CODEC_H
 #define LS_IMAGE_CODEC_H
 
@@ -50,13 +50,29 @@ typedef struct ls_image_sink {
 void ls_image_sink_put_(ls_image_sink *sink, const void *data, size_t bytes);
 void ls_image_sink_flush_(ls_image_sink *sink);
 
+/* The deflate encoder (deflate.c): raw deflate (RFC 1951), no zlib
+ * wrapper. Compressed bytes go to out(ctx, bytes, n) in pieces of at most
+ * 1024 bytes. The state is ls_deflate_state_bytes_() caller-owned bytes
+ * (8-byte aligned); level 1..9 as zlib's levels. */
+typedef void (*ls_deflate_out_fn)(void *ctx, const unsigned char *bytes, size_t n);
+size_t ls_deflate_state_bytes_(void);
+void ls_deflate_begin_(void *state, uint32_t level, ls_deflate_out_fn out, void *ctx);
+void ls_deflate_put_(void *state, const unsigned char *data, size_t n);
+void ls_deflate_end_(void *state);
+/* An upper bound of the deflate stream's bytes for n input bytes
+ * (LS_ERR_TOO_LARGE when it overflows size_t). */
+ls_status ls_deflate_bound_(size_t n, size_t *bytes);
+
 /* Per-format parts, called by image.c after it has checked its arguments. */
 ls_status ls_png_info_(const unsigned char *data, size_t bytes, ls_image_info *info, ls_diag *diag);
 ls_status ls_png_decode_(const unsigned char *data, size_t bytes, const ls_image_info *info,
                          ls_image *image, ls_arena *arena, ls_diag *diag);
 ls_status ls_png_encoded_size_(uint32_t width, uint32_t height, const ls_image_format *format,
                                size_t *file_bytes);
-void ls_png_encode_(const ls_image *image, const ls_image_format *format, ls_image_sink *sink);
+/* Scratch bytes of ls_png_encode_ beyond the sink's staging buffer (0 for
+ * stored blocks). */
+size_t ls_png_encode_scratch_(const ls_image_format *format);
+void ls_png_encode_(const ls_image *image, const ls_image_format *format, ls_image_sink *sink, void *scratch);
 
 ls_status ls_pnm_info_(const unsigned char *data, size_t bytes, ls_image_info *info, ls_diag *diag);
 ls_status ls_pnm_decode_(const unsigned char *data, size_t bytes, const ls_image_info *info,

@@ -1,5 +1,6 @@
-/* png.c - PNG encoding (stored deflate blocks) and decoding (all colour
- * types and bit depths, palettes, tRNS, the five filters, Adam7). */
+/* png.c - PNG encoding (deflate-compressed with adaptive row filters, or
+ * stored deflate blocks) and decoding (all colour types and bit depths,
+ * palettes, tRNS, the five filters, Adam7). */
 #include <string.h>
 #include "image_codec.h"
 
@@ -458,6 +459,9 @@ ls_status ls_png_decode_(const unsigned char *data, size_t bytes, const ls_image
 
 #define IDAT_MAX 65536u
 #define STORED_MAX 65535u
+#define IDAT_BUF 16384u /* compressed: IDAT chunks of this many bytes, the last one shorter */
+#define SEG_PX 256u     /* pixels converted at a time while filtering */
+#define PNG_LEVEL 6u    /* the compressor's effort (zlib's default level) */
 
 /* Sizes of an encoded PNG: image bytes, zlib stream, IDAT chunks. */
 typedef struct png_layout {
@@ -486,6 +490,11 @@ ls_status ls_png_encoded_size_(uint32_t width, uint32_t height, const ls_image_f
     png_layout l;
     size_t t;
     if (encoded_parts(width, height, format, &l) != LS_OK) return LS_ERR_TOO_LARGE;
+    if (format->type == LS_IMAGE_PNG) { /* the compressor's bound, zlib header and Adler-32 */
+        if (ls_deflate_bound_(l.raw, &l.zlib) != LS_OK || ls_size_sum(l.zlib, 6u, &l.zlib) != LS_OK)
+            return LS_ERR_TOO_LARGE;
+        l.chunks = l.zlib / IDAT_BUF + (l.zlib % IDAT_BUF != 0);
+    }
     if (ls_size_mul(l.chunks, 12u, &t) != LS_OK || ls_size_sum(t, l.zlib, &t) != LS_OK ||
         ls_size_sum(t, 8u + 25u + 12u, file_bytes) != LS_OK)
         return LS_ERR_TOO_LARGE;
@@ -503,6 +512,8 @@ typedef struct png_writer {
     uint32_t open;       /* an IDAT chunk is open */
 } png_writer;
 
+/* Stored blocks (LS_IMAGE_PNG_STORED): no row filter, the file's layout
+ * known from the image size alone. */
 static void write_chunk(ls_image_sink *sink, const char *type, const unsigned char *body, uint32_t len)
 {
     unsigned char b[4];
@@ -578,7 +589,7 @@ static void raw_put(png_writer *w, const unsigned char *p, size_t n)
     }
 }
 
-void ls_png_encode_(const ls_image *image, const ls_image_format *f, ls_image_sink *sink)
+static void encode_stored(const ls_image *image, const ls_image_format *f, ls_image_sink *sink)
 {
     static const uint8_t color_of[5] = {0, 0, 4, 2, 6};
     unsigned char ihdr[13], buf[512], zhead[2] = {0x78, 0x01};
@@ -634,4 +645,163 @@ void ls_png_encode_(const ls_image *image, const ls_image_format *f, ls_image_si
     }
     close_idat(&w);
     write_chunk(sink, "IEND", NULL, 0);
+}
+
+/* Compressed (LS_IMAGE_PNG): each row gets the filter whose bytes have the
+ * smallest sum of magnitudes (as signed bytes), the heuristic of libpng; the
+ * rows go through the deflate encoder into IDAT chunks of IDAT_BUF bytes. */
+typedef struct png_scratch {
+    unsigned char idat[IDAT_BUF];
+    unsigned char cur[(SEG_PX + 1u) * 8u]; /* the pixel on the left, then SEG_PX pixels */
+    unsigned char up[(SEG_PX + 1u) * 8u];  /* the same of the row above */
+    unsigned char filtered[SEG_PX * 8u];
+} png_scratch;
+
+#define DEFLATE_AT LS_ARENA_ROUND(sizeof(png_scratch))
+
+size_t ls_png_encode_scratch_(const ls_image_format *format)
+{
+    return format->type == LS_IMAGE_PNG ? DEFLATE_AT + LS_ARENA_ROUND(ls_deflate_state_bytes_()) : 0u;
+}
+
+typedef struct png_idat {
+    ls_image_sink *sink;
+    unsigned char *buf;
+    size_t n;
+} png_idat;
+
+static void idat_flush(png_idat *z)
+{
+    if (z->n > 0) write_chunk(z->sink, "IDAT", z->buf, (uint32_t)z->n);
+    z->n = 0;
+}
+
+static void idat_put(void *ctx, const unsigned char *p, size_t n)
+{
+    png_idat *z = (png_idat *)ctx;
+    while (n > 0) {
+        size_t m = IDAT_BUF - z->n;
+        if (m > n) m = n;
+        memcpy(z->buf + z->n, p, m);
+        z->n += m;
+        p += m;
+        n -= m;
+        if (z->n == IDAT_BUF) idat_flush(z);
+    }
+}
+
+/* The file's bytes of pixels [x0 - 1, x0 + n) of row y at dst (zeros for
+ * the pixel left of the row); bpp bytes per pixel. */
+static void load_pixels(const ls_image *image, const ls_image_format *f, uint32_t y, uint32_t x0, uint32_t n,
+                        unsigned char *dst)
+{
+    const float *px;
+    uint32_t x, k, bytes_per = f->bits / 8u;
+    if (x0 == 0) {
+        memset(dst, 0, (size_t)f->channels * bytes_per);
+        dst += (size_t)f->channels * bytes_per;
+        x0 = 1;
+        n--;
+    }
+    px = image->pixels + 4u * ((size_t)y * image->width + x0 - 1u);
+    for (x = 0; x <= n; x++, px += 4) {
+        for (k = 0; k < f->channels; k++) {
+            float v = px[f->channels == 2u && k == 1u ? 3u : k];
+            if (bytes_per == 1u) {
+                *dst++ = (unsigned char)ls_image_unorm_(v, 255.0f);
+            } else {
+                uint32_t q = ls_image_unorm_(v, 65535.0f);
+                *dst++ = (unsigned char)(q >> 8);
+                *dst++ = (unsigned char)q;
+            }
+        }
+    }
+}
+
+/* Loads the segment [x0, x0 + n) of row y and of the row above. */
+static void load_segment(const ls_image *image, const ls_image_format *f, uint32_t y, uint32_t x0, uint32_t n,
+                         png_scratch *ps, size_t bpp)
+{
+    load_pixels(image, f, y, x0, n, ps->cur);
+    if (y > 0)
+        load_pixels(image, f, y - 1u, x0, n, ps->up);
+    else
+        memset(ps->up, 0, (size_t)(n + 1u) * bpp);
+}
+
+/* Filter type t of byte i of the segment (cur and up start one pixel left). */
+static unsigned char filter_byte(const png_scratch *ps, size_t i, size_t bpp, uint32_t t)
+{
+    uint32_t x = ps->cur[i + bpp], a = ps->cur[i], b = ps->up[i + bpp], c = ps->up[i];
+    switch (t) {
+    case 0: return (unsigned char)x;
+    case 1: return (unsigned char)(x - a);
+    case 2: return (unsigned char)(x - b);
+    case 3: return (unsigned char)(x - ((a + b) >> 1));
+    default: return (unsigned char)(x - paeth(a, b, c));
+    }
+}
+
+static void encode_deflate(const ls_image *image, const ls_image_format *f, ls_image_sink *sink, void *scratch)
+{
+    static const unsigned char zhead[2] = {0x78, 0x9c}; /* 32 KiB window, default level */
+    png_scratch *ps = (png_scratch *)scratch;
+    void *state = (unsigned char *)scratch + DEFLATE_AT;
+    unsigned char ihdr[13], b[4];
+    png_idat z;
+    uint32_t y, adler = 1;
+    size_t bpp = (size_t)f->channels * (f->bits / 8u);
+    static const uint8_t color_of[5] = {0, 0, 4, 2, 6};
+    ls_image_sink_put_(sink, png_signature, 8);
+    put_be32(ihdr, image->width);
+    put_be32(ihdr + 4, image->height);
+    ihdr[8] = (unsigned char)f->bits;
+    ihdr[9] = color_of[f->channels];
+    ihdr[10] = ihdr[11] = ihdr[12] = 0;
+    write_chunk(sink, "IHDR", ihdr, 13);
+    z.sink = sink;
+    z.buf = ps->idat;
+    z.n = 0;
+    idat_put(&z, zhead, 2);
+    ls_deflate_begin_(state, PNG_LEVEL, idat_put, &z);
+    for (y = 0; y < image->height && sink->status == LS_OK; y++) {
+        uint32_t cost[5] = {0, 0, 0, 0, 0}, x0, t, best = 0;
+        unsigned char ft;
+        for (x0 = 0; x0 < image->width; x0 += SEG_PX) {
+            uint32_t n = image->width - x0 < SEG_PX ? image->width - x0 : SEG_PX;
+            size_t i;
+            load_segment(image, f, y, x0, n, ps, bpp);
+            for (i = 0; i < (size_t)n * bpp; i++)
+                for (t = 0; t < 5u; t++) {
+                    uint32_t v = filter_byte(ps, i, bpp, t);
+                    cost[t] += v < 128u ? v : 256u - v;
+                }
+        }
+        for (t = 1; t < 5u; t++)
+            if (cost[t] < cost[best]) best = t;
+        ft = (unsigned char)best;
+        adler = ls_adler32(adler, &ft, 1);
+        ls_deflate_put_(state, &ft, 1);
+        for (x0 = 0; x0 < image->width; x0 += SEG_PX) {
+            uint32_t n = image->width - x0 < SEG_PX ? image->width - x0 : SEG_PX;
+            size_t i;
+            load_segment(image, f, y, x0, n, ps, bpp);
+            for (i = 0; i < (size_t)n * bpp; i++) ps->filtered[i] = filter_byte(ps, i, bpp, best);
+            adler = ls_adler32(adler, ps->filtered, (size_t)n * bpp);
+            ls_deflate_put_(state, ps->filtered, (size_t)n * bpp);
+        }
+    }
+    ls_deflate_end_(state);
+    put_be32(b, adler);
+    idat_put(&z, b, 4);
+    idat_flush(&z);
+    write_chunk(sink, "IEND", NULL, 0);
+}
+
+void ls_png_encode_(const ls_image *image, const ls_image_format *f, ls_image_sink *sink, void *scratch)
+{
+    if (f->type == LS_IMAGE_PNG)
+        encode_deflate(image, f, sink, scratch);
+    else
+        encode_stored(image, f, sink);
 }

@@ -5,7 +5,7 @@
  *                                     (channels and depth as OpenImageIO reports them)
  *   imgtool dumpf FILE                the same as floats (%.9f), as oiiotool prints float images
  *   imgtool convert IN OUT TYPE CH BITS [be]
- *                                     decode IN, encode OUT (TYPE png|pnm|pfm)
+ *                                     decode IN, encode OUT (TYPE png|pngstored|pnm|pfm)
  *   imgtool info FILE                 print what ls_image_decode_info found
  *   imgtool digests                   FNV-1a 64 of the encoded outputs of a fixed
  *                                     synthetic image in every format (for tests/digest.c)
@@ -86,7 +86,7 @@ static int cmd_dump(const char *path, int as_float)
 static int parse_format(const char *type, const char *ch, const char *bits, const char *be, ls_image_format *f)
 {
     f->type = strcmp(type, "png") == 0 ? LS_IMAGE_PNG : strcmp(type, "pnm") == 0 ? LS_IMAGE_PNM
-              : strcmp(type, "pfm") == 0 ? LS_IMAGE_PFM : 0;
+              : strcmp(type, "pfm") == 0 ? LS_IMAGE_PFM : strcmp(type, "pngstored") == 0 ? LS_IMAGE_PNG_STORED : 0;
     f->channels = (uint32_t)atoi(ch);
     f->bits = (uint32_t)atoi(bits);
     f->big_endian = be != NULL && strcmp(be, "be") == 0;
@@ -123,7 +123,7 @@ static int cmd_convert(int argc, char **argv)
     void *mem;
     ls_status st;
     if (argc < 7 || !parse_format(argv[4], argv[5], argv[6], argc > 7 ? argv[7] : NULL, &f)) {
-        fprintf(stderr, "usage: imgtool convert IN OUT png|pnm|pfm CHANNELS BITS [be]\n");
+        fprintf(stderr, "usage: imgtool convert IN OUT png|pngstored|pnm|pfm CHANNELS BITS [be]\n");
         return 2;
     }
     if (load(argv[2], &img, &info, &mem)) return 1;
@@ -231,8 +231,9 @@ static int32_t null_write(void *user, const void *data, size_t bytes)
 static int cmd_bench(int argc, char **argv)
 {
     static const ls_image_format fmts[] = {{LS_IMAGE_PNG, 4, 8, 0}, {LS_IMAGE_PNG, 4, 16, 0},
+                                           {LS_IMAGE_PNG_STORED, 4, 8, 0}, {LS_IMAGE_PNG_STORED, 4, 16, 0},
                                            {LS_IMAGE_PNM, 3, 8, 0}, {LS_IMAGE_PFM, 3, 32, 0}};
-    static const char *names[] = {"png rgba8", "png rgba16", "ppm rgb8", "pfm rgb"};
+    static const char *names[] = {"png rgba8", "png rgba16", "stored rgba8", "stored rgba16", "ppm rgb8", "pfm rgb"};
     uint32_t w = 2048, h = 2048;
     size_t img_bytes, i;
     void *mem;
@@ -244,7 +245,7 @@ static int cmd_bench(int argc, char **argv)
     ls_arena_init(&a, mem, img_bytes + (1u << 20));
     ls_image_create(&img, w, h, &a);
     synthetic(&img);
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < sizeof fmts / sizeof fmts[0]; i++) {
         size_t file_bytes, written = 0, dec_bytes;
         unsigned char *file;
         ls_membuf m;
@@ -264,6 +265,7 @@ static int cmd_bench(int argc, char **argv)
         m.size = 0;
         m.overflow = 0;
         ls_image_encode(&img, &fmts[i], ls_membuf_write, &m, &a);
+        file_bytes = m.size; /* LS_IMAGE_PNG: the size query is a bound */
         ls_image_decode_info(file, file_bytes, &info, NULL);
         dec_bytes = info.arena_bytes;
         dmem = malloc(dec_bytes + 8);

@@ -6,10 +6,12 @@
  * bunny compiled into the program is used. The initial mesh is an icosphere
  * fitted to the target's bounding sphere. Every file in DIR is written whole
  * (a temporary name, then renamed): result.obj, log.csv (iteration, loss,
- * time, and the dense distances to the target every --track iterations),
- * convergence.svg (loss and Hausdorff distance against iteration and
- * time), contact.png (target,
- * initial and final render of every view, one row each).
+ * time, and the dense distances to the target every --track iterations; a
+ * last row for the final mesh with its image loss), convergence.svg (loss
+ * and Hausdorff distance against iteration and time: log y axes with a tick
+ * at each power of ten, the scheduled remeshes as dashed lines), contact.png (target,
+ * initial and final render of every view, one row each, each tile labelled
+ * with its row and view, over a grey checkerboard so that masks show).
  *
  * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset)
  * gives the cameras, the resolution, the lighting (SH coefficients, or an
@@ -237,19 +239,37 @@ static int parse_args(int argc, char **argv, fit_args *a)
 
 typedef struct log_data {
     const ls_job_run *r;
+    const ls_job_schedule *sched; /* the remeshes (markers in the plot) */
+    double final_loss;            /* the final mesh's image loss */
 } log_data;
+
+/* The image loss of the final mesh: its renders (1 sample per pixel)
+ * against the targets, with the fit's loss (NaN if it cannot be computed). */
+static double final_loss(const ls_job_problem *p, uint32_t kind, ls_real *const *renders)
+{
+    ls_loss_acc acc;
+    ls_real loss;
+    uint32_t v;
+    if (ls_loss_begin(&acc, kind, p->width, p->height, p->views) != LS_OK) return NAN;
+    for (v = 0; v < p->views; v++)
+        if (ls_loss_view(&acc, renders[v], p->targets[v], NULL, NULL) != LS_OK) return NAN;
+    return ls_loss_finish(&acc, &loss) == LS_OK ? (double)loss : NAN;
+}
 
 /* One row per iteration (its loss, the elapsed time at its end), and the
  * distances of the mesh before it where they were measured; a last row for
- * the final mesh. */
+ * the final mesh (where distances were measured): its image loss
+ * (final_loss), the time at the end and its distances. */
 static int write_log(FILE *f, void *ctx)
 {
-    const ls_job_run *r = ((const log_data *)ctx)->r;
+    const log_data *l = (const log_data *)ctx;
+    const ls_job_run *r = l->r;
     uint32_t i, k = 0;
     fprintf(f, "iteration,loss,elapsed_ms,hausdorff_rel,rms_rel\n");
     for (i = 0; i <= r->iterations; i++) {
         if (i < r->iterations) fprintf(f, "%u,%.9g,%.3f,", (unsigned)i, (double)r->loss[i], r->ms[i]);
-        else if (k < r->tracked) fprintf(f, "%u,,%.3f,", (unsigned)i, r->iterations > 0 ? r->ms[i - 1] : 0.0);
+        else if (k < r->tracked)
+            fprintf(f, "%u,%.9g,%.3f,", (unsigned)i, l->final_loss, r->iterations > 0 ? r->ms[i - 1] : 0.0);
         while (k < r->tracked && r->track_it[k] < i) k++;
         if (k < r->tracked && r->track_it[k] == i)
             fprintf(f, "%.6g,%.6g\n", (double)r->track_h_rel[k], (double)r->track_rms_rel[k]);
@@ -259,60 +279,103 @@ static int write_log(FILE *f, void *ctx)
     return !ferror(f);
 }
 
-/* One panel of the convergence plot: y (log10) against x, as a polyline. */
-static void svg_panel(FILE *f, double px, double py, double pw, double ph, const char *title, const char *xlabel,
-                      const double *x, const double *y, uint32_t n, const char *colour)
+/* A step of 1, 2 or 5 x 10^k giving about n ticks over [0, span]. */
+static double nice_step(double span, double n)
 {
-    double x0 = 0, x1 = 1e-300, lo = 1e300, hi = -1e300;
+    double raw = span / n, p = pow(10.0, floor(log10(raw))), m = raw / p;
+    return (m <= 1 ? 1 : m <= 2 ? 2 : m <= 5 ? 5 : 10) * p;
+}
+
+/* One panel of the convergence plot: y on a log scale (whole decades, a
+ * labelled tick and a grid line at each power of ten, minor ticks at 2..9
+ * times it) against x on a linear scale from 0 (ticks at 1, 2 or 5 x 10^k),
+ * as a polyline; a dashed vertical line at each x of marks[0..nmarks)
+ * (the remeshes). */
+static void svg_panel(FILE *f, double px, double py, double pw, double ph, const char *title, const char *xlabel,
+                      const double *x, const double *y, uint32_t n, const char *colour, const double *marks,
+                      uint32_t nmarks)
+{
+    double x1 = 0, lo = 1e300, hi = -1e300, step, v;
+    int k, m;
     uint32_t i;
     for (i = 0; i < n; i++) {
         if (x[i] > x1) x1 = x[i];
         if (y[i] > 0 && log10(y[i]) < lo) lo = log10(y[i]);
         if (y[i] > 0 && log10(y[i]) > hi) hi = log10(y[i]);
     }
+    for (i = 0; i < nmarks; i++)
+        if (marks[i] > x1) x1 = marks[i];
+    if (!(x1 > 0)) x1 = 1;
     if (!(hi >= lo)) lo = 0, hi = 1;
-    if (hi - lo < 1e-9) hi = lo + 1;
-    fprintf(f, "<text x=\"%g\" y=\"%g\">%s</text>\n", px, py - 8, title);
-    fprintf(f, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"black\"/>\n", px, py, pw, ph);
-    fprintf(f, "<text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.3g</text><text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.3g</text>\n",
-            px - 4, py + 10, pow(10.0, hi), px - 4, py + ph, pow(10.0, lo));
-    fprintf(f, "<text x=\"%g\" y=\"%g\">0</text><text x=\"%g\" y=\"%g\" text-anchor=\"end\">%.4g %s</text>\n", px,
-            py + ph + 14, px + pw, py + ph + 14, x1, xlabel);
-    fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", colour);
-    for (i = 0; i < n; i++) {
-        double sx = px + pw * (x[i] - x0) / (x1 - x0);
-        double sy = y[i] > 0 ? py + ph - ph * (log10(y[i]) - lo) / (hi - lo) : py + ph;
-        fprintf(f, "%.1f,%.1f ", sx, sy);
+    lo = floor(lo);
+    hi = ceil(hi);
+    if (hi - lo < 1) hi = lo + 1;
+#define SX(v_) (px + pw * (v_) / x1)
+#define SY(l_) (py + ph - ph * ((l_) - lo) / (hi - lo))
+    fprintf(f, "<g class=\"panel\">\n<text x=\"%g\" y=\"%g\">%s</text>\n", px, py - 8, title);
+    for (k = (int)lo; k <= (int)hi; k++) {
+        fprintf(f, "<line class=\"grid\" x1=\"%g\" x2=\"%g\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", px, px + pw,
+                SY(k), SY(k));
+        fprintf(f, "<g class=\"ytick\"><line x1=\"%g\" x2=\"%g\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"black\"/>"
+                   "<text x=\"%g\" y=\"%.1f\" text-anchor=\"end\">%g</text></g>\n",
+                px - 6, px, SY(k), SY(k), px - 8, SY(k) + 4, pow(10.0, k));
+        for (m = 2; m <= 9 && k < (int)hi; m++)
+            fprintf(f, "<line class=\"yminor\" x1=\"%g\" x2=\"%g\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"black\"/>\n", px - 3,
+                    px, SY(k + log10((double)m)), SY(k + log10((double)m)));
     }
-    fprintf(f, "\"/>\n");
+    step = nice_step(x1, 5);
+    for (v = 0; v <= x1 * (1 + 1e-9); v += step)
+        fprintf(f, "<g class=\"xtick\"><line x1=\"%.1f\" x2=\"%.1f\" y1=\"%g\" y2=\"%g\" stroke=\"black\"/>"
+                   "<text x=\"%.1f\" y=\"%g\" text-anchor=\"middle\">%g</text></g>\n",
+                SX(v), SX(v), py + ph, py + ph + 5, SX(v), py + ph + 18, v);
+    fprintf(f, "<text x=\"%g\" y=\"%g\" text-anchor=\"end\">%s</text>\n", px + pw, py + ph + 34, xlabel);
+    fprintf(f, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"black\"/>\n", px, py, pw, ph);
+    for (i = 0; i < nmarks; i++)
+        fprintf(f, "<g class=\"remesh\"><line x1=\"%.1f\" x2=\"%.1f\" y1=\"%g\" y2=\"%g\" stroke=\"#2a8a2a\" "
+                   "stroke-dasharray=\"4 3\"/><text x=\"%.1f\" y=\"%g\" font-size=\"10\" fill=\"#2a8a2a\">remesh</text></g>\n",
+                SX(marks[i]), SX(marks[i]), py, py + ph, SX(marks[i]) + 3, py + 11);
+    fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", colour);
+    for (i = 0; i < n; i++) fprintf(f, "%.1f,%.1f ", SX(x[i]), y[i] > 0 ? SY(log10(y[i])) : py + ph);
+    fprintf(f, "\"/>\n</g>\n");
+#undef SX
+#undef SY
 }
 
 /* Loss and dense Hausdorff distance (log scales) against iteration and
- * time: four panels in one standalone SVG. */
+ * time: four panels in one standalone SVG, the scheduled remeshes marked. */
 static int write_svg(FILE *f, void *ctx)
 {
-    const ls_job_run *r = ((const log_data *)ctx)->r;
-    const double w = 900, h = 620;
-    uint32_t n = r->iterations, t = r->tracked, i;
+    const log_data *l = (const log_data *)ctx;
+    const ls_job_run *r = l->r;
+    const double w = 900, h = 640;
+    uint32_t n = r->iterations, t = r->tracked, i, nm = 0;
+    double mit[LS_JOB_MAX_REMESH], mms[LS_JOB_MAX_REMESH];
     double *it = (double *)calloc(n + t + 1u, sizeof(double));
     double *loss = (double *)calloc(n + 1u, sizeof(double));
     double *hit = (double *)calloc(t + 1u, sizeof(double));
     double *hms = (double *)calloc(t + 1u, sizeof(double));
     double *hv = (double *)calloc(t + 1u, sizeof(double));
     int ok = it != NULL && loss != NULL && hit != NULL && hms != NULL && hv != NULL;
+    for (i = 0; l->sched != NULL && i < l->sched->remesh_count && i < LS_JOB_MAX_REMESH; i++)
+        if (l->sched->remesh_at[i] < n) { /* done: before iteration remesh_at */
+            mit[nm] = (double)l->sched->remesh_at[i];
+            mms[nm++] = l->sched->remesh_at[i] > 0 ? r->ms[l->sched->remesh_at[i] - 1u] / 1000.0 : 0.0;
+        }
     if (ok) {
         for (i = 0; i < n; i++) it[i] = (double)i, loss[i] = (double)r->loss[i];
         for (i = 0; i < t; i++) hit[i] = (double)r->track_it[i], hms[i] = r->track_ms[i] / 1000.0, hv[i] = 100.0 * (double)r->track_h_rel[i];
         fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
         fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
-        svg_panel(f, 70, 40, 360, 220, "image loss against iteration", "it", it, loss, n, "#1f5fbf");
+        svg_panel(f, 70, 40, 360, 220, "image loss against iteration", "iteration", it, loss, n, "#1f5fbf", mit, nm);
         for (i = 0; i < n; i++) it[i] = r->ms[i] / 1000.0;
-        svg_panel(f, 510, 40, 360, 220, "image loss against time", "s", it, loss, n, "#1f5fbf");
+        svg_panel(f, 510, 40, 360, 220, "image loss against time", "seconds", it, loss, n, "#1f5fbf", mms, nm);
         if (t > 0) {
-            svg_panel(f, 70, 350, 360, 220, "dense Hausdorff / bbox diagonal, % (against iteration)", "it", hit, hv, t, "#bf3f1f");
-            svg_panel(f, 510, 350, 360, 220, "dense Hausdorff / bbox diagonal, % (against time)", "s", hms, hv, t, "#bf3f1f");
+            svg_panel(f, 70, 360, 360, 220, "dense Hausdorff / bbox diagonal, % (against iteration)", "iteration", hit, hv,
+                      t, "#bf3f1f", mit, nm);
+            svg_panel(f, 510, 360, 360, 220, "dense Hausdorff / bbox diagonal, % (against time)", "seconds", hms, hv, t,
+                      "#bf3f1f", mms, nm);
         } else {
-            fprintf(f, "<text x=\"70\" y=\"380\">no distances: the target is not a mesh, or --track 0</text>\n");
+            fprintf(f, "<text x=\"70\" y=\"390\">no distances: the target is not a mesh, or --track 0</text>\n");
         }
         fprintf(f, "</svg>\n");
     }
@@ -452,6 +515,8 @@ int ls_cmd_fit(int argc, char **argv)
         json_data j;
         ls_contact sheet;
         l.r = &run;
+        l.sched = &a.sched;
+        l.final_loss = final_loss(&p, a.cfg.loss, renders + p.views);
         j.p = &p;
         j.r = &run;
         j.a = &a;
@@ -464,6 +529,7 @@ int ls_cmd_fit(int argc, char **argv)
             if (st == LS_OK) st = ls_contact_put_rgba(&sheet, p.views + v, renders[v]);
             if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * p.views + v, renders[p.views + v]);
         }
+        if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
         ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
         if (!ls_posix_write_whole_in(a.out, "result.obj", write_obj, &run.result) ||

@@ -137,11 +137,19 @@ static size_t write_png(const char *dir, const char *name, const ls_image *img, 
     fmt.channels = 4;
     fmt.bits = bits;
     fmt.big_endian = 0;
-    if (ls_image_encoded_size(img->width, img->height, &fmt, &size) != LS_OK) return 0;
     if (!ls_posix_write_image_in(dir, name, img, &fmt, arena, &st)) {
         fprintf(stderr, "largesteps: cannot write %s/%s: %s\n", dir, name,
                 st != LS_OK ? ls_status_str(st) : strerror(errno));
         return 0;
+    }
+    { /* the compressed size is known once written */
+        char path[4096];
+        FILE *f;
+        long end;
+        if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) < sizeof path && (f = fopen(path, "rb")) != NULL) {
+            if (fseek(f, 0, SEEK_END) == 0 && (end = ftell(f)) > 0) size = (size_t)end;
+            fclose(f);
+        }
     }
     return size;
 }

@@ -6,6 +6,7 @@
 #include <math.h>
 #include "ls_posix.h"
 #include "fit_job.h"
+#include "report.h"
 
 extern const unsigned char ls_embedded_bunny_obj[];
 extern const size_t ls_embedded_bunny_obj_size;
@@ -501,6 +502,8 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     r->peak_used = fit.block.capacity;
     memset(&mon, 0, sizeof mon);
     mon.clock = ls_posix_clock_ns;
+    ls_report_eta eta_est; /* the ETA counts the remeshes to come (report.h) */
+    ls_report_eta_init(&eta_est, remesh_at, remesh_count, (double)s->remesh_h);
     t0 = ls_job_now_ms();
     for (it = 0; it < iterations; it++) {
         if (next < remesh_count && remesh_at[next] == it) {
@@ -518,6 +521,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                 r->remeshes_refused++;
             }
             next++;
+            ls_report_eta_remesh(&eta_est, it, tr - t0, ls_job_now_ms() - t0);
             if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
             /* the old fit and the remesher's work at once */
             held += capacity != NULL ? fit.job.peak - fit.job_fit_bytes : 0u;
@@ -574,7 +578,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
         r->ms[it] = ls_job_now_ms() - t0;
         r->iterations = it + 1u;
         if (progress && (progress == 2 || (it + 1) % (iterations / 10u + 1u) == 0 || it + 1 == iterations)) {
-            double eta = r->ms[it] / (it + 1) * (iterations - it - 1);
+            double eta = ls_report_eta_ms(&eta_est, it + 1u, iterations, r->ms[it]);
             printf("%siteration %u/%u  loss %.6g  elapsed %.1f s  eta %.1f s%s", progress == 2 ? "\r" : "",
                    (unsigned)(it + 1), (unsigned)iterations, (double)fit.loss, r->ms[it] / 1000.0, eta / 1000.0,
                    progress == 2 ? "   " : "\n");

@@ -80,3 +80,57 @@ void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t)
     fprintf(f, "%s quality   min %.4f p1 %.4f p5 %.4f p50 %.4f mean %.4f (2 r / R)\n", name, (double)t->quality_min,
             (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50, (double)t->quality_mean);
 }
+
+ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views)
+{
+    static const char *const rows[3] = {"target", "initial", "result"};
+    char text[32];
+    uint32_t r, v;
+    ls_status st = LS_OK;
+    for (r = 0; r < 3u && st == LS_OK; r++)
+        for (v = 0; v < views && st == LS_OK; v++) {
+            snprintf(text, sizeof text, "%s %u", rows[r], (unsigned)v);
+            st = ls_contact_label(sheet, r * views + v, text);
+        }
+    return st == LS_OK ? ls_contact_backdrop(sheet, 8, 0.35f, 0.55f) : st;
+}
+
+void ls_report_eta_init(ls_report_eta *e, const uint32_t *remesh_at, uint32_t remesh_count, double remesh_h)
+{
+    e->remesh_at = remesh_at;
+    e->remesh_count = remesh_count;
+    e->guess = remesh_h > 0 && remesh_h < 1 ? 1.0 / remesh_h : 1.0;
+    e->seg_it = 0;
+    e->seg_ms = 0;
+    e->prev_rate = 0;
+    e->remesh_ms = 0;
+}
+
+void ls_report_eta_remesh(ls_report_eta *e, uint32_t it, double start_ms, double end_ms)
+{
+    if (it > e->seg_it) e->prev_rate = (start_ms - e->seg_ms) / (double)(it - e->seg_it);
+    e->seg_it = it;
+    e->seg_ms = end_ms;
+    e->remesh_ms = end_ms - start_ms;
+}
+
+double ls_report_eta_ms(const ls_report_eta *e, uint32_t done, uint32_t total, double elapsed_ms)
+{
+    double rate, growth = e->guess, eta = 0;
+    uint32_t pos = done, i;
+    if (done >= total) return 0;
+    if (done > e->seg_it) rate = (elapsed_ms - e->seg_ms) / (double)(done - e->seg_it);
+    else if (e->prev_rate > 0) rate = e->prev_rate * growth;
+    else return 0;
+    /* measured once a few iterations ran on the new mesh */
+    if (e->prev_rate > 0 && done >= e->seg_it + 3u) growth = rate / e->prev_rate;
+    if (growth < 1) growth = 1;
+    for (i = 0; i < e->remesh_count; i++) {
+        uint32_t at = e->remesh_at[i];
+        if (at < done || at >= total) continue;
+        eta += (double)(at - pos) * rate + e->remesh_ms * growth;
+        rate *= growth;
+        pos = at;
+    }
+    return eta + (double)(total - pos) * rate;
+}

@@ -21,4 +21,37 @@ void ls_report_json_tangle(FILE *f, const char *name, const ls_tangle_report *t,
 void ls_report_text_distance(FILE *f, const ls_distance_report *d);
 void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t);
 
+/* The remaining time of a fit that remeshes. A remesh multiplies the
+ * vertices (by about 1 / remesh_h^2), so the iterations after it are slower
+ * and the remesh itself takes time: the estimate runs from the time per
+ * iteration of the current mesh (the iterations since the last remesh), and
+ * each remesh still scheduled costs what the last one did (times the
+ * growth) and multiplies the time per iteration by the growth, measured at
+ * the last remesh (time per iteration after / before), 1 / remesh_h before
+ * any was measured (the renders cost per pixel, so the time grows more
+ * slowly than the vertex count). */
+typedef struct ls_report_eta {
+    const uint32_t *remesh_at; /* the schedule: remeshes before these iterations */
+    uint32_t remesh_count;
+    double guess;              /* growth before one was measured */
+    uint32_t seg_it;           /* first iteration on the current mesh */
+    double seg_ms;             /* elapsed time when it started */
+    double prev_rate;          /* ms per iteration before the last remesh (0: no remesh yet) */
+    double remesh_ms;          /* the last remesh's time (0: none yet) */
+} ls_report_eta;
+
+void ls_report_eta_init(ls_report_eta *e, const uint32_t *remesh_at, uint32_t remesh_count, double remesh_h);
+
+/* A remesh before iteration `it`, from start_ms to end_ms (elapsed time). */
+void ls_report_eta_remesh(ls_report_eta *e, uint32_t it, double start_ms, double end_ms);
+
+/* Milliseconds left after `done` of `total` iterations, elapsed_ms so far. */
+double ls_report_eta_ms(const ls_report_eta *e, uint32_t done, uint32_t total, double elapsed_ms);
+
+/* The finishing of `largesteps fit`'s contact sheet (3 rows of `views`
+ * tiles: target, initial, result): each tile labelled "<row> <view>", then
+ * the sheet put over a grey checkerboard (ls_contact_backdrop: 8-pixel
+ * squares of 0.35 and 0.55) so that a mask fit's white silhouettes show. */
+ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views);
+
 #endif /* LS_REPORT_H */
