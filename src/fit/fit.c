@@ -1,34 +1,12 @@
-/* fit.c - the reconstruction loop (see include/largesteps/fit.h). */
-#include <string.h>
-#include <largesteps/fit.h>
-#include <largesteps/laplacian.h>
-#include <largesteps/loss.h>
-#include <largesteps/render_backward.h>
-#include <largesteps/remesh.h>
-
-static void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index)
-{
-    if (diag == NULL) return;
-    ls_diag_clear(diag);
-    diag->status = st;
-    diag->what = what;
-    diag->has_index = 1;
-    diag->index = index;
-}
-
-static int finite_r(ls_real x) { return x - x == x - x; }
-
-/* LS_ERR_INVALID naming the argument that is wrong (diag may be NULL). */
-static ls_status invalid_arg(ls_diag *diag, const char *what)
-{
-    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-}
+/* fit.c - the reconstruction loop: configuration, sizing, set-up and the
+ * iteration (include/largesteps/fit.h) */
+#include "fit_internal.h"
 
 /* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
  * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
  * with the mesh by any power of two: the bounds, the halving and the
  * doubling/halving loop are exact. */
-static void measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius)
+void ls_fit_impl_measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius)
 {
     ls_real lo[3], hi[3], r = (ls_real)0, s = (ls_real)1;
     if (ls_mesh_bounds(m, lo, hi) == LS_OK) {
@@ -155,7 +133,7 @@ static ls_status check_config(const ls_fit_config *c, const ls_fit_views *v, con
     return ls_optim_config_check(&c->optim, diag);
 }
 
-static void param_config(const ls_fit_config *c, ls_param_config *pc)
+void ls_fit_impl_param_config(const ls_fit_config *c, ls_param_config *pc)
 {
     memset(pc, 0, sizeof *pc);
     pc->solver = c->solver;
@@ -168,7 +146,7 @@ static void param_config(const ls_fit_config *c, ls_param_config *pc)
 }
 
 /* p = 1: the optimizer moves x itself, its gradient preconditioned once. */
-static int optimizes_u(const ls_fit_config *c)
+int ls_fit_impl_optimizes_u(const ls_fit_config *c)
 {
     return c->method == LS_FIT_LARGE_STEPS && c->power != 1u;
 }
@@ -177,13 +155,6 @@ static int pair_mode(const ls_fit_config *c)
 {
     return c->silhouette == LS_FIT_SILHOUETTE_PAIR;
 }
-
-/* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
- * the Laplacian (with its build scratch), M and its solver, the optimizer,
- * the edge table, the visibility buffer, then the scratch of one iteration. */
-typedef struct fit_sizes {
-    size_t arrays, lap, param, optim, edges, vis, iteration;
-} fit_sizes;
 
 static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, size_t *bytes)
 {
@@ -223,7 +194,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
  * views' pass (raster, silhouettes, normals backward, the regularizer) and
  * the optimizer's snapshot (parameters and both moments), which follow one
  * another. */
-static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes)
+ls_status ls_fit_impl_iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes)
 {
     size_t a = 0, b = 0, e = 0, sil = 0;
     ls_size s, pass, snap;
@@ -272,7 +243,7 @@ static ls_status iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t 
     return ls_size_get(&s, bytes);
 }
 
-static ls_status total(const fit_sizes *z, size_t *bytes)
+ls_status ls_fit_impl_total(const fit_sizes *z, size_t *bytes)
 {
     ls_size s;
     ls_size_init(&s);
@@ -287,7 +258,7 @@ static ls_status total(const fit_sizes *z, size_t *bytes)
 }
 
 /* Sizes of everything but the solver, for a mesh with `edges` unique edges. */
-static ls_status base_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, uint32_t edges, fit_sizes *z)
+ls_status ls_fit_impl_base_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, uint32_t edges, fit_sizes *z)
 {
     ls_status st;
     memset(z, 0, sizeof *z);
@@ -299,15 +270,10 @@ static ls_status base_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, 
     return st;
 }
 
-/* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */
-typedef struct fit_counts {
-    uint32_t vertices, faces, edges, factor_nnz;
-} fit_counts;
-
 /* ls_fit_bytes in the frame of unit `scale`: the ordering of the factor
  * sees the normalized coordinates, as ls_fit_init gives them. *counts
  * (optional) receives the mesh's counts and its factor's fill. */
-static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+ls_status ls_fit_impl_fit_bytes_frame(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                                  ls_real scale, ls_arena *scratch, size_t *bytes, fit_counts *counts, ls_diag *diag)
 {
     ls_arena_mark mark;
@@ -328,11 +294,11 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     if (st == LS_OK && xyz == NULL) st = LS_ERR_NOMEM;
     if (st == LS_OK) st = frame_positions(initial, scale, xyz, diag);
     if (st == LS_OK) st = ls_mesh_edges_build(initial, scratch, &e, diag);
-    if (st == LS_OK) st = base_sizes(config, views->count, initial->vertex_count, initial->face_count, e.count, &z);
+    if (st == LS_OK) st = ls_fit_impl_base_sizes(config, views->count, initial->vertex_count, initial->face_count, e.count, &z);
     if (st == LS_OK) st = ls_laplacian_uniform(initial, LS_LAP_UPPER, scratch, &lap, diag);
-    if (st == LS_OK) st = iteration_scratch(config, initial->vertex_count, initial->face_count, &lap, &z.iteration);
+    if (st == LS_OK) st = ls_fit_impl_iteration_scratch(config, initial->vertex_count, initial->face_count, &lap, &z.iteration);
     if (st == LS_OK && config->method == LS_FIT_LARGE_STEPS) {
-        param_config(config, &pc);
+        ls_fit_impl_param_config(config, &pc);
         st = ls_param_bytes_fill(&lap, &pc, xyz, scratch, &z.param, &l_nnz);
     }
     /* ls_fit_init runs this same measurement in its arena before taking the
@@ -341,7 +307,7 @@ static ls_status fit_bytes_frame(const ls_fit_config *config, const ls_fit_views
     ls_arena_restore(scratch, mark);
     if (peak > scratch->peak) scratch->peak = peak;
     if (st != LS_OK) return st;
-    st = total(&z, &block);
+    st = ls_fit_impl_total(&z, &block);
     if (st != LS_OK) return st;
     *bytes = block > used ? block : used;
     if (counts != NULL) {
@@ -360,8 +326,8 @@ static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views 
     if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
     st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
-    measure_frame(initial, &scale, &radius);
-    return fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
+    ls_fit_impl_measure_frame(initial, &scale, &radius);
+    return ls_fit_impl_fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
 }
 
 /* Allocations from the block, in the layout's order. */
@@ -393,11 +359,9 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
     return fit->mvp != NULL;
 }
 
-static ls_status within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag);
-
 /* ls_fit_init in a given frame (ls_fit_remesh keeps the first fit's); lim
  * (optional): a job's capacity, checked before anything is taken. */
-static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
+ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
                                 const ls_mesh *initial, ls_real scale, ls_real radius, const fit_counts *lim,
                                 ls_arena *arena, ls_diag *diag)
 {
@@ -411,8 +375,8 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
     ls_status st;
     mark = ls_arena_save(arena);
     /* the block: measured with the arena's free top as scratch */
-    st = fit_bytes_frame(config, views, initial, scale, arena, &bytes, &have, diag);
-    if (st == LS_OK && lim != NULL) st = within(&have, lim, 0, diag);
+    st = ls_fit_impl_fit_bytes_frame(config, views, initial, scale, arena, &bytes, &have, diag);
+    if (st == LS_OK && lim != NULL) st = ls_fit_impl_within(&have, lim, 0, diag);
     if (st != LS_OK) return st;
     mem = ls_arena_alloc(arena, bytes, 1);
     if (mem == NULL) return LS_ERR_NOMEM;
@@ -435,7 +399,7 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
         st = ls_laplacian_uniform(initial, LS_LAP_UPPER, &fit->block, &fit->lap, diag);
     }
     if (st == LS_OK && config->method == LS_FIT_LARGE_STEPS) {
-        param_config(config, &pc);
+        ls_fit_impl_param_config(config, &pc);
         st = ls_param_init(&fit->param, &fit->lap, &pc, fit->x, &fit->block, diag);
         if (st == LS_OK) st = ls_param_to_differential(&fit->param, fit->x, fit->u);
     }
@@ -452,7 +416,7 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
     if (st == LS_OK) st = ls_vis_init(&fit->vis, &fit->block, config->width, config->height, config->ss, n);
     if (st == LS_OK) {
         /* what is left is the iteration's scratch: check it covers the reserve */
-        st = iteration_scratch(config, n, nf, &fit->lap, &reserve);
+        st = ls_fit_impl_iteration_scratch(config, n, nf, &fit->lap, &reserve);
         if (st == LS_OK && ls_arena_available(&fit->block) < reserve) st = LS_ERR_NOMEM; /* not reached */
         fit->scratch_bytes = ls_arena_available(&fit->block);
     }
@@ -461,13 +425,13 @@ static ls_status fit_init_frame(ls_fit *fit, const ls_fit_config *config, const 
         ls_arena_restore(arena, mark);
         return st;
     }
-    memcpy(fit->params, optimizes_u(config) ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
+    memcpy(fit->params, ls_fit_impl_optimizes_u(config) ? fit->u : fit->x, 3u * (size_t)n * sizeof(ls_real));
     fit->params[3u * (size_t)n] = fit->params[3u * (size_t)n + 1u] = fit->params[3u * (size_t)n + 2u] = (ls_real)0;
     return LS_OK;
 }
 
 /* The arguments of ls_fit_init and ls_fit_init_job. */
-static ls_status init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+ls_status ls_fit_impl_init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                               ls_diag *diag)
 {
     uint32_t i;
@@ -487,10 +451,10 @@ static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const l
     ls_status st;
     if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
-    st = init_args_ok(config, views, initial, diag);
+    st = ls_fit_impl_init_args_ok(config, views, initial, diag);
     if (st != LS_OK) return st;
-    measure_frame(initial, &scale, &radius);
-    return fit_init_frame(fit, config, views, initial, scale, radius, NULL, arena, diag);
+    ls_fit_impl_measure_frame(initial, &scale, &radius);
+    return ls_fit_impl_fit_init_frame(fit, config, views, initial, scale, radius, NULL, arena, diag);
 }
 
 static uint64_t now(const ls_monitor *m)
@@ -613,7 +577,7 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     uint64_t t0;
     ls_status st = LS_OK;
     t0 = now(monitor);
-    if (optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, xs);
+    if (ls_fit_impl_optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, xs);
     fit->timing.solve_ns += now(monitor) - t0;
     if (st != LS_OK) {
         if (st == LS_ERR_NONFINITE) diag_set(diag, st, "solve: non-finite differential coordinates", fit->iteration);
@@ -635,14 +599,14 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     }
     fit->reg_loss = (ls_real)0;
     if (c->method == LS_FIT_LAPLACIAN || c->method == LS_FIT_BILAPLACIAN) {
-        /* w mean(...) over the 3n values: value and gradient scaled by w / (3n) */
+        /* w mean(...) ls_fit_impl_over the 3n values: value and gradient scaled by w / (3n) */
         const ls_real w = c->reg_weight / (ls_real)(3u * n);
         st = c->method == LS_FIT_LAPLACIAN ? ls_laplacian_energy(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block)
                                            : ls_laplacian_bilaplacian(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block);
         if (st != LS_OK) return st;
         for (i = 0; i < 3u * n; i++) fit->gx[i] += fit->grad[i];
     }
-    /* the translation's gradient: the sum over the vertices, in order */
+    /* the translation's gradient: the sum ls_fit_impl_over the vertices, in order */
     for (k = 0; k < 3; k++) {
         ls_real s = (ls_real)0;
         for (i = 0; i < n; i++) s += fit->gx[3u * i + k];
@@ -674,7 +638,7 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     uint32_t t = o->step;
     uint64_t t0;
     ls_status st;
-    if (m2 == NULL) { /* not reached: reserved by iteration_scratch */
+    if (m2 == NULL) { /* not reached: reserved by ls_fit_impl_iteration_scratch */
         ls_arena_restore(&fit->block, mark);
         return LS_ERR_NOMEM;
     }
@@ -717,7 +681,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     cg = fit->param.cg;
     mark = ls_arena_save(&fit->block);
     xs = fit->x;
-    if (optimizes_u(&fit->config)) {
+    if (ls_fit_impl_optimizes_u(&fit->config)) {
         xs = (ls_real *)ls_arena_scratch(&fit->block, nn, sizeof(ls_real));
         if (fit->config.solver == LS_PARAM_CG) {
             warm = (ls_real *)ls_arena_scratch(&fit->block, 2u * nn, sizeof(ls_real));
@@ -731,7 +695,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     if (st == LS_OK) st = step_gradient(fit, xs, monitor, diag);
     if (st == LS_OK) st = step_optimizer(fit, monitor, diag);
     if (st == LS_OK) {
-        if (optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
+        if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
         fit->iteration++;
     } else {
@@ -745,533 +709,6 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
         }
     }
     ls_arena_restore(&fit->block, mark);
-    return st;
-}
-
-/* The current mesh in the fit's frame: M^-1 u (large steps; the CG's warm
- * start and statistics are put back, from the block's scratch) or x, plus
- * the translation. */
-static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
-{
-    const uint32_t n = fit->vertex_count;
-    if (optimizes_u(&fit->config)) {
-        const size_t nn = 3u * (size_t)n;
-        const ls_cg_info cg = fit->param.cg;
-        ls_arena_mark mark = ls_arena_save(&fit->block);
-        ls_real *warm = NULL;
-        ls_status st;
-        if (fit->config.solver == LS_PARAM_CG) {
-            warm = (ls_real *)ls_arena_scratch(&fit->block, nn, sizeof(ls_real));
-            if (warm == NULL) return LS_ERR_NOMEM; /* not reached: the iteration's reserve */
-            memcpy(warm, fit->param.warm_fwd, nn * sizeof(ls_real));
-        }
-        st = ls_param_from_differential(&fit->param, fit->params, positions);
-        if (warm != NULL) {
-            memcpy(fit->param.warm_fwd, warm, nn * sizeof(ls_real));
-            fit->param.cg = cg;
-        }
-        ls_arena_restore(&fit->block, mark);
-        if (st != LS_OK) return st;
-    } else {
-        memcpy(positions, fit->x, 3u * (size_t)n * sizeof(ls_real));
-    }
-    if (fit->config.use_translation) {
-        uint32_t i, k;
-        for (i = 0; i < n; i++)
-            for (k = 0; k < 3; k++) positions[3u * i + k] += fit->params[3u * n + k];
-    }
-    return LS_OK;
-}
-
-static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
-{
-    ls_arena_mark mark;
-    ls_real *pos;
-    ls_mesh m;
-    ls_status st;
-    if (fit == NULL || out == NULL || fit->x == NULL) return invalid_arg(diag, "fit or out is NULL, or fit not initialised");
-    if (!fit->config.guard) return invalid_arg(diag, "fit->config.guard: 0; ls_fit_tangle needs a fit made with guard = 1");
-    mark = ls_arena_save(&fit->block);
-    pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
-    st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
-    if (st == LS_OK) {
-        m.positions = pos;
-        m.triangles = fit->triangles;
-        m.vertex_count = fit->vertex_count;
-        m.face_count = fit->face_count;
-        st = ls_tangle(&m, NULL, &fit->block, out, diag);
-    }
-    ls_arena_restore(&fit->block, mark);
-    return st;
-}
-
-/* The checkpoint's parts: params, m1, m2 (the optimizer's count each), x. */
-static void saved_parts(const ls_fit *fit, ls_real **parts)
-{
-    const size_t count = fit->optim.count;
-    parts[0] = fit->saved;
-    parts[1] = parts[0] + count;
-    parts[2] = parts[1] + count;
-    parts[3] = parts[2] + count;
-}
-
-ls_status ls_fit_save(ls_fit *fit)
-{
-    ls_real *p[4];
-    size_t count;
-    if (fit == NULL || fit->saved == NULL) return LS_ERR_INVALID;
-    count = fit->optim.count;
-    saved_parts(fit, p);
-    memcpy(p[0], fit->params, count * sizeof(ls_real));
-    memcpy(p[1], fit->optim.m1, count * sizeof(ls_real));
-    memcpy(p[2], fit->optim.m2, count * sizeof(ls_real));
-    memcpy(p[3], fit->x, 3u * (size_t)fit->vertex_count * sizeof(ls_real));
-    memcpy(fit->saved_last_scale, fit->optim.last_scale, sizeof fit->saved_last_scale);
-    fit->saved_step = fit->optim.step;
-    fit->saved_iteration = fit->iteration;
-    fit->saved_valid = 1;
-    return LS_OK;
-}
-
-ls_status ls_fit_rollback(ls_fit *fit)
-{
-    ls_real *p[4];
-    size_t count;
-    if (fit == NULL || fit->saved == NULL || !fit->saved_valid) return LS_ERR_INVALID;
-    count = fit->optim.count;
-    saved_parts(fit, p);
-    memcpy(fit->params, p[0], count * sizeof(ls_real));
-    memcpy(fit->optim.m1, p[1], count * sizeof(ls_real));
-    memcpy(fit->optim.m2, p[2], count * sizeof(ls_real));
-    memcpy(fit->x, p[3], 3u * (size_t)fit->vertex_count * sizeof(ls_real));
-    memcpy(fit->optim.last_scale, fit->saved_last_scale, sizeof fit->saved_last_scale);
-    fit->optim.step = fit->saved_step;
-    fit->iteration = fit->saved_iteration;
-    return LS_OK;
-}
-
-ls_status ls_fit_mesh(ls_fit *fit, ls_real *positions, ls_mesh *mesh)
-{
-    size_t i;
-    ls_status st;
-    if (fit == NULL || positions == NULL || mesh == NULL || fit->x == NULL) return LS_ERR_INVALID;
-    st = frame_mesh(fit, positions);
-    if (st != LS_OK) return st;
-    for (i = 0; i < 3u * (size_t)fit->vertex_count; i++) positions[i] *= fit->scale;
-    mesh->positions = positions;
-    mesh->triangles = fit->triangles;
-    mesh->vertex_count = fit->vertex_count;
-    mesh->face_count = fit->face_count;
-    return LS_OK;
-}
-
-/* The guard's check of a remesh: LS_ERR_MESH when `out` self-intersects
- * more than `cur` (scratch of `work` only). Its own frame: the remesher's
- * call chain does not carry the two reports. */
-LS_NOINLINE static ls_status no_new_tangles(const ls_fit *fit, const ls_mesh *cur, const ls_mesh *out, ls_arena *work,
-                                            ls_diag *diag)
-{
-    ls_tangle_report before, after;
-    ls_status st = ls_tangle(cur, NULL, work, &before, diag);
-    if (st == LS_OK) st = ls_tangle(out, NULL, work, &after, diag);
-    if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
-        diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
-                 fit->iteration);
-        if (diag != NULL) diag->value = (ls_real)after.intersecting_pairs, diag->has_value = 1;
-        st = LS_ERR_MESH;
-    }
-    return st;
-}
-
-/* The current mesh remeshed to h_factor x its mean edge (ls_fit_remesh's
- * first half) into *out at the bottom of `work`, in caller units (the
- * frame's positions times S: exact), from positions in work's scratch;
- * vertex_cap as in ls_remesh_params (0: the remesher's estimate). The
- * caller restores `work`. */
-static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, uint32_t vertex_cap, ls_mesh *out,
-                                ls_remesh_info *info, ls_diag *diag)
-{
-    ls_remesh_params params;
-    ls_mesh cur;
-    ls_real mean, *pos;
-    size_t i;
-    ls_status st;
-    pos = (ls_real *)ls_arena_scratch(work, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
-    if (pos == NULL) return LS_ERR_NOMEM;
-    /* remeshed in the fit's frame, so that the result does not depend on
-     * the scene's scale */
-    st = frame_mesh(fit, pos);
-    cur.positions = pos;
-    cur.triangles = fit->triangles;
-    cur.vertex_count = fit->vertex_count;
-    cur.face_count = fit->face_count;
-    if (st == LS_OK) st = ls_remesh_mean_edge(&cur, &mean);
-    if (st == LS_OK) {
-        ls_remesh_params_default(&params, h_factor * mean);
-        params.vertex_cap = vertex_cap;
-        st = ls_remesh(&cur, &params, work, out, info, diag);
-    }
-    if (st == LS_OK && fit->config.guard) st = no_new_tangles(fit, &cur, out, work, diag);
-    if (st != LS_OK) return st;
-    /* the new fit's initial mesh in the caller's units (exact: S is a power of two) */
-    for (i = 0; i < 3u * (size_t)out->vertex_count; i++) out->positions[i] *= fit->scale;
-    return LS_OK;
-}
-
-/* ls_fit_remesh's second half: *fit replaced by a fit on `mesh` (caller
- * units) with configuration cfg (not in *fit), built in `arena`, keeping
- * the frame, the views, the timing, the counts and the job's reservation. */
-static ls_status rebuild(ls_fit *fit, const ls_fit_config *cfg, const ls_mesh *mesh, ls_arena *arena, ls_diag *diag)
-{
-    const ls_fit_views views = fit->views;
-    const ls_fit_timing timing = fit->timing;
-    const ls_fit_capacity capacity = fit->capacity;
-    const ls_arena job = fit->job;
-    const size_t job_fit_bytes = fit->job_fit_bytes;
-    const ls_real scale = fit->scale, radius = fit->radius;
-    const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
-    ls_status st;
-    memset(fit, 0, sizeof *fit);
-    st = fit_init_frame(fit, cfg, &views, mesh, scale, radius, NULL, arena, diag);
-    if (st != LS_OK) return st;
-    fit->timing = timing;
-    fit->iteration = iteration;
-    fit->remeshes = remeshes + 1u;
-    fit->capacity = capacity;
-    fit->max_edges = max_edges;
-    fit->job = job;
-    fit->job_fit_bytes = job_fit_bytes;
-    return LS_OK;
-}
-
-static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag);
-
-static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
-{
-    ls_arena_mark mark, keep;
-    ls_fit_config cfg;
-    ls_mesh out, copy;
-    size_t start, new_bytes, copy_bytes;
-    ls_status st;
-    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
-    if (!(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2))
-        return invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
-    if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor))
-        return invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
-    if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
-    if (arena == NULL) return invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
-    start = (size_t)(fit->block.base - arena->base);
-    if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom)
-        return invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
-    mark = ls_arena_save(arena);
-    st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
-    cfg = fit->config;
-    cfg.optim.lr = cfg.optim.lr * lr_factor;
-    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, arena, &new_bytes, NULL, diag);
-    if (st == LS_OK) st = ls_mesh_bytes(out.vertex_count, out.face_count, &copy_bytes);
-    if (st == LS_OK) {
-        /* after the swap: [start, start + new fit) at the bottom, the copy of the
-         * remeshed mesh at the top, with the caller's top use above it */
-        size_t during = arena->bottom + copy_bytes + mark.top; /* the copy while the output still exists */
-        size_t need = start + new_bytes + copy_bytes + mark.top;
-        if (during > need) need = during;
-        if (need > arena->capacity || need < start) {
-            arena->need = need;
-            diag_set(diag, LS_ERR_NOMEM, "arena too small for the remeshed fit", fit->iteration);
-            st = LS_ERR_NOMEM;
-        }
-    }
-    if (st != LS_OK) {
-        ls_arena_restore(arena, mark);
-        return st;
-    }
-    /* the point of no return: copy the new mesh to the top, release the old
-     * fit and the remesher's output, build the new fit in their place */
-    keep.bottom = arena->bottom;
-    keep.top = mark.top;
-    ls_arena_restore(arena, keep);
-    copy.vertex_count = out.vertex_count;
-    copy.face_count = out.face_count;
-    {
-        ls_real *cp = (ls_real *)ls_arena_scratch(arena, 3u * (size_t)out.vertex_count, sizeof(ls_real));
-        uint32_t *ct = (uint32_t *)ls_arena_scratch(arena, 3u * (size_t)out.face_count, sizeof(uint32_t));
-        memcpy(cp, out.positions, 3u * (size_t)out.vertex_count * sizeof(ls_real));
-        memcpy(ct, out.triangles, 3u * (size_t)out.face_count * sizeof(uint32_t));
-        copy.positions = cp;
-        copy.triangles = ct;
-    }
-    keep.bottom = start;
-    keep.top = arena->top;
-    ls_arena_restore(arena, keep);
-    st = rebuild(fit, &cfg, &copy, arena, diag);
-    keep.bottom = arena->bottom;
-    keep.top = mark.top;
-    ls_arena_restore(arena, keep);
-    return st;
-}
-
-/* --- a whole job within one reservation (fit.h: ls_fit_job_bytes) ------ */
-
-/* LS_ERR_TOO_LARGE in *diag: `what` exceeded; index = the count, value =
- * the capacity. */
-static ls_status over(ls_diag *diag, const char *what, uint64_t count, uint32_t cap)
-{
-    (void)ls_diag_set(diag, LS_ERR_TOO_LARGE, what, count);
-    if (diag != NULL) {
-        diag->has_value = 1;
-        diag->value = (ls_real)cap;
-    }
-    return LS_ERR_TOO_LARGE;
-}
-
-/* LS_ERR_TOO_LARGE naming the first count of `have` above its limit. */
-static ls_status within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag)
-{
-    static const char *const what[2][4] = {
-        {"initial mesh: more vertices than capacity.max_vertices", "initial mesh: more faces than capacity.max_faces",
-         "initial mesh: more edges than the capacity allows (max_vertices + max_faces - Euler characteristic)",
-         "initial mesh: more LDL^T factor entries than capacity.max_factor_nnz"},
-        {"remesh: more vertices than capacity.max_vertices", "remesh: more faces than capacity.max_faces",
-         "remesh: more edges than the capacity allows (max_vertices + max_faces - Euler characteristic)",
-         "remesh: more LDL^T factor entries than capacity.max_factor_nnz"}};
-    uint32_t h[4], l[4], k;
-    h[0] = have->vertices, h[1] = have->faces, h[2] = have->edges, h[3] = have->factor_nnz;
-    l[0] = lim->vertices, l[1] = lim->faces, l[2] = lim->edges, l[3] = lim->factor_nnz;
-    for (k = 0; k < 4; k++)
-        if (h[k] > l[k]) return over(diag, what[remesh != 0][k], h[k], l[k]);
-    return LS_OK;
-}
-
-/* The large-steps LDL^T: the fill has a capacity of its own. */
-static int uses_factor(const ls_fit_config *c)
-{
-    return c->method == LS_FIT_LARGE_STEPS && (c->solver == LS_PARAM_LDLT || c->solver == LS_PARAM_AUTO);
-}
-
-/* The reservation for counts within lim and a mesh of Euler characteristic
- * euler: the fit's region (the largest block ls_fit_bytes can answer, and
- * the measurement that precedes it: positions, edges, Laplacian, the
- * factor's analysis) and above it the remesh work (the current positions,
- * then the larger of the remesher's bound at max_vertices and its output
- * with the new fit's measurement). Every term grows with every count. */
-static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_counts *lim, int64_t euler,
-                           size_t *region, size_t *bytes)
-{
-    const uint32_t n = lim->vertices, f = lim->faces;
-    ls_param_config pc;
-    ls_remesh_params rp;
-    ls_mesh_report rep;
-    ls_mesh shape;
-    ls_csc lap;
-    ls_size measure, fit, work, after, rm;
-    fit_sizes z;
-    size_t block = 0, eb = 0, rb = 0, ob = 0, analyze = 0, object = 0, factor = 0;
-    ls_status st;
-    if ((uint64_t)n + lim->edges > UINT32_MAX) return LS_ERR_TOO_LARGE;
-    st = base_sizes(c, views, n, f, lim->edges, &z);
-    /* the regularizer's scratch depends on the Laplacian's size only */
-    memset(&lap, 0, sizeof lap);
-    lap.nrows = lap.ncols = n;
-    if (st == LS_OK) st = iteration_scratch(c, n, f, &lap, &z.iteration);
-    if (st == LS_OK && c->method == LS_FIT_LARGE_STEPS) {
-        param_config(c, &pc);
-        st = ls_param_bytes_bound(n, n + lim->edges, lim->factor_nnz, &pc, 1, &z.param);
-        /* the measurement runs the analysis only: no factor */
-        if (st == LS_OK && uses_factor(c))
-            st = ls_ldlt_bytes_bound(n, n + lim->edges, n + lim->edges, 0, pc.order, &analyze, &object, &factor);
-    }
-    if (st == LS_OK) st = total(&z, &block);
-    if (st == LS_OK) st = ls_mesh_edges_bytes(f, lim->edges, &eb);
-    if (st != LS_OK) return st;
-    ls_size_init(&measure);
-    ls_size_add(&measure, 3u * (size_t)n, sizeof(ls_real));
-    ls_size_add(&measure, eb, 1);
-    ls_size_add(&measure, z.lap, 1);
-    ls_size_add(&measure, analyze, 1);
-    ls_size_init(&fit);
-    ls_size_add(&fit, block, 1);
-    ls_size_max(&fit, &measure);
-    /* the remesher's bound reads the counts and the Euler characteristic only */
-    memset(&shape, 0, sizeof shape);
-    shape.vertex_count = n;
-    shape.face_count = f;
-    memset(&rep, 0, sizeof rep);
-    rep.euler = euler;
-    ls_remesh_params_default(&rp, (ls_real)1);
-    rp.vertex_cap = n;
-    st = ls_remesh_bytes_bound(&shape, &rep, &rp, &rb);
-    if (st == LS_OK) st = ls_mesh_bytes(n, f, &ob);
-    if (st == LS_OK) st = ls_size_get(&fit, region);
-    if (st != LS_OK) return st;
-    ls_size_init(&rm);
-    ls_size_add(&rm, rb, 1);
-    ls_size_init(&after);
-    ls_size_add(&after, ob, 1);
-    if (c->guard) { /* the result's self-intersection check (the larger mesh's) or the measurement */
-        ls_size check;
-        size_t tb = 0;
-        st = ls_tangle_bytes(f, &tb);
-        if (st != LS_OK) return st;
-        ls_size_init(&check);
-        ls_size_add(&check, tb, 1);
-        ls_size_max(&check, &measure);
-        ls_size_add_size(&after, &check);
-    } else {
-        ls_size_add_size(&after, &measure);
-    }
-    ls_size_max(&rm, &after);
-    ls_size_init(&work);
-    ls_size_add(&work, 3u * (size_t)n, sizeof(ls_real));
-    ls_size_add_size(&work, &rm);
-    ls_size_add_size(&fit, &work);
-    return ls_size_get(&fit, bytes);
-}
-
-/* A job's limits and sizes: the capacity checked, the initial mesh's
- * counts against it, its edges and Euler characteristic from a validation
- * in scratch (released). */
-static ls_status job_plan(const ls_fit_config *c, const ls_fit_views *views, const ls_mesh *initial,
-                          const ls_fit_capacity *cap, ls_arena *scratch, fit_counts *lim, size_t *region,
-                          size_t *bytes, ls_diag *diag)
-{
-    ls_arena_mark mark;
-    ls_mesh_report rep;
-    fit_counts have;
-    int64_t e;
-    ls_status st;
-    memset(lim, 0, sizeof *lim);
-    if (cap == NULL || cap->max_vertices == 0 || cap->max_faces == 0 || (uses_factor(c) && cap->max_factor_nnz == 0)) {
-        (void)ls_diag_set(diag, LS_ERR_INVALID,
-                          "capacity: max_vertices and max_faces must be > 0, and max_factor_nnz with the LDL^T",
-                          LS_DIAG_NO_INDEX);
-        return LS_ERR_INVALID;
-    }
-    lim->vertices = cap->max_vertices;
-    lim->faces = cap->max_faces;
-    lim->edges = lim->factor_nnz = UINT32_MAX;
-    have.vertices = initial->vertex_count;
-    have.faces = initial->face_count;
-    have.edges = have.factor_nnz = 0;
-    st = within(&have, lim, 0, diag);
-    if (st != LS_OK) return st;
-    mark = ls_arena_save(scratch);
-    st = ls_mesh_validate(initial, scratch, &rep);
-    ls_arena_restore(scratch, mark);
-    if (st != LS_OK) {
-        (void)ls_diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small to validate the initial mesh"
-                                                       : "initial mesh: cannot be validated", LS_DIAG_NO_INDEX);
-        return st;
-    }
-    /* every mesh of the job has the initial one's Euler characteristic
-     * (the remesher keeps genus, components and boundary loops), so E =
-     * V + F - chi */
-    e = (int64_t)cap->max_vertices + (int64_t)cap->max_faces - rep.euler;
-    lim->edges = e < 0 ? 0u : e > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)e;
-    lim->factor_nnz = cap->max_factor_nnz;
-    have.edges = rep.edge_count;
-    st = within(&have, lim, 0, diag);
-    if (st == LS_OK) st = job_sizes(c, views->count, lim, rep.euler, region, bytes);
-    return st;
-}
-
-static ls_status fit_job_bytes_call(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
-{
-    fit_counts lim, have;
-    ls_real scale, radius;
-    size_t region = 0, job = 0, fit_bytes = 0;
-    ls_status st;
-    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
-    *bytes = 0;
-    st = init_args_ok(config, views, initial, diag);
-    if (st == LS_OK) st = job_plan(config, views, initial, capacity, scratch, &lim, &region, &job, diag);
-    if (st != LS_OK) return st;
-    /* the initial mesh's fill, from the analysis that init will run */
-    measure_frame(initial, &scale, &radius);
-    st = fit_bytes_frame(config, views, initial, scale, scratch, &fit_bytes, &have, diag);
-    if (st == LS_OK) st = within(&have, &lim, 0, diag);
-    if (st == LS_OK) *bytes = job;
-    return st;
-}
-
-static ls_status fit_init_job_call(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial, const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
-{
-    ls_arena_mark mark;
-    ls_arena region;
-    fit_counts lim;
-    ls_real scale, radius;
-    size_t region_bytes = 0, bytes = 0;
-    void *mem;
-    ls_status st;
-    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
-    memset(fit, 0, sizeof *fit);
-    st = init_args_ok(config, views, initial, diag);
-    if (st == LS_OK) st = job_plan(config, views, initial, capacity, arena, &lim, &region_bytes, &bytes, diag);
-    if (st != LS_OK) return st;
-    mark = ls_arena_save(arena);
-    mem = ls_arena_alloc(arena, bytes, 1);
-    if (mem == NULL) {
-        (void)ls_diag_set(diag, LS_ERR_NOMEM, "arena too small for the job (ls_fit_job_bytes; arena->need)",
-                          LS_DIAG_NO_INDEX);
-        return LS_ERR_NOMEM;
-    }
-    /* the fit at the start of the reservation, the remesh work above it */
-    measure_frame(initial, &scale, &radius);
-    st = ls_arena_init(&region, mem, region_bytes);
-    if (st == LS_OK) st = fit_init_frame(fit, config, views, initial, scale, radius, &lim, &region, diag);
-    if (st == LS_OK) st = ls_arena_init(&fit->job, mem, bytes);
-    if (st == LS_OK && ls_arena_alloc(&fit->job, region_bytes, 1) == NULL) st = LS_ERR_NOMEM; /* not reached */
-    if (st != LS_OK) {
-        memset(fit, 0, sizeof *fit);
-        ls_arena_restore(arena, mark);
-        return st;
-    }
-    fit->capacity = *capacity;
-    fit->max_edges = lim.edges;
-    fit->job_fit_bytes = region_bytes;
-    return LS_OK;
-}
-
-/* ls_fit_remesh inside the job's reservation: the remesher and the new
- * fit's measurement in the work part, every count checked against the
- * capacity before the old fit is touched, then the new fit built in the
- * fit's part from the output still in the work part (no copy needed). */
-static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
-{
-    ls_arena_mark mark = ls_arena_save(&fit->job);
-    ls_arena region;
-    ls_fit_config cfg;
-    fit_counts lim, have;
-    ls_mesh out;
-    size_t new_bytes = 0;
-    ls_status st;
-    lim.vertices = fit->capacity.max_vertices;
-    lim.faces = fit->capacity.max_faces;
-    lim.edges = fit->max_edges;
-    lim.factor_nnz = fit->capacity.max_factor_nnz;
-    st = remesh_current(fit, &fit->job, h_factor, lim.vertices, &out, info, diag);
-    /* the work part holds the remesher's bound at max_vertices: running
-     * out of it is running out of vertex capacity */
-    if (st == LS_ERR_NOMEM) st = over(diag, "remesh: more vertices than capacity.max_vertices", (uint64_t)lim.vertices + 1u, lim.vertices);
-    if (st == LS_OK) {
-        have.vertices = out.vertex_count;
-        have.faces = out.face_count;
-        have.edges = have.factor_nnz = 0;
-        st = within(&have, &lim, 1, diag);
-    }
-    cfg = fit->config;
-    cfg.optim.lr = cfg.optim.lr * lr_factor;
-    if (st == LS_OK) st = fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, &fit->job, &new_bytes, &have, diag);
-    if (st == LS_OK) st = within(&have, &lim, 1, diag);
-    if (st == LS_OK && new_bytes > fit->job_fit_bytes) /* not reached: the bound covers the counts */
-        st = over(diag, "remesh: the new fit exceeds the job's reservation", new_bytes, (uint32_t)0);
-    if (st != LS_OK) {
-        ls_arena_restore(&fit->job, mark);
-        return st;
-    }
-    /* the point of no return */
-    st = ls_arena_init(&region, fit->job.base, fit->job_fit_bytes);
-    if (st == LS_OK) st = rebuild(fit, &cfg, &out, &region, diag);
-    ls_arena_restore(&fit->job, mark);
     return st;
 }
 
@@ -1296,37 +733,6 @@ ls_status ls_fit_init(ls_fit *fit, const ls_fit_config *config, const ls_fit_vie
 ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 {
     ls_status st = fit_step_call(fit, monitor, diag);
-    if (st == LS_OK) ls_diag_clear(diag);
-    return st;
-}
-
-ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
-{
-    ls_status st = fit_tangle_call(fit, out, diag);
-    if (st == LS_OK) ls_diag_clear(diag);
-    return st;
-}
-
-ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info,
-                        ls_diag *diag)
-{
-    ls_status st = fit_remesh_call(fit, arena, h_factor, lr_factor, info, diag);
-    if (st == LS_OK) ls_diag_clear(diag);
-    return st;
-}
-
-ls_status ls_fit_job_bytes(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                           const ls_fit_capacity *capacity, ls_arena *scratch, size_t *bytes, ls_diag *diag)
-{
-    ls_status st = fit_job_bytes_call(config, views, initial, capacity, scratch, bytes, diag);
-    if (st == LS_OK) ls_diag_clear(diag);
-    return st;
-}
-
-ls_status ls_fit_init_job(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
-                          const ls_fit_capacity *capacity, ls_arena *arena, ls_diag *diag)
-{
-    ls_status st = fit_init_job_call(fit, config, views, initial, capacity, arena, diag);
     if (st == LS_OK) ls_diag_clear(diag);
     return st;
 }

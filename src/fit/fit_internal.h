@@ -1,0 +1,66 @@
+/* fit_internal.h - what the fit's files share (private to src/fit): the
+ * sizing records, error helpers, and the functions one file offers the
+ * others. fit.c: configuration, sizing, set-up and the iteration;
+ * fit_remesh.c: checkpoints, self-intersection checks and remeshing (also
+ * inside a job's memory); fit_job.c: a whole job's memory, planned up front. */
+#ifndef LS_FIT_INTERNAL_H
+#define LS_FIT_INTERNAL_H
+#include <string.h>
+#include <largesteps/fit.h>
+#include <largesteps/laplacian.h>
+#include <largesteps/loss.h>
+#include <largesteps/render_backward.h>
+#include <largesteps/remesh.h>
+
+static inline void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index)
+{
+    if (diag == NULL) return;
+    ls_diag_clear(diag);
+    diag->status = st;
+    diag->what = what;
+    diag->has_index = 1;
+    diag->index = index;
+}
+
+static inline int finite_r(ls_real x) { return x - x == x - x; }
+
+/* LS_ERR_INVALID naming the argument that is wrong (diag may be NULL). */
+static inline ls_status invalid_arg(ls_diag *diag, const char *what)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+}
+
+/* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
+ * the Laplacian (with its build scratch), M and its solver, the optimizer,
+ * the edge table, the visibility buffer, then the scratch of one iteration. */
+typedef struct fit_sizes {
+    size_t arrays, lap, param, optim, edges, vis, iteration;
+} fit_sizes;
+
+/* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */
+typedef struct fit_counts {
+    uint32_t vertices, faces, edges, factor_nnz;
+} fit_counts;
+
+/* ---- what each file offers the others ---- */
+
+/* fit_job.c */
+ls_status ls_fit_impl_over(ls_diag *diag, const char *what, uint64_t count, uint32_t cap);
+ls_status ls_fit_impl_within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag);
+
+/* fit.c */
+void ls_fit_impl_measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius);
+void ls_fit_impl_param_config(const ls_fit_config *c, ls_param_config *pc);
+int ls_fit_impl_optimizes_u(const ls_fit_config *c);
+ls_status ls_fit_impl_iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes);
+ls_status ls_fit_impl_total(const fit_sizes *z, size_t *bytes);
+ls_status ls_fit_impl_base_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, uint32_t edges, fit_sizes *z);
+ls_status ls_fit_impl_fit_bytes_frame(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                                 ls_real scale, ls_arena *scratch, size_t *bytes, fit_counts *counts, ls_diag *diag);
+ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
+                                const ls_mesh *initial, ls_real scale, ls_real radius, const fit_counts *lim,
+                                ls_arena *arena, ls_diag *diag);
+ls_status ls_fit_impl_init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
+                              ls_diag *diag);
+
+#endif
