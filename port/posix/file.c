@@ -159,13 +159,17 @@ static void on_signal(int sig)
 
 void ls_posix_cleanup_on_signals(void)
 {
-    struct sigaction sa;
+    static const int sigs[3] = {SIGINT, SIGTERM, SIGHUP};
+    struct sigaction sa, was;
+    int k;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
-    (void)sigaction(SIGHUP, &sa, NULL);
+    for (k = 0; k < 3; k++) {
+        /* a signal ignored by the caller (nohup, a background job) stays ignored */
+        if (sigaction(sigs[k], NULL, &was) == 0 && was.sa_handler == SIG_IGN) continue;
+        (void)sigaction(sigs[k], &sa, NULL);
+    }
 }
 
 static int temp_claim(void)

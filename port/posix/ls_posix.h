@@ -93,7 +93,8 @@ int ls_posix_write_whole_in(const char *dir, const char *name, int (*body)(FILE 
 const char *ls_posix_write_error(void);
 
 /* Removes the temporaries in flight on SIGINT, SIGTERM and SIGHUP, then
- * dies of the signal (main calls it once). */
+ * dies of the signal (main calls it once). A signal the caller ignores
+ * (nohup, a background job's SIGINT) stays ignored. */
 void ls_posix_cleanup_on_signals(void);
 
 /* An output set: files that appear together or not at all. Each add writes
