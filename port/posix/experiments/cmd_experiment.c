@@ -259,8 +259,8 @@ static void compare_sheet(const ls_job_problem *p, const exp_args *a, const view
     ls_status st = ls_contact_init(&sheet, arena, nrows * p->views, p->width, p->height, p->views, 1, NULL);
     for (r = 0; r < nrows && st == LS_OK; r++)
         for (v = 0; v < p->views && st == LS_OK; v++) st = ls_contact_put_rgba(&sheet, r * p->views + v, rows[r].v[v]);
-    if (st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st))
-        fprintf(stderr, "largesteps experiment: cannot write %s/compare.png: %s\n", a->out, ls_status_str(st));
+    if ((st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st)) && st != LS_OK)
+        fprintf(stderr, "largesteps experiment: cannot encode %s/compare.png: %s\n", a->out, ls_status_str(st)); /* a file error: reported by the writer */
     ls_arena_restore(arena, mark);
 }
 
@@ -421,6 +421,11 @@ int ls_cmd_experiment(int argc, char **argv)
         free(work);
         return fprintf(stderr, "largesteps experiment: out of memory\n"), 1;
     }
+    /* compare writes its contact sheet into DIR during the run */
+    if (ls_posix_mkdir_p(a.out) != 0) {
+        free(work);
+        return fprintf(stderr, "largesteps experiment: cannot create %s: %s\n", a.out, strerror(errno)), 1;
+    }
     /* the table is built in memory and written whole at the end (nothing is
      * left behind when a run fails or is interrupted) */
     f = open_memstream(&table, &table_bytes);
@@ -436,8 +441,7 @@ int ls_cmd_experiment(int argc, char **argv)
         snprintf(md, sizeof md, "%s.md", a.name);
         tb.text = table;
         tb.bytes = table_bytes;
-        if (ls_posix_mkdir_p(a.out) != 0) rc = (fprintf(stderr, "largesteps experiment: cannot create %s: %s\n", a.out, strerror(errno)), 1);
-        else if (!ls_posix_write_whole_in(a.out, md, write_table, &tb)) rc = 1;
+        if (!ls_posix_write_whole_in(a.out, md, write_table, &tb)) rc = 1;
         else if (fwrite(table, 1, table_bytes, stdout) != table_bytes) rc = 1;
     }
     free(table);
