@@ -85,6 +85,22 @@ printf 'largesteps-scene 1\nresolution 16 16\nviews fibonacci 2 25 0 4.8 0\ntarg
 expect read_scene_target_dev_zero 1 "largesteps: cannot read /dev/zero: larger than the input limit of 256 MB (--max-input-mb N raises it)" \
     capped 30 "$ls" fit "$out/scene/zero.txt" --iters 1 --quiet -o "$out/scene/out"
 
+# a Mitsuba scene naming an endless file (filename="/dev/urandom" for its environment map)
+cat > "$out/scene/urandom.xml" <<'XML'
+<?xml version="1.0"?>
+<scene version="2.0.0">
+  <sensor type="perspective">
+    <float name="fov" value="45"/>
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  </sensor>
+  <emitter type="envmap"><string name="filename" value="/dev/urandom"/></emitter>
+  <shape type="obj" id="mesh-target"><string name="filename" value="/dev/zero"/></shape>
+</scene>
+XML
+expect read_mitsuba_filename_dev_urandom 1 "largesteps: cannot read /dev/urandom: larger than the input limit of 1 MB (--max-input-mb N raises it)" \
+    capped 30 "$ls" --max-input-mb 1 fit "$out/scene/urandom.xml" --iters 1 --quiet -o "$out/scene/out"
+
 # ---- standard output ---------------------------------------------------------
 if [ -w /dev/full ]; then
     expect stdout_full_metrics_json 1 "largesteps: writing to standard output failed: No space left on device" \
