@@ -123,9 +123,9 @@ expect() { # name, status, pattern, command...
     if [ "$got" = "$want" ] && grep -q -e "$pattern" "$build/$name.log"; then ok "$name"; else bad "$name (status $got, wanted $want)"; cat "$build/$name.log"; fi
 }
 expect fit_unknown_option 2 "unknown option" "$ls" fit --frobnicate -o "$out/x"
-expect fit_bad_value 2 "bad value" "$ls" fit --views 0 -o "$out/x"
+expect fit_bad_value 2 "--views: '0' is not a whole number in \[1, 1024\]" "$ls" fit --views 0 -o "$out/x"
 expect fit_needs_output 2 "-o DIR" "$ls" fit --iters 3
-expect fit_bad_alpha 1 "argument" "$ls" fit --alpha 1 --iters 1 --res 16 --views 1 -o "$out/x"
+expect fit_bad_alpha 2 "--alpha: '1' is not a number in \[0, 1)" "$ls" fit --alpha 1 --iters 1 --res 16 --views 1 -o "$out/x"
 expect fit_missing_target 1 "nothing.obj" "$ls" fit "$out/nothing.obj" -o "$out/x"
 printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' > "$out/broken.obj"
 expect fit_malformed_mesh 1 "broken.obj" "$ls" fit "$out/broken.obj" -o "$out/x"
@@ -153,7 +153,7 @@ if [ "$(grep -c -e '^| naive' -e '^| Laplacian' -e '^| bilaplacian' -e '^| large
 check fit_init_coarse "$ls" fit fixtures/meshes/elephant.obj --init-coarse 0.03 --iters 0 --res 24 --views 1 --quiet -o "$out/coarse"
 if "$ls" info "$out/coarse/result.obj" 2>/dev/null | grep -q '^genus  *3$' && [ "$(field "$out/coarse/metrics.json" intersecting_pairs)" = 0 ]; then
     ok "fit_init_coarse_keeps_genus_3_untangled"; else bad "fit_init_coarse_keeps_genus_3_untangled"; fi
-expect fit_init_coarse_bad 2 "bad value" "$ls" fit --init-coarse 0 -o "$out/x"
+expect fit_init_coarse_bad 2 "--init-coarse: '0' is not a number in (0, 1\]" "$ls" fit --init-coarse 0 -o "$out/x"
 
 # 5. the trade study's tables and plot (tiny)
 check experiment_tradeoffs "$ls" experiment tradeoffs --iters 8 --res 24 --views 2 --level 1 --knobs silhouette,power -o "$out/trade"

@@ -279,7 +279,7 @@ static uint32_t sample_at(const unsigned char *row, size_t k, uint32_t bits)
     {
         size_t bit = k * bits;
         uint32_t shift = 8u - bits - (uint32_t)(bit & 7u);
-        return (row[bit >> 3] >> shift) & ((1u << bits) - 1u);
+        return ((uint32_t)row[bit >> 3] >> shift) & ((1u << bits) - 1u);
     }
 }
 

@@ -468,8 +468,9 @@ static ls_status statement(ls_scene_builder *b, text_state *ts, const char *text
     }
     if (tok_is(text, &tok[0], "background")) {
         if ((st = once(b, &ts->background, at, diag)) != LS_OK) return st;
-        if (n != 4 || !numbers(text, tok, 1, 3, s->background, &bad))
-            return ls_scene_error(b, at, "background: expected R G B", diag);
+        if (n != 4 || !numbers(text, tok, 1, 3, s->background, &bad) || !finite_r(s->background[0]) ||
+            !finite_r(s->background[1]) || !finite_r(s->background[2]))
+            return ls_scene_error(b, at, "background: expected R G B (finite numbers)", diag);
         return LS_OK;
     }
     if (tok_is(text, &tok[0], "target")) {

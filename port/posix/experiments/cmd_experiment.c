@@ -29,9 +29,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
 #include "ls_posix.h"
 #include "commands.h"
 #include "fit_job.h"
+#include "args.h"
 
 typedef struct exp_args {
     const char *name, *target, *out;
@@ -53,17 +55,20 @@ static int usage(FILE *f)
     fprintf(f, "usage: largesteps experiment lambda-sweep|compare|silhouettes|views [TARGET] [options] -o DIR\n"
                "       largesteps experiment tradeoffs [TARGET] [options] -o DIR   (--help for its options)\n"
                "       largesteps experiment texture [options] -o DIR   (texture reconstruction; --help)\n"
-               "  --iters N   iterations per run (default 400)\n"
-               "  --res R     render size R x R (default 64)\n"
-               "  --views N   views (default 16; the views experiment sets its own)\n"
-               "  --level K   initial icosphere level (default 3)\n"
+               "  TARGET      a mesh (OBJ, PLY, OFF) or a scene (default: the embedded bunny)\n"
+               "  -o DIR      output directory (required): NAME.md, compare.png for compare\n"
+               "  --iters N   iterations per run (1..1000000; default 400)\n"
+               "  --res R     render size R x R (8..4096; default 64)\n"
+               "  --views N   views (1..1024; default 16; the views experiment sets its own)\n"
+               "  --level K   initial icosphere level (0..7; default 3)\n"
                "  --init-coarse E, --init-smooth N   initial mesh: the target remeshed to edge E x its\n"
-               "              bounding-box diagonal, N Taubin steps (default 10); for targets of genus > 0\n"
+               "              bounding-box diagonal (0 < E <= 1; default: the icosphere), N Taubin steps\n"
+               "              (0..10000; default 10); for targets of genus > 0\n"
                "  --form F    lambda-sweep: alpha | lambda | both (default both)\n"
                "  --remesh I,J  compare: remesh every run before these iterations (default none, as the\n"
                "              paper's comparison figure)\n"
                "  --cap F     compare: each baseline run stops at F x the tuned large-steps run's time\n"
-               "              (default 3; a tangled mesh can cost 10x per iteration)\n");
+               "              (1..1000; default 3; a tangled mesh can cost 10x per iteration)\n" LS_ARGS_GLOBAL_HELP);
     return f == stderr ? 2 : 0;
 }
 
@@ -254,8 +259,8 @@ static void compare_sheet(const ls_job_problem *p, const exp_args *a, const view
     ls_status st = ls_contact_init(&sheet, arena, nrows * p->views, p->width, p->height, p->views, 1, NULL);
     for (r = 0; r < nrows && st == LS_OK; r++)
         for (v = 0; v < p->views && st == LS_OK; v++) st = ls_contact_put_rgba(&sheet, r * p->views + v, rows[r].v[v]);
-    if (st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st))
-        fprintf(stderr, "largesteps experiment: cannot write %s/compare.png: %s\n", a->out, ls_status_str(st));
+    if ((st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st)) && st != LS_OK)
+        fprintf(stderr, "largesteps experiment: cannot encode %s/compare.png: %s\n", a->out, ls_status_str(st)); /* a file error: reported by the writer */
     ls_arena_restore(arena, mark);
 }
 
@@ -333,17 +338,28 @@ static void silhouettes(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
     }
 }
 
+typedef struct table_buf {
+    const char *text;
+    size_t bytes;
+} table_buf;
+
+static int write_table(FILE *f, void *ctx)
+{
+    const table_buf *t = (const table_buf *)ctx;
+    return fwrite(t->text, 1, t->bytes, f) == t->bytes;
+}
+
+static int experiment_body(FILE *f, const exp_args *ap, ls_arena *arena_p);
+
 int ls_cmd_experiment(int argc, char **argv)
 {
     exp_args a;
-    ls_job_options o;
-    ls_job_problem p;
     unsigned char *work;
-    size_t work_bytes = (size_t)1 << 30;
+    size_t work_bytes = (size_t)1 << 30, table_bytes = 0;
     ls_arena arena;
-    char path[4096], tmp[4096];
+    char md[256], *table = NULL;
     FILE *f;
-    int i;
+    int i, rc;
     memset(&a, 0, sizeof a);
     a.iters = 400;
     a.res = 64;
@@ -358,39 +374,87 @@ int ls_cmd_experiment(int argc, char **argv)
     if (strcmp(a.name, "tradeoffs") == 0) return ls_cmd_tradeoffs(argc - 1, argv + 1);
     for (i = 2; i < argc; i++) {
         const char *opt = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned long n = v != NULL ? strtoul(v, NULL, 10) : 0;
+        int ok = 1;
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) return usage(stdout);
         if (opt[0] != '-') {
+            if (a.target != NULL) return fprintf(stderr, "largesteps experiment: more than one target ('%s')\n", opt), 2;
             a.target = opt;
             continue;
         }
-        if (v == NULL) return usage(stderr);
+        if (strcmp(opt, "-o") != 0 && strcmp(opt, "--iters") != 0 && strcmp(opt, "--res") != 0 &&
+            strcmp(opt, "--views") != 0 && strcmp(opt, "--level") != 0 && strcmp(opt, "--init-smooth") != 0 &&
+            strcmp(opt, "--init-coarse") != 0 && strcmp(opt, "--remesh") != 0 && strcmp(opt, "--form") != 0 &&
+            strcmp(opt, "--cap") != 0) {
+            fprintf(stderr, "largesteps experiment: unknown option '%s'\n", opt);
+            return usage(stderr);
+        }
+        if (v == NULL) return fprintf(stderr, "largesteps experiment: %s needs a value\n", opt), 2;
         i++;
         if (strcmp(opt, "-o") == 0) a.out = v;
-        else if (strcmp(opt, "--iters") == 0 && n > 0 && n <= 1000000) a.iters = (uint32_t)n;
-        else if (strcmp(opt, "--res") == 0 && n >= 8 && n <= 4096) a.res = (uint32_t)n;
-        else if (strcmp(opt, "--views") == 0 && n >= 1 && n <= 1024) a.views = (uint32_t)n;
-        else if (strcmp(opt, "--level") == 0 && n <= 7) a.level = (uint32_t)n;
-        else if (strcmp(opt, "--init-smooth") == 0 && n <= 10000) a.init_smooth = (uint32_t)n;
-        else if (strcmp(opt, "--init-coarse") == 0 && strtod(v, NULL) > 0 && strtod(v, NULL) <= 1) a.init_edge = strtod(v, NULL);
-        else if (strcmp(opt, "--remesh") == 0 && ls_job_parse_remesh(v, a.remesh_at, &a.remesh_count)) continue;
-        else if (strcmp(opt, "--form") == 0 && (strcmp(v, "alpha") == 0 || strcmp(v, "lambda") == 0 || strcmp(v, "both") == 0))
-            a.forms = strcmp(v, "alpha") == 0 ? 1u : strcmp(v, "lambda") == 0 ? 2u : 3u;
-        else if (strcmp(opt, "--cap") == 0 && strtod(v, NULL) >= 1 && strtod(v, NULL) <= 1000) a.cap = strtod(v, NULL);
-        else return usage(stderr);
+        else if (strcmp(opt, "--iters") == 0) ok = ls_arg_u32("experiment", opt, v, 1, 1000000, &a.iters);
+        else if (strcmp(opt, "--res") == 0) ok = ls_arg_u32("experiment", opt, v, 8, 4096, &a.res);
+        else if (strcmp(opt, "--views") == 0) ok = ls_arg_u32("experiment", opt, v, 1, 1024, &a.views);
+        else if (strcmp(opt, "--level") == 0) ok = ls_arg_u32("experiment", opt, v, 0, 7, &a.level);
+        else if (strcmp(opt, "--init-smooth") == 0) ok = ls_arg_u32("experiment", opt, v, 0, 10000, &a.init_smooth);
+        else if (strcmp(opt, "--init-coarse") == 0) ok = ls_arg_real("experiment", opt, v, 0, 1, LS_ARG_LO_OPEN, &a.init_edge);
+        else if (strcmp(opt, "--cap") == 0) ok = ls_arg_real("experiment", opt, v, 1, 1000, LS_ARG_CLOSED, &a.cap);
+        else if (strcmp(opt, "--remesh") == 0) {
+            ok = ls_job_parse_remesh(v, a.remesh_at, &a.remesh_count);
+            if (!ok) fprintf(stderr, "largesteps experiment: --remesh: '%s' is not 'none' or increasing iterations I,J,... below 1000000\n", v);
+        } else {
+            ok = strcmp(v, "alpha") == 0 || strcmp(v, "lambda") == 0 || strcmp(v, "both") == 0;
+            if (ok) a.forms = strcmp(v, "alpha") == 0 ? 1u : strcmp(v, "lambda") == 0 ? 2u : 3u;
+            else fprintf(stderr, "largesteps experiment: --form: '%s' is not alpha, lambda or both\n", v);
+        }
+        if (!ok) return 2;
     }
-    if (a.out == NULL) return usage(stderr);
     if (strcmp(a.name, "lambda-sweep") != 0 && strcmp(a.name, "compare") != 0 && strcmp(a.name, "silhouettes") != 0 &&
         strcmp(a.name, "views") != 0) {
+        if (strcmp(a.name, "--help") == 0 || strcmp(a.name, "-h") == 0) return usage(stdout);
         fprintf(stderr, "largesteps experiment: unknown experiment '%s'\n", a.name);
         return usage(stderr);
     }
+    if (a.out == NULL) return fprintf(stderr, "largesteps experiment: -o DIR is required\n"), usage(stderr);
+    if (!ls_posix_check_output_dir(a.out)) return 2;
     work = (unsigned char *)malloc(work_bytes);
-    if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) return fprintf(stderr, "out of memory\n"), 1;
-    if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps experiment: cannot create %s\n", a.out), 1;
-    snprintf(path, sizeof path, "%s/%s.md", a.out, a.name);
-    snprintf(tmp, sizeof tmp, "%s/.%s.md.tmp", a.out, a.name);
-    f = fopen(tmp, "w"); /* renamed when complete: never a half-written table */
-    if (f == NULL) return fprintf(stderr, "largesteps experiment: cannot write %s\n", path), 1;
+    if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) {
+        free(work);
+        return fprintf(stderr, "largesteps experiment: out of memory\n"), 1;
+    }
+    /* compare writes its contact sheet into DIR during the run */
+    if (ls_posix_mkdir_p(a.out) != 0) {
+        free(work);
+        return fprintf(stderr, "largesteps experiment: cannot create %s: %s\n", a.out, strerror(errno)), 1;
+    }
+    /* the table is built in memory and written whole at the end (nothing is
+     * left behind when a run fails or is interrupted) */
+    f = open_memstream(&table, &table_bytes);
+    if (f == NULL) {
+        free(work);
+        return fprintf(stderr, "largesteps experiment: out of memory\n"), 1;
+    }
+    rc = experiment_body(f, &a, &arena);
+    if (fclose(f) != 0) rc = (fprintf(stderr, "largesteps experiment: out of memory\n"), 1);
+    free(work);
+    if (rc == 0) {
+        table_buf tb;
+        snprintf(md, sizeof md, "%s.md", a.name);
+        tb.text = table;
+        tb.bytes = table_bytes;
+        if (!ls_posix_write_whole_in(a.out, md, write_table, &tb)) rc = 1;
+        else if (fwrite(table, 1, table_bytes, stdout) != table_bytes) rc = 1;
+    }
+    free(table);
+    return rc;
+}
+
+static int experiment_body(FILE *f, const exp_args *ap, ls_arena *arena_p)
+{
+    exp_args a = *ap;
+    ls_arena arena = *arena_p;
+    ls_job_options o;
+    ls_job_problem p;
+    int i;
     memset(&o, 0, sizeof o);
     o.target = a.target;
     o.views = a.views;
@@ -436,12 +500,6 @@ int ls_cmd_experiment(int argc, char **argv)
         if (strcmp(a.name, "compare") == 0) compare(f, &p, &a, &arena);
         if (strcmp(a.name, "silhouettes") == 0) silhouettes(f, &p, &a, &arena);
     }
-    if (fclose(f) != 0 || rename(tmp, path) != 0) return fprintf(stderr, "largesteps experiment: cannot write %s\n", path), 1;
-    {
-        char md[256];
-        snprintf(md, sizeof md, "%s.md", a.name);
-        (void)ls_posix_print_file_in(a.out, md);
-    }
-    free(work);
+    if (ferror(f)) return fprintf(stderr, "largesteps experiment: out of memory for the table\n"), 1;
     return 0;
 }

@@ -52,7 +52,12 @@
 #include <string.h>
 #include <math.h>
 #include <time.h>
+#include <errno.h>
+#include <unistd.h>
 #include "ls_posix.h"
+#include "args.h"
+
+#define TX_CMD "experiment texture"
 #include "commands.h"
 
 #define TX_DEFAULT_IMAGE "/usr/share/desktop-base/softwaves-theme/grub/grub-16x9.png"
@@ -120,7 +125,10 @@ static int parse_grid(const char *v, tx_grid *g)
     g->n = 0;
     while (*v != '\0') {
         char *end;
-        double d = strtod(v, &end);
+        double d = 0;
+        size_t n = ls_scan_number(v, strlen(v));
+        end = (char *)(uintptr_t)(v + n);
+        if (n == 0 || ls_parse_double(v, n, &d) != LS_OK) return 0;
         if (end == v || !(d > 0) || !(d < 1e300) || g->n == TX_GRID_MAX || (*end != ',' && *end != '\0')) return 0;
         g->v[g->n++] = d;
         v = *end == ',' ? end + 1 : end;
@@ -292,7 +300,7 @@ static int load_truth(tx_problem *p, const char *path, uint32_t side)
     ls_arena_mark mark;
     uint32_t x, y, sq, x0, y0;
     ls_status st = ls_posix_read_file(path, &data, &bytes);
-    if (st != LS_OK) return fprintf(stderr, "largesteps experiment texture: cannot read %s (install desktop-base or pass --image)\n", path), 0;
+    if (st != LS_OK) return fprintf(stderr, "largesteps experiment texture: cannot read %s: %s (install desktop-base or pass --image)\n", path, ls_posix_read_error()), 0;
     st = ls_image_decode_info(data, bytes, &info, NULL);
     p->truth = (ls_real *)ls_arena_alloc(p->arena, 3u * side * side, sizeof(ls_real));
     mark = ls_arena_save(p->arena);
@@ -663,12 +671,20 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         else if (strcmp(opt, "--scene") == 0 && (strcmp(v, "quad") == 0 || strcmp(v, "sphere") == 0)) a.scene = v;
         else if (strcmp(opt, "--ls-optimizer") == 0 && (strcmp(v, "uniform") == 0 || strcmp(v, "adam") == 0)) a.ls_adam = strcmp(v, "adam") == 0;
         else if (strcmp(opt, "--targets") == 0 && (strcmp(v, "box") == 0 || strcmp(v, "fit") == 0)) a.own_targets = strcmp(v, "fit") == 0;
-        else if (strcmp(opt, "--fit-ss") == 0 && (atoi(v) == 1 || atoi(v) == 2 || atoi(v) == 4)) a.fit_ss = (uint32_t)atoi(v);
-        else if (strcmp(opt, "--res") == 0 && atoi(v) >= 8 && atoi(v) <= 1024) a.res = (uint32_t)atoi(v);
-        else if (strcmp(opt, "--views") == 0 && atoi(v) >= 1 && atoi(v) <= (int)(TX_MAX_VIEWS - TX_VAL - TX_TEST)) a.views = (uint32_t)atoi(v);
-        else if (strcmp(opt, "--side") == 0 && atoi(v) >= 4 && atoi(v) <= 1024) a.side = (uint32_t)atoi(v);
-        else if (strcmp(opt, "--tune") == 0 && atof(v) > 0) a.tune_s = atof(v);
-        else if (strcmp(opt, "--time") == 0 && atof(v) > 0) a.run_s = atof(v);
+        else if (strcmp(opt, "--fit-ss") == 0) {
+            if (!ls_arg_u32(TX_CMD, opt, v, 1, 4, &a.fit_ss)) return 2;
+            if (a.fit_ss == 3) return fprintf(stderr, "largesteps " TX_CMD ": --fit-ss: '3' is not 1, 2 or 4\n"), 2;
+        } else if (strcmp(opt, "--res") == 0) {
+            if (!ls_arg_u32(TX_CMD, opt, v, 8, 1024, &a.res)) return 2;
+        } else if (strcmp(opt, "--views") == 0) {
+            if (!ls_arg_u32(TX_CMD, opt, v, 1, TX_MAX_VIEWS - TX_VAL - TX_TEST, &a.views)) return 2;
+        } else if (strcmp(opt, "--side") == 0) {
+            if (!ls_arg_u32(TX_CMD, opt, v, 4, 1024, &a.side)) return 2;
+        } else if (strcmp(opt, "--tune") == 0) {
+            if (!ls_arg_real(TX_CMD, opt, v, 0, 1e6, LS_ARG_LO_OPEN, &a.tune_s)) return 2;
+        } else if (strcmp(opt, "--time") == 0) {
+            if (!ls_arg_real(TX_CMD, opt, v, 0, 1e6, LS_ARG_LO_OPEN, &a.run_s)) return 2;
+        }
         else if (strcmp(opt, "--methods") == 0 && (a.methods = parse_methods(v)) != 0) continue;
         else if (strcmp(opt, "--lr-naive") == 0 && parse_grid(v, &a.lr[M_NAIVE])) continue;
         else if (strcmp(opt, "--lr-reg") == 0 && parse_grid(v, &a.lr[M_REG])) continue;
@@ -677,7 +693,8 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         else if (strcmp(opt, "--lambda-ls") == 0 && parse_grid(v, &a.weight[M_LS])) continue;
         else return usage(stderr);
     }
-    if (a.out == NULL) return usage(stderr);
+    if (a.out == NULL) return fprintf(stderr, "largesteps " TX_CMD ": -o DIR is required\n"), usage(stderr);
+    if (!ls_posix_check_output_dir(a.out)) return 2;
     if (a.full) {
         if (a.side == 0) a.side = 1024;
         a.tune_s = a.tune_s == 2 ? 20 : a.tune_s;
@@ -770,7 +787,17 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     }
     if (!write_figure(&p, a.out, fitted, buf)) fprintf(stderr, "largesteps experiment texture: cannot write the figure\n");
     else fprintf(f, "\nFigure: %s/texture.png (target texture | held-out target render | naive | regularized | large steps).\n", a.out);
-    if (fclose(f) != 0 || rename(tmp, path) != 0) return fprintf(stderr, "largesteps experiment texture: cannot write %s\n", path), 1;
+    {
+        /* checked, then renamed; never a half-written or stale temporary */
+        int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0, err = errno;
+        if (fclose(f) != 0 && !bad) bad = 1, err = errno;
+        if (bad || rename(tmp, path) != 0) {
+            if (!bad) err = errno;
+            remove(tmp);
+            free(work);
+            return fprintf(stderr, "largesteps: cannot write %s: %s\n", path, strerror(err)), 1;
+        }
+    }
     (void)ls_posix_print_file_in(a.out, "texture.md");
     free(work);
     return 0;

@@ -19,6 +19,9 @@
 #include <string.h>
 #include <math.h>
 #include "ls_posix.h"
+#include "args.h"
+
+#define TR_CMD "experiment tradeoffs"
 #include "commands.h"
 #include "fit_job.h"
 
@@ -51,15 +54,16 @@ typedef struct tr_args {
 static int usage(FILE *f)
 {
     fprintf(f, "usage: largesteps experiment tradeoffs [TARGET] -o DIR [options]\n"
-               "  --iters N       iterations of the default run (default 400; remeshing at 1/4 and 5/8 of them)\n"
-               "  --res R         default render size R x R (default 128)\n"
-               "  --views N       default number of views (default 16)\n"
-               "  --level K       initial icosphere level (default 3)\n"
+               "  --iters N       iterations of the default run (8..1000000; default 400; remeshing at 1/4 and\n"
+               "                  5/8 of them)\n"
+               "  --res R         default render size R x R (8..4096; default 128)\n"
+               "  --views N       default number of views (1..1024; default 16)\n"
+               "  --level K       initial icosphere level (0..7; default 3)\n"
                "  --knobs LIST    comma-separated subset of: silhouette,supersampling,resolution,views,lambda,power,\n"
                "                  solver,remesh,optimizer (default all; 'none': the default run only, as the float\n"
                "                  build's precision row; 'merge': no run, tables from --rows-in only)\n"
                "  --rows-out F    also write this run's rows to F (TSV)\n"
-               "  --rows-in F     merge rows written by another build (up to 4)\n");
+               "  --rows-in F     merge rows written by another build (up to 4)\n" LS_ARGS_GLOBAL_HELP);
     return f == stderr ? 2 : 0;
 }
 
@@ -339,7 +343,7 @@ static uint32_t tsv_read(const char *path, tr_row *rows, uint32_t cap)
     uint32_t n = 0;
     char *line, *save = NULL;
     if (ls_posix_read_file(path, &text, &bytes) != LS_OK) {
-        fprintf(stderr, "largesteps experiment tradeoffs: cannot read %s\n", path);
+        fprintf(stderr, "largesteps experiment tradeoffs: cannot read %s: %s\n", path, ls_posix_read_error());
         return 0;
     }
     text = (unsigned char *)realloc(text, bytes + 1u);
@@ -566,25 +570,34 @@ static int parse_args(int argc, char **argv, tr_args *a)
     a->level = 3;
     for (i = 1; i < argc; i++) {
         const char *opt = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned long n = v != NULL ? strtoul(v, NULL, 10) : 0;
+        int ok = 1;
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) return usage(stdout), -1;
         if (opt[0] != '-') {
+            if (a->target != NULL) return fprintf(stderr, "largesteps " TR_CMD ": more than one target ('%s')\n", opt), 0;
             a->target = opt;
             continue;
         }
-        if (v == NULL) return 0;
+        if (strcmp(opt, "-o") != 0 && strcmp(opt, "--iters") != 0 && strcmp(opt, "--res") != 0 &&
+            strcmp(opt, "--views") != 0 && strcmp(opt, "--level") != 0 && strcmp(opt, "--knobs") != 0 &&
+            strcmp(opt, "--rows-out") != 0 && strcmp(opt, "--rows-in") != 0)
+            return fprintf(stderr, "largesteps " TR_CMD ": unknown option '%s'\n", opt), 0;
+        if (v == NULL) return fprintf(stderr, "largesteps " TR_CMD ": %s needs a value\n", opt), 0;
         i++;
         if (strcmp(opt, "-o") == 0) a->out = v;
-        else if (strcmp(opt, "--iters") == 0 && n >= 8 && n <= 1000000) a->iters = (uint32_t)n;
-        else if (strcmp(opt, "--res") == 0 && n >= 8 && n <= 4096) a->res = (uint32_t)n;
-        else if (strcmp(opt, "--views") == 0 && n >= 1 && n <= 1024) a->views = (uint32_t)n;
-        else if (strcmp(opt, "--level") == 0 && n <= 7) a->level = (uint32_t)n;
+        else if (strcmp(opt, "--iters") == 0) ok = ls_arg_u32(TR_CMD, opt, v, 8, 1000000, &a->iters);
+        else if (strcmp(opt, "--res") == 0) ok = ls_arg_u32(TR_CMD, opt, v, 8, 4096, &a->res);
+        else if (strcmp(opt, "--views") == 0) ok = ls_arg_u32(TR_CMD, opt, v, 1, 1024, &a->views);
+        else if (strcmp(opt, "--level") == 0) ok = ls_arg_u32(TR_CMD, opt, v, 0, 7, &a->level);
         else if (strcmp(opt, "--knobs") == 0) a->knobs = v;
         else if (strcmp(opt, "--rows-out") == 0) a->rows_out = v;
-        else if (strcmp(opt, "--rows-in") == 0 && a->rows_in_count < 4) a->rows_in[a->rows_in_count++] = v;
-        else return 0;
+        else if (a->rows_in_count < 4) a->rows_in[a->rows_in_count++] = v;
+        else ok = 0, fprintf(stderr, "largesteps " TR_CMD ": --rows-in: at most 4 files\n");
+        if (!ok) return 0;
     }
-    return a->out != NULL;
+    if (a->out == NULL) return fprintf(stderr, "largesteps " TR_CMD ": -o DIR is required\n"), 0;
+    if (!ls_posix_check_output_dir(a->out)) return 0;
+    if (a->rows_out != NULL && !ls_posix_check_output(a->rows_out)) return 0;
+    return 1;
 }
 
 int ls_cmd_tradeoffs(int argc, char **argv)

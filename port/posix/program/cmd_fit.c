@@ -27,10 +27,12 @@
 #include <string.h>
 #include <math.h>
 #include <unistd.h>
+#include <errno.h>
 #include "ls_posix.h"
 #include "commands.h"
 #include "fit_job.h"
 #include "report.h"
+#include "args.h"
 
 
 typedef struct fit_args {
@@ -47,29 +49,30 @@ static int usage(FILE *f)
     fprintf(f,
             "usage: largesteps fit [TARGET.obj|.ply|.off] [options] -o DIR\n"
             "  without TARGET: the bunny compiled into the program\n"
-            "  --views N          views on a Fibonacci sphere (default 16)\n"
-            "  --res R            render size R x R (default 128)\n"
-            "  --iters N          iterations (default 800)\n"
+            "  --views N          views on a Fibonacci sphere (1..1024; default 16)\n"
+            "  --res R            render size R x R (8..4096; default 128)\n"
+            "  --iters N          iterations (0..1000000; default 800)\n"
             "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
-            "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha))\n"
+            "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha); 0 <= L <= 1e12;\n"
+            "                     not with --alpha)\n"
             "  --lr X             learning rate, in units of the initial mesh's radius (the target's\n"
             "                     bounding-sphere radius for the default icosphere; default 0.01)\n"
             "  --method M         large (default) | naive | laplacian | bilaplacian\n"
-            "  --reg W            regularizer weight of the laplacian/bilaplacian baselines (default 1)\n"
+            "  --reg W            regularizer weight of the laplacian/bilaplacian baselines (0..1e12; default 1)\n"
             "  --optimizer O      uniform (default for large) | adam (default otherwise) | sgd\n"
             "  --solver S         ldlt (default) | cg\n"
-            "  --cg-tol T         relative residual tolerance of cg (default 1e-6)\n"
+            "  --cg-tol T         relative residual tolerance of cg (0 < T <= 1; default 1e-6)\n"
             "  --power P          2 (default: the optimizer on u = M x) | 1 (the optimizer on x, gradient M^-1 g)\n"
             "  --silhouette S     exact (default) | pair (nvdiffrast-style, S = 1) | none\n"
             "  --ss S             supersampling of the fit's renders: 1 (default), 2 or 4\n"
             "  --aa-adaptive A    A x A sub-samples in silhouette pixels (forward and shading gradient;\n"
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
-            "  --boost B          silhouette gradient multiplier (default 3)\n"
+            "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
             "  --guard N          every N iterations (default 25) check the mesh for self-intersections;\n"
             "                     new ones roll the fit back to the last check, remesh it and lower lr\n"
-            "  --guard-lr F       the learning rate's factor at a roll-back (default 0.7)\n"
-            "  --guard-remesh F   a roll-back remeshes to F x the mean edge (default 1; 0: no remesh)\n"
+            "  --guard-lr F       the learning rate's factor at a roll-back (0 < F <= 1; default 0.7)\n"
+            "  --guard-remesh F   a roll-back remeshes to F x the mean edge (0..1000; default 1; 0: no remesh)\n"
             "  --no-guard         no checks (the paper's loop)\n"
             "  --perturb K        learning rate x (1 + K 1e-6): a robustness check, is the result stable\n"
             "                     under a change in the 6th digit? (default 0)\n"
@@ -80,6 +83,8 @@ static int usage(FILE *f)
             "  --remesh-lr F      learning rate x F at each remesh (0 < F <= 1; default 0.8)\n"
             "  --mean M           keep (default: the paper's) | project: the mean of dL/du taken out, the\n"
             "                     translation alone moves the mesh as a whole\n"
+            );
+    fprintf(f,
             "  --max-vertices N   the job's capacity (memory is reserved once for it, ls_fit_job_bytes):\n"
             "                     vertices of any mesh and of the remesher (default (V0 + 64) 4^remeshes x 2)\n"
             "  --max-faces N      faces of any mesh (default: the most N vertices allow)\n"
@@ -97,26 +102,47 @@ static int usage(FILE *f)
             "  --no-translation   do not optimize a global translation\n"
             "  --quiet            no progress line\n"
             "  -o DIR             output directory (created if missing)\n"
+            LS_ARGS_GLOBAL_HELP
             "exit status: 0 done, 1 failed, 2 bad arguments, 3 done but the result self-intersects (its\n"
             "  files are written, metrics.json has \"self_intersecting\": true)\n");
     return f == stderr ? 2 : 0;
 }
 
+/* The option being parsed, for the messages of ls_arg_u32 / ls_arg_real. */
+static const char *cur_opt = "";
+
 static int parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out)
 {
-    char *end;
-    unsigned long v = strtoul(s, &end, 10);
-    if (*s == '\0' || *end != '\0' || v < lo || v > hi) return 0;
-    *out = (uint32_t)v;
+    return ls_arg_u32("fit", cur_opt, s, lo, hi, out);
+}
+
+/* A finite number in the range; open_ends: LS_ARG_LO_OPEN, LS_ARG_HI_OPEN. */
+static int parse_range(const char *s, double lo, double hi, int open_ends, ls_real *out)
+{
+    double v;
+    if (!ls_arg_real("fit", cur_opt, s, lo, hi, open_ends, &v)) return 0;
+    *out = (ls_real)v;
     return 1;
 }
 
-static int parse_real(const char *s, ls_real *out)
+static int ss3(const char *o)
 {
-    double v;
-    if (ls_parse_double(s, strlen(s), &v) != LS_OK) return 0;
-    *out = (ls_real)v;
-    return 1;
+    fprintf(stderr, "largesteps fit: %s: '3' is not 1, 2 or 4\n", o);
+    return 0;
+}
+
+/* Options whose parser printed its own message (a number and its range). */
+static int ranged(const char *o)
+{
+    static const char *const names[] = {"--views", "--res", "--iters", "--level", "--init-coarse", "--init-smooth",
+                                        "--target-ss", "--ss", "--aa-adaptive", "--track", "--max-vertices",
+                                        "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
+                                        "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
+                                        "--guard", "--perturb", "--reg", "--boost"};
+    size_t k;
+    for (k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (strcmp(o, names[k]) == 0) return 1;
+    return 0;
 }
 
 static int parse_args(int argc, char **argv, fit_args *a)
@@ -124,7 +150,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     int i, optimizer_set = 0;
     uint32_t optimizer = LS_OPTIM_UNIFORM_ADAM;
     ls_real lr = (ls_real)0.01;
-    int lr_set = 0;
+    int lr_set = 0, lambda_set = 0, alpha_set = 0;
     uint32_t perturb = 0;
     memset(a, 0, sizeof *a);
     a->views = 16;
@@ -166,22 +192,23 @@ static int parse_args(int argc, char **argv, fit_args *a)
         }
         if (v == NULL) return fprintf(stderr, "largesteps fit: %s needs a value\n", o), 0;
         i++;
+        cur_opt = o;
         if (strcmp(o, "-o") == 0) a->out = v;
         else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
         else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
-        else if (strcmp(o, "--init-coarse") == 0) ok = parse_real(v, &a->init_edge) && a->init_edge > 0 && a->init_edge <= 1;
+        else if (strcmp(o, "--init-coarse") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->init_edge);
         else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
-        else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && a->target_ss != 3;
-        else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && a->cfg.ss != 3;
+        else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && (a->target_ss != 3 || ss3(o));
+        else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && (a->cfg.ss != 3 || ss3(o));
         else if (strcmp(o, "--aa-adaptive") == 0) ok = parse_u32(v, 0, LS_REFINE_MAX, &a->cfg.aa);
         else if (strcmp(o, "--track") == 0) ok = parse_u32(v, 0, 1000000, &a->track);
         else if (strcmp(o, "--max-vertices") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_vertices);
         else if (strcmp(o, "--max-faces") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_faces);
         else if (strcmp(o, "--max-factor-nnz") == 0) ok = parse_u32(v, 1, UINT32_MAX, &a->cap.max_factor_nnz);
         else if (strcmp(o, "--power") == 0) ok = parse_u32(v, 1, 2, &a->cfg.power);
-        else if (strcmp(o, "--cg-tol") == 0) ok = parse_real(v, &a->cfg.cg_tol) && a->cfg.cg_tol > 0;
+        else if (strcmp(o, "--cg-tol") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->cfg.cg_tol);
         else if (strcmp(o, "--silhouette") == 0) {
             a->cfg.silhouette = strcmp(v, "exact") == 0  ? LS_FIT_SILHOUETTE_EXACT
                               : strcmp(v, "pair") == 0 ? LS_FIT_SILHOUETTE_PAIR
@@ -189,21 +216,21 @@ static int parse_args(int argc, char **argv, fit_args *a)
             ok = a->cfg.silhouette != 99u;
         }
         else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->sched.remesh_at, &a->sched.remesh_count);
-        else if (strcmp(o, "--remesh-h") == 0) ok = parse_real(v, &a->sched.remesh_h) && a->sched.remesh_h > 0 && a->sched.remesh_h <= 1;
-        else if (strcmp(o, "--remesh-lr") == 0) ok = parse_real(v, &a->sched.remesh_lr) && a->sched.remesh_lr > 0 && a->sched.remesh_lr <= 1;
+        else if (strcmp(o, "--remesh-h") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_h);
+        else if (strcmp(o, "--remesh-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_lr);
         else if (strcmp(o, "--mean") == 0) {
             a->cfg.mean_mode = strcmp(v, "keep") == 0 ? LS_FIT_MEAN_KEEP : strcmp(v, "project") == 0 ? LS_FIT_MEAN_PROJECT : 99u;
             ok = a->cfg.mean_mode != 99u;
         }
-        else if (strcmp(o, "--lambda") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA;
-        else if (strcmp(o, "--alpha") == 0) ok = parse_real(v, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA;
-        else if (strcmp(o, "--lr") == 0) ok = parse_real(v, &lr), lr_set = 1;
-        else if (strcmp(o, "--guard-lr") == 0) ok = parse_real(v, &a->sched.guard_lr) && a->sched.guard_lr > 0;
-        else if (strcmp(o, "--guard-remesh") == 0) ok = parse_real(v, &a->sched.guard_remesh) && a->sched.guard_remesh >= 0;
+        else if (strcmp(o, "--lambda") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA, lambda_set = 1;
+        else if (strcmp(o, "--alpha") == 0) ok = parse_range(v, 0, 1, LS_ARG_HI_OPEN, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA, alpha_set = 1;
+        else if (strcmp(o, "--lr") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_LO_OPEN, &lr), lr_set = 1;
+        else if (strcmp(o, "--guard-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.guard_lr);
+        else if (strcmp(o, "--guard-remesh") == 0) ok = parse_range(v, 0, 1000, LS_ARG_CLOSED, &a->sched.guard_remesh);
         else if (strcmp(o, "--guard") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.guard_every);
         else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
-        else if (strcmp(o, "--reg") == 0) ok = parse_real(v, &a->cfg.reg_weight);
-        else if (strcmp(o, "--boost") == 0) ok = parse_real(v, &a->cfg.boost);
+        else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
+        else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost);
         else if (strcmp(o, "--method") == 0) {
             a->cfg.method = strcmp(v, "large") == 0 ? LS_FIT_LARGE_STEPS : strcmp(v, "naive") == 0 ? LS_FIT_NAIVE
                           : strcmp(v, "laplacian") == 0 ? LS_FIT_LAPLACIAN : strcmp(v, "bilaplacian") == 0 ? LS_FIT_BILAPLACIAN : 99u;
@@ -225,8 +252,11 @@ static int parse_args(int argc, char **argv, fit_args *a)
         } else {
             return fprintf(stderr, "largesteps fit: unknown option %s (see --help)\n", o), 0;
         }
-        if (!ok) return fprintf(stderr, "largesteps fit: bad value '%s' for %s (see --help)\n", v, o), 0;
+        if (!ok && !ranged(o)) fprintf(stderr, "largesteps fit: %s: bad value '%s' (see --help for the choices)\n", o, v);
+        if (!ok) return 0;
     }
+    if (lambda_set && alpha_set)
+        return fprintf(stderr, "largesteps fit: --lambda and --alpha conflict (two forms of the same weight: give one)\n"), 0;
     if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
     if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
     (void)ls_optim_config_default(optimizer, &a->cfg.optim);
@@ -412,7 +442,9 @@ static int write_json(FILE *f, void *ctx)
             (unsigned)j->r->result.face_count);
     fprintf(f, "  \"rollbacks\": %u, \"remeshes_refused\": %u,\n", (unsigned)j->r->rollbacks,
             (unsigned)j->r->remeshes_refused);
-    fprintf(f, "  \"final_loss\": %.9g,\n", j->r->iterations > 0 ? (double)j->r->loss[j->r->iterations - 1] : 0.0);
+    fprintf(f, "  \"final_loss\": "); /* null when not finite (a diverged fit) */
+    ls_report_json_number(f, j->r->iterations > 0 ? (double)j->r->loss[j->r->iterations - 1] : 0.0);
+    fprintf(f, ",\n");
     fprintf(f, "  \"ms_per_iteration\": {\"total\": %.4f, \"render\": %.4f, \"shading_backward\": %.4f, "
                "\"silhouettes\": %.4f, \"solves\": %.4f, \"optimizer\": %.4f},\n",
             j->r->total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
@@ -425,26 +457,22 @@ static int write_json(FILE *f, void *ctx)
     return !ferror(f);
 }
 
-int ls_cmd_fit(int argc, char **argv)
+/* The fit after its arguments, in the arena; the caller releases it on
+ * every path. */
+static int fit_main(fit_args *ap, ls_arena *arena_p)
 {
-    fit_args a;
+    fit_args a = *ap;
+    ls_arena arena = *arena_p;
     ls_job_options o;
     ls_job_problem p;
     ls_job_run run;
     ls_distance_report dist;
     ls_tangle_report tangle;
-    unsigned char *work;
-    size_t work_bytes = (size_t)1 << 30;
-    ls_arena arena;
     ls_diag d;
     ls_real **renders;
     uint32_t v;
     int have_metrics = 0, tty;
     ls_status st;
-    int r = parse_args(argc, argv, &a);
-    if (r <= 0) return r < 0 ? 0 : 2;
-    work = (unsigned char *)malloc(work_bytes);
-    if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
     memset(&o, 0, sizeof o);
     o.target = a.target;
     o.views = a.views;
@@ -514,6 +542,7 @@ int ls_cmd_fit(int argc, char **argv)
         log_data l;
         json_data j;
         ls_contact sheet;
+        ls_posix_outset *set;
         l.r = &run;
         l.sched = &a.sched;
         l.final_loss = final_loss(&p, a.cfg.loss, renders + p.views);
@@ -522,7 +551,7 @@ int ls_cmd_fit(int argc, char **argv)
         j.a = &a;
         j.d = have_metrics ? &dist : NULL;
         j.t = &tangle;
-        if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps fit: cannot create %s\n", a.out), 1;
+        if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps fit: cannot create %s: %s\n", a.out, strerror(errno)), 1;
         st = ls_contact_init(&sheet, &arena, 3u * p.views, p.width, p.height, p.views, 1, NULL);
         for (v = 0; v < p.views && st == LS_OK; v++) {
             st = ls_contact_put_rgba(&sheet, v, p.targets[v]);
@@ -532,16 +561,19 @@ int ls_cmd_fit(int argc, char **argv)
         if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
         ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
-        if (!ls_posix_write_whole_in(a.out, "result.obj", write_obj, &run.result) ||
-            !ls_posix_write_whole_in(a.out, "log.csv", write_log, &l) ||
-            !ls_posix_write_whole_in(a.out, "convergence.svg", write_svg, &l) ||
-            !ls_posix_write_image_in(a.out, "contact.png", &sheet.image, &png, &arena, NULL) ||
-            !ls_posix_write_whole_in(a.out, "metrics.json", write_json, &j))
-            return fprintf(stderr, "largesteps fit: cannot write into %s\n", a.out), 1;
+        /* the five files appear together or not at all: an earlier run's set
+         * stays whole when this one cannot be written */
+        set = ls_posix_outset_begin(a.out);
+        if (set == NULL) return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
+        (void)(ls_posix_outset_add(set, "result.obj", write_obj, &run.result) &&
+               ls_posix_outset_add(set, "log.csv", write_log, &l) &&
+               ls_posix_outset_add(set, "convergence.svg", write_svg, &l) &&
+               ls_posix_outset_add_image(set, "contact.png", &sheet.image, &png, &arena, NULL) &&
+               ls_posix_outset_add(set, "metrics.json", write_json, &j));
+        if (!ls_posix_outset_commit(set)) return 1;
     }
     printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json}\n",
            run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out);
-    free(work);
     if (tangle.intersecting_pairs > 0) { /* never a silent tangle: the last line and the exit status */
         fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
                         "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
@@ -550,4 +582,23 @@ int ls_cmd_fit(int argc, char **argv)
         return 3;
     }
     return 0;
+}
+
+int ls_cmd_fit(int argc, char **argv)
+{
+    fit_args a;
+    unsigned char *work;
+    size_t work_bytes = (size_t)1 << 30;
+    ls_arena arena;
+    int rc, r = parse_args(argc, argv, &a);
+    if (r <= 0) return r < 0 ? 0 : 2;
+    if (!ls_posix_check_output_dir(a.out)) return 2; /* before any work */
+    work = (unsigned char *)malloc(work_bytes);
+    if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) {
+        free(work);
+        return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
+    }
+    rc = fit_main(&a, &arena);
+    free(work); /* on every path, failures included */
+    return rc;
 }

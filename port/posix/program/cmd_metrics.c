@@ -11,15 +11,18 @@
 #include "commands.h"
 #include "report.h"
 #include "ls_posix.h"
+#include "args.h"
 
-static int metrics_usage(void)
+static int metrics_usage(FILE *f)
 {
-    fprintf(stderr, "usage: largesteps metrics A B [--json] [--samples N]\n"
-                    "  A, B        meshes (OBJ, PLY or OFF); B is the target (relative values use its\n"
-                    "              bounding-box diagonal)\n"
-                    "  --json      print one JSON object instead of the table\n"
-                    "  --samples N face samples on each mesh (default 10 per vertex, at least 1000)\n");
-    return 2;
+    fprintf(f, "usage: largesteps metrics A B [--json] [--samples N]\n"
+               "  A, B        meshes (OBJ, PLY or OFF; gzip-compressed too); B is the target (relative values\n"
+               "              use its bounding-box diagonal)\n"
+               "  --json      print one JSON object instead of the table (default: the table); numbers\n"
+               "              that are not finite are null, listed in \"not_finite\"\n"
+               "  --samples N face samples on each mesh (0..4294967295; default 10 per vertex, at least 1000)\n"
+               LS_ARGS_GLOBAL_HELP);
+    return f == stderr ? 2 : 0;
 }
 
 typedef struct loaded {
@@ -38,7 +41,7 @@ static int load(const char *path, loaded *out)
     out->work = NULL;
     st = ls_posix_read_data(path, &data, &bytes);
     if (st != LS_OK) {
-        fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_status_str(st));
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_posix_read_error());
         return 0;
     }
     ls_diag_clear(&diag);
@@ -97,17 +100,24 @@ int ls_cmd_metrics(int argc, char **argv)
     uint32_t sa, sb;
     uint64_t t0, t_dist, t_tangle;
     for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) return metrics_usage(stdout);
         if (strcmp(argv[i], "--json") == 0) json = 1;
-        else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
-            char *end = NULL;
-            samples = strtoll(argv[++i], &end, 10);
-            if (end == argv[i] || *end != 0 || samples < 0 || samples > (long long)UINT32_MAX) return metrics_usage();
-        } else if (argv[i][0] == '-' && argv[i][1] != 0) return metrics_usage();
-        else if (pa == NULL) pa = argv[i];
+        else if (strcmp(argv[i], "--samples") == 0) {
+            uint32_t n = 0;
+            if (i + 1 >= argc) return fprintf(stderr, "largesteps metrics: --samples needs a value\n"), 2;
+            if (!ls_arg_u32("metrics", "--samples", argv[++i], 0, UINT32_MAX, &n)) return 2;
+            samples = (long long)n;
+        } else if (argv[i][0] == '-' && argv[i][1] != 0) {
+            fprintf(stderr, "largesteps metrics: unknown option '%s'\n", argv[i]);
+            return metrics_usage(stderr);
+        } else if (pa == NULL) pa = argv[i];
         else if (pb == NULL) pb = argv[i];
-        else return metrics_usage();
+        else return fprintf(stderr, "largesteps metrics: more than two meshes ('%s')\n", argv[i]), metrics_usage(stderr);
     }
-    if (pa == NULL || pb == NULL) return metrics_usage();
+    if (pa == NULL || pb == NULL) {
+        fprintf(stderr, "largesteps metrics: two meshes are needed\n");
+        return metrics_usage(stderr);
+    }
     if (!load(pa, &a)) return 1;
     if (!load(pb, &b)) {
         free(a.work);

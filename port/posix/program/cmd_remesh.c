@@ -10,25 +10,23 @@
 #include <math.h>
 #include "commands.h"
 #include "ls_posix.h"
+#include "args.h"
 
-static int remesh_usage(void)
+static int remesh_usage(FILE *f)
 {
-    fprintf(stderr, "usage: largesteps remesh IN [--h H | --factor F] [--iters N] [--no-project]\n"
-                    "                         [--sharp-angle A] [--vertex-cap N] -o OUT\n"
-                    "  --h H        target edge length\n"
-                    "  --factor F   target = F x mean edge length (default 0.5)\n"
-                    "  --iters N    iterations (default 5)\n"
-                    "  --no-project do not project onto the input surface\n"
-                    "  --sharp-angle A keep input vertices whose faces' normals differ by more than A degrees\n"
-                    "               (default 90; 180 keeps none, as the reference)\n"
-                    "  --vertex-cap N  vertex capacity (default: the bound of ls_remesh_capacity)\n"
-                    "  -o OUT       output mesh (.obj or .ply)\n");
-    return 2;
-}
-
-static int parse_real(const char *s, double *out)
-{
-    return ls_parse_double(s, strlen(s), out) == LS_OK;
+    fprintf(f, "usage: largesteps remesh IN [--h H | --factor F] [--iters N] [--no-project]\n"
+               "                         [--sharp-angle A] [--vertex-cap N] -o OUT\n"
+               "  IN              the input mesh (OBJ, PLY or OFF; gzip-compressed too)\n"
+               "  --h H           target edge length (H > 0; default: F x the mean edge length)\n"
+               "  --factor F      target = F x mean edge length (0 < F <= 1000; default 0.5)\n"
+               "  --iters N       iterations (1..1000; default 5)\n"
+               "  --no-project    do not project onto the input surface (default: project)\n"
+               "  --sharp-angle A keep input vertices whose faces' normals differ by more than A degrees\n"
+               "                  (0..180; default 90; 180 keeps none, as the reference)\n"
+               "  --vertex-cap N  vertex capacity (1..2147483647; default: the bound of ls_remesh_capacity)\n"
+               "  -o OUT          output mesh: .obj or .ply (required; written whole or not at all)\n"
+               LS_ARGS_GLOBAL_HELP);
+    return f == stderr ? 2 : 0;
 }
 
 static int ends_with(const char *s, const char *suffix)
@@ -118,9 +116,9 @@ static int write_mesh(const char *path, const ls_mesh *m)
 int ls_cmd_remesh(int argc, char **argv)
 {
     const char *in_path = NULL, *out_path = NULL;
-    double h = 0, factor = 0.5, v, sharp = LS_REMESH_SHARP_ANGLE;
-    int iters = 5, project = 1, i, rc = 1;
-    uint32_t vcap = 0;
+    double h = 0, factor = 0.5, sharp = LS_REMESH_SHARP_ANGLE;
+    int project = 1, i, rc = 1, h_set = 0, factor_set = 0;
+    uint32_t vcap = 0, iters = 5;
     unsigned char *data = NULL, *work = NULL, *work2 = NULL;
     size_t bytes = 0, read_bytes = 0, vbytes = 0, bound = 0;
     ls_mesh_file_info finfo;
@@ -134,35 +132,50 @@ int ls_cmd_remesh(int argc, char **argv)
     uint64_t t0, t1;
     ls_status st;
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--h") == 0 && i + 1 < argc) {
-            if (!parse_real(argv[++i], &h) || !(h > 0)) return remesh_usage();
-        } else if (strcmp(argv[i], "--factor") == 0 && i + 1 < argc) {
-            if (!parse_real(argv[++i], &factor) || !(factor > 0)) return remesh_usage();
-        } else if (strcmp(argv[i], "--iters") == 0 && i + 1 < argc) {
-            if (!parse_real(argv[++i], &v) || !(v >= 1 && v <= 1000)) return remesh_usage();
-            iters = (int)v;
-        } else if (strcmp(argv[i], "--vertex-cap") == 0 && i + 1 < argc) {
-            if (!parse_real(argv[++i], &v) || !(v >= 1 && v <= 2147483647.0)) return remesh_usage();
-            vcap = (uint32_t)v;
-        } else if (strcmp(argv[i], "--sharp-angle") == 0 && i + 1 < argc) {
-            if (!parse_real(argv[++i], &sharp) || !(sharp >= 0)) return remesh_usage();
-        } else if (strcmp(argv[i], "--no-project") == 0) {
+        const char *o = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+        int ok = 1;
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0) return remesh_usage(stdout);
+        if (strcmp(o, "--no-project") == 0) {
             project = 0;
-        } else if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
-            out_path = argv[++i];
-        } else if (argv[i][0] == '-') {
-            return remesh_usage();
-        } else if (in_path == NULL) {
-            in_path = argv[i];
-        } else {
-            return remesh_usage();
+            continue;
         }
+        if (o[0] != '-' || strcmp(o, "-") == 0) {
+            if (in_path != NULL) return fprintf(stderr, "largesteps remesh: more than one input ('%s')\n", o), remesh_usage(stderr);
+            in_path = o;
+            continue;
+        }
+        if (strcmp(o, "--h") != 0 && strcmp(o, "--factor") != 0 && strcmp(o, "--iters") != 0 &&
+            strcmp(o, "--vertex-cap") != 0 && strcmp(o, "--sharp-angle") != 0 && strcmp(o, "-o") != 0) {
+            fprintf(stderr, "largesteps remesh: unknown option '%s'\n", o);
+            return remesh_usage(stderr);
+        }
+        if (val == NULL) return fprintf(stderr, "largesteps remesh: %s needs a value\n", o), 2;
+        i++;
+        if (strcmp(o, "--h") == 0) ok = ls_arg_real("remesh", o, val, 0, 1e300, LS_ARG_LO_OPEN, &h), h_set = 1;
+        else if (strcmp(o, "--factor") == 0) ok = ls_arg_real("remesh", o, val, 0, 1000, LS_ARG_LO_OPEN, &factor), factor_set = 1;
+        else if (strcmp(o, "--iters") == 0) ok = ls_arg_u32("remesh", o, val, 1, 1000, &iters);
+        else if (strcmp(o, "--vertex-cap") == 0) ok = ls_arg_u32("remesh", o, val, 1, 2147483647u, &vcap);
+        else if (strcmp(o, "--sharp-angle") == 0) ok = ls_arg_real("remesh", o, val, 0, 180, LS_ARG_CLOSED, &sharp);
+        else out_path = val;
+        if (!ok) return 2;
     }
-    if (in_path == NULL || out_path == NULL) return remesh_usage();
+    if (h_set && factor_set) {
+        fprintf(stderr, "largesteps remesh: --h and --factor conflict (give one: an edge length or a factor)\n");
+        return 2;
+    }
+    if (in_path == NULL || out_path == NULL) {
+        fprintf(stderr, "largesteps remesh: %s\n", in_path == NULL ? "no input mesh" : "no output: -o OUT is required");
+        return remesh_usage(stderr);
+    }
+    if (!ends_with(out_path, ".obj") && !ends_with(out_path, ".ply")) {
+        fprintf(stderr, "largesteps remesh: -o: '%s' has an unknown extension (.obj or .ply)\n", out_path);
+        return 2;
+    }
+    if (!ls_posix_check_output(out_path)) return 2;
     ls_diag_clear(&diag);
     st = ls_posix_read_data(in_path, &data, &bytes);
     if (st != LS_OK) {
-        fprintf(stderr, "largesteps: cannot read %s: %s\n", in_path, ls_status_str(st));
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", in_path, ls_posix_read_error());
         return 1;
     }
     st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &finfo, &diag);
@@ -206,7 +219,7 @@ int ls_cmd_remesh(int argc, char **argv)
     }
     printf("input        %s: %u vertices, %u faces, mean edge %.6g\n", in_path, (unsigned)mesh.vertex_count,
            (unsigned)mesh.face_count, (double)mean);
-    printf("target       h = %.6g (%.3f x mean edge), %d iterations, projection %s\n", h, h / (double)mean, iters,
+    printf("target       h = %.6g (%.3f x mean edge), %u iterations, projection %s\n", h, h / (double)mean, (unsigned)iters,
            project ? "on" : "off");
     printf("output       %s: %u vertices, %u faces\n", out_path, (unsigned)out.vertex_count, (unsigned)out.face_count);
     printf("operations   %u splits, %u collapses, %u flips\n", (unsigned)info.splits, (unsigned)info.collapses,

@@ -32,6 +32,7 @@
 #include <sys/types.h>
 #include "ls_posix.h"
 #include "commands.h"
+#include "args.h"
 
 #define SHADE_NAMES "mask|sh|lambert"
 
@@ -41,25 +42,25 @@ typedef struct render_args {
     double fov_deg;
 } render_args;
 
-static int usage(void)
+static int usage(FILE *f)
 {
-    fprintf(stderr, "usage: largesteps render MESH [--views N] [--res W] [--ss 1|2|4] [--shading " SHADE_NAMES "]\n"
-                    "                         [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR\n");
-    return 2;
+    fprintf(f, "usage: largesteps render MESH [--views N] [--res W] [--ss 1|2|4] [--shading " SHADE_NAMES "]\n"
+               "                         [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR\n"
+               "  MESH          an OBJ, PLY or OFF file (gzip-compressed too)\n"
+               "  --views N     views (1..4000; default 8)\n"
+               "  --res W       image size W x W (1..%u; default 256)\n"
+               "  --ss S        supersampling: 1, 2 or 4 (default 2)\n"
+               "  --shading S   " SHADE_NAMES " (default sh)\n"
+               "  --placement P fibonacci (default) | rings\n"
+               "  --bits B      8 or 16 bits per sample (default 16)\n"
+               "  --fov DEG     field of view in degrees, 0 < DEG < 180 (default 40)\n"
+               "  -o DIR        output directory (required; created if missing): view_000.png ... and\n"
+               "                contact.png, written together or not at all\n" LS_ARGS_GLOBAL_HELP,
+            (unsigned)LS_RASTER_MAX_DIM);
+    return f == stderr ? 2 : 0;
 }
 
-/* A positive integer argument no larger than max; 0 when it is not one. */
-static uint32_t parse_count(const char *s, uint32_t max)
-{
-    char *end;
-    unsigned long v;
-    if (s == NULL || s[0] < '0' || s[0] > '9') return 0;
-    errno = 0;
-    v = strtoul(s, &end, 10);
-    if (errno != 0 || *end != 0 || v == 0 || v > max) return 0;
-    return (uint32_t)v;
-}
-
+/* 1: parsed; 0: a bad argument (reported); -1: --help printed. */
 static int parse_args(int argc, char **argv, render_args *a)
 {
     int i;
@@ -72,43 +73,48 @@ static int parse_args(int argc, char **argv, render_args *a)
     a->fov_deg = 40.0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int ok = 1;
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0) return usage(stdout), -1;
         if (o[0] != '-') {
-            if (a->mesh_path != NULL) return 0;
+            if (a->mesh_path != NULL) return fprintf(stderr, "largesteps render: more than one mesh ('%s')\n", o), 0;
             a->mesh_path = o;
             continue;
         }
-        if (v == NULL) return 0;
+        if (strcmp(o, "-o") != 0 && strcmp(o, "--views") != 0 && strcmp(o, "--res") != 0 && strcmp(o, "--ss") != 0 &&
+            strcmp(o, "--bits") != 0 && strcmp(o, "--fov") != 0 && strcmp(o, "--shading") != 0 &&
+            strcmp(o, "--placement") != 0)
+            return fprintf(stderr, "largesteps render: unknown option '%s'\n", o), 0;
+        if (v == NULL) return fprintf(stderr, "largesteps render: %s needs a value\n", o), 0;
         i++;
         if (strcmp(o, "-o") == 0) {
             a->out_dir = v;
         } else if (strcmp(o, "--views") == 0) {
-            if ((a->views = parse_count(v, 100000)) == 0) return 0;
+            ok = ls_arg_u32("render", o, v, 1, 4000, &a->views);
         } else if (strcmp(o, "--res") == 0) {
-            if ((a->res = parse_count(v, LS_RASTER_MAX_DIM)) == 0) return 0;
+            ok = ls_arg_u32("render", o, v, 1, LS_RASTER_MAX_DIM, &a->res);
         } else if (strcmp(o, "--ss") == 0) {
-            a->ss = parse_count(v, 4);
-            if (a->ss != 1 && a->ss != 2 && a->ss != 4) return 0;
+            ok = ls_arg_u32("render", o, v, 1, 4, &a->ss);
+            if (ok && a->ss == 3) ok = 0, fprintf(stderr, "largesteps render: --ss: '3' is not 1, 2 or 4\n");
         } else if (strcmp(o, "--bits") == 0) {
-            a->bits = parse_count(v, 16);
-            if (a->bits != 8 && a->bits != 16) return 0;
+            ok = ls_arg_u32("render", o, v, 8, 16, &a->bits);
+            if (ok && a->bits != 8 && a->bits != 16) ok = 0, fprintf(stderr, "largesteps render: --bits: '%s' is not 8 or 16\n", v);
         } else if (strcmp(o, "--fov") == 0) {
-            char *end;
-            a->fov_deg = strtod(v, &end);
-            if (*end != 0 || !(a->fov_deg > 0.0 && a->fov_deg < 180.0)) return 0;
+            ok = ls_arg_real("render", o, v, 0, 180, LS_ARG_LO_OPEN | LS_ARG_HI_OPEN, &a->fov_deg);
         } else if (strcmp(o, "--shading") == 0) {
             if (strcmp(v, "mask") == 0) a->mode = LS_SHADE_MASK;
             else if (strcmp(v, "sh") == 0) a->mode = LS_SHADE_SH;
             else if (strcmp(v, "lambert") == 0) a->mode = LS_SHADE_LAMBERT;
-            else return 0;
-        } else if (strcmp(o, "--placement") == 0) {
+            else ok = 0, fprintf(stderr, "largesteps render: --shading: '%s' is not one of " SHADE_NAMES "\n", v);
+        } else {
             if (strcmp(v, "fibonacci") == 0) a->rings = 0;
             else if (strcmp(v, "rings") == 0) a->rings = 1;
-            else return 0;
-        } else {
-            return 0;
+            else ok = 0, fprintf(stderr, "largesteps render: --placement: '%s' is not fibonacci or rings\n", v);
         }
+        if (!ok) return 0;
     }
-    return a->mesh_path != NULL && a->out_dir != NULL;
+    if (a->mesh_path == NULL) return fprintf(stderr, "largesteps render: no mesh\n"), 0;
+    if (a->out_dir == NULL) return fprintf(stderr, "largesteps render: -o DIR is required\n"), 0;
+    return 1;
 }
 
 /* The built-in sky's SH coefficients: a 32 x 16 equirectangular map, bright
@@ -126,9 +132,9 @@ static ls_status sky_sh(ls_real sh[27])
     return ls_sh_from_equirect(sky, 32, 16, sh);
 }
 
-/* Writes an image whole (ls_posix_write_image_in). Returns the file size,
- * or 0 after printing an error. */
-static size_t write_png(const char *dir, const char *name, const ls_image *img, uint32_t bits, ls_arena *arena)
+/* Adds an image to the run's output set (ls_posix_outset_add_image).
+ * Returns the file size, or 0 after printing an error. */
+static size_t write_png(ls_posix_outset *set, const char *name, const ls_image *img, uint32_t bits, ls_arena *arena)
 {
     ls_image_format fmt;
     ls_status st;
@@ -137,20 +143,12 @@ static size_t write_png(const char *dir, const char *name, const ls_image *img, 
     fmt.channels = 4;
     fmt.bits = bits;
     fmt.big_endian = 0;
-    if (!ls_posix_write_image_in(dir, name, img, &fmt, arena, &st)) {
-        fprintf(stderr, "largesteps: cannot write %s/%s: %s\n", dir, name,
-                st != LS_OK ? ls_status_str(st) : strerror(errno));
+    if (!ls_posix_outset_add_image(set, name, img, &fmt, arena, &st)) {
+        if (st != LS_OK) fprintf(stderr, "largesteps: cannot encode %s: %s\n", name, ls_status_str(st));
+        else fprintf(stderr, "largesteps: %s\n", ls_posix_write_error());
         return 0;
     }
-    { /* the compressed size is known once written */
-        char path[4096];
-        FILE *f;
-        long end;
-        if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) < sizeof path && (f = fopen(path, "rb")) != NULL) {
-            if (fseek(f, 0, SEEK_END) == 0 && (end = ftell(f)) > 0) size = (size_t)end;
-            fclose(f);
-        }
-    }
+    size = ls_posix_last_image_bytes(); /* compressed: known once written */
     return size;
 }
 
@@ -173,6 +171,21 @@ typedef struct render_run {
     int with_sheet; /* 0 when the sheet would pass the image size limits */
 } render_run;
 
+/* The run's mesh seen through mvp, as ls_raster and ls_shade read it. */
+static const ls_view *run_view(const render_run *r, const ls_real *mvp, ls_view *view)
+{
+    memset(view, 0, sizeof *view);
+    view->vis = &r->vis;
+    view->positions = r->mesh.positions;
+    view->indices = r->mesh.triangles;
+    view->triangle_count = r->mesh.face_count;
+    view->vertex_count = r->mesh.vertex_count;
+    view->normals = r->normals;
+    view->opts = &r->opts;
+    view->mvp = mvp;
+    return view;
+}
+
 static int fail(const char *what, ls_status st, const ls_diag *d)
 {
     fprintf(stderr, "largesteps: %s: %s", what, ls_status_name(st));
@@ -193,10 +206,11 @@ static int setup(render_run *r)
     ls_status st;
     uint32_t v, cols;
     ls_real mvp[16];
+    ls_view view;
     ls_diag_clear(&d);
     st = ls_posix_read_data(r->a.mesh_path, &data, &bytes);
     if (st != LS_OK) {
-        fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.mesh_path, ls_status_str(st));
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.mesh_path, ls_posix_read_error());
         return 1;
     }
     st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &info, &d);
@@ -244,9 +258,7 @@ static int setup(render_run *r)
     for (v = 0; v < r->a.views && st == LS_OK; v++) {
         st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
         if (st == LS_OK)
-            st = ls_raster_scratch_bytes(&r->vis, &(ls_view){.positions = r->mesh.positions,
-                    .indices = r->mesh.triangles, .triangle_count = r->mesh.face_count,
-                    .vertex_count = r->mesh.vertex_count, .mvp = mvp}, &sz);
+            st = ls_raster_scratch_bytes(&r->vis, run_view(r, mvp, &view), &sz);
         if (st == LS_OK && sz > scratch) scratch = sz;
     }
     if (st == LS_OK) st = ls_shade_image_bytes(r->a.res, r->a.res, &r->rgba_bytes);
@@ -323,7 +335,23 @@ static double ms(uint64_t t0, uint64_t t1)
     return (double)(t1 - t0) * 1e-6;
 }
 
+/* The views and the contact sheet appear together or not at all. */
+static int render_views_into(render_run *r, ls_posix_outset *set);
+
 static int render_views(render_run *r)
+{
+    ls_posix_outset *set = ls_posix_outset_begin(r->a.out_dir);
+    int rc;
+    if (set == NULL) return fprintf(stderr, "largesteps render: out of memory\n"), 1;
+    rc = render_views_into(r, set);
+    if (rc != 0) {
+        ls_posix_outset_abort(set);
+        return rc;
+    }
+    return ls_posix_outset_commit(set) ? 0 : 1;
+}
+
+static int render_views_into(render_run *r, ls_posix_outset *set)
 {
     uint32_t v;
     uint64_t t_all = ls_posix_clock_ns(NULL);
@@ -331,6 +359,7 @@ static int render_views(render_run *r)
     ls_diag d;
     for (v = 0; v < r->a.views; v++) {
         ls_real mvp[16];
+        ls_view view;
         uint64_t t0, t1, t2, t3;
         size_t i, n = 4 * (size_t)r->a.res * r->a.res, fsize, used;
         char name[64];
@@ -338,21 +367,16 @@ static int render_views(render_run *r)
         ls_diag_clear(&d);
         st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
         t0 = ls_posix_clock_ns(NULL);
-        if (st == LS_OK)
-            st = ls_raster(&r->vis, &(ls_view){.positions = r->mesh.positions, .indices = r->mesh.triangles,
-                    .triangle_count = r->mesh.face_count, .vertex_count = r->mesh.vertex_count, .mvp = mvp}, &r->work,
-                    &d);
+        if (st == LS_OK) st = ls_raster(&r->vis, run_view(r, mvp, &view), &r->work, &d);
         t1 = ls_posix_clock_ns(NULL);
-        if (st == LS_OK)
-            st = ls_shade(&(ls_view){.vis = &r->vis, .indices = r->mesh.triangles, .triangle_count = r->mesh.face_count,
-                    .vertex_count = r->mesh.vertex_count, .normals = r->normals, .opts = &r->opts}, r->rgba, &d);
+        if (st == LS_OK) st = ls_shade(&view, r->rgba, &d);
         t2 = ls_posix_clock_ns(NULL);
         if (st != LS_OK) return fail("render", st, &d);
         for (i = 0; i < n; i++) r->view.pixels[i] = (float)r->rgba[i];
         st = r->with_sheet ? ls_contact_put_image(&r->sheet, v, &r->view) : LS_OK;
         if (st != LS_OK) return fail("contact sheet", st, NULL);
         snprintf(name, sizeof name, "view_%03u.png", (unsigned)v);
-        fsize = write_png(r->a.out_dir, name, &r->view, r->a.bits, &r->work);
+        fsize = write_png(set, name, &r->view, r->a.bits, &r->work);
         t3 = ls_posix_clock_ns(NULL);
         if (fsize == 0) return 1;
         files += fsize;
@@ -365,7 +389,7 @@ static int render_views(render_run *r)
     }
     if (r->with_sheet) {
         uint64_t t0 = ls_posix_clock_ns(NULL), t1;
-        size_t fsize = write_png(r->a.out_dir, "contact.png", &r->sheet.image, r->a.bits, &r->work);
+        size_t fsize = write_png(set, "contact.png", &r->sheet.image, r->a.bits, &r->work);
         t1 = ls_posix_clock_ns(NULL);
         if (fsize == 0) return 1;
         printf("contact   %ux%u  write %8.3f ms  contact.png %lu bytes\n", (unsigned)r->sheet.image.width,
@@ -383,7 +407,9 @@ int ls_cmd_render(int argc, char **argv)
     int rc;
     struct stat sb;
     memset(&r, 0, sizeof r);
-    if (!parse_args(argc, argv, &r.a)) return usage();
+    rc = parse_args(argc, argv, &r.a);
+    if (rc <= 0) return rc < 0 ? 0 : usage(stderr);
+    if (!ls_posix_check_output_dir(r.a.out_dir)) return 2;
     if (stat(r.a.out_dir, &sb) != 0) {
         if (ls_posix_mkdir_p(r.a.out_dir) != 0) {
             fprintf(stderr, "largesteps: cannot create %s: %s\n", r.a.out_dir, strerror(errno));

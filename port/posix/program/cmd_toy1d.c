@@ -10,9 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <math.h>
+#include <errno.h>
 #include <largesteps.h>
 #include "commands.h"
 #include "ls_posix.h"
+#include "args.h"
 
 #define N LS_TOY1D_N
 
@@ -81,7 +83,7 @@ static int svg_body(FILE *f, void *ctx)
     return !ferror(f);
 }
 
-static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *traj, uint32_t iters,
+static int write_svg(ls_posix_outset *set, const ls_toy1d_method *m, const ls_real *traj, uint32_t iters,
                      const ls_real *target)
 {
     char name[256];
@@ -91,7 +93,16 @@ static int write_svg(const char *dir, const ls_toy1d_method *m, const ls_real *t
     p.traj = traj;
     p.target = target;
     p.iters = iters;
-    return ls_posix_write_whole_in(dir, name, svg_body, &p);
+    return ls_posix_outset_add(set, name, svg_body, &p);
+}
+
+static int toy1d_usage(FILE *f)
+{
+    fprintf(f, "usage: largesteps toy1d [-o DIR] [--iters N]\n"
+               "  the 1D toy of large steps: a table of errors per iteration and one SVG plot per method\n"
+               "  -o DIR      output directory for toy1d-METHOD.svg (default: the current directory)\n"
+               "  --iters N   iterations (1..100000; default 100)\n" LS_ARGS_GLOBAL_HELP);
+    return f == stderr ? 2 : 0;
 }
 
 int ls_cmd_toy1d(int argc, char **argv)
@@ -104,22 +115,20 @@ int ls_cmd_toy1d(int argc, char **argv)
     void *mem;
     size_t mem_bytes = 64u * 1024u;
     ls_arena arena;
+    ls_posix_outset *set;
     for (a = 1; a < argc; a++) {
+        if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) return toy1d_usage(stdout);
         if (strcmp(argv[a], "-o") == 0 && a + 1 < argc) {
             dir = argv[++a];
         } else if (strcmp(argv[a], "--iters") == 0 && a + 1 < argc) {
-            char *end;
-            unsigned long v = strtoul(argv[++a], &end, 10);
-            if (*end != '\0' || v == 0 || v > 100000ul) {
-                fprintf(stderr, "largesteps toy1d: --iters takes 1 .. 100000\n");
-                return 2;
-            }
-            iters = (uint32_t)v;
+            if (!ls_arg_u32("toy1d", "--iters", argv[++a], 1, 100000, &iters)) return 2;
         } else {
-            fprintf(stderr, "usage: largesteps toy1d [-o DIR] [--iters N]\n");
-            return 2;
+            fprintf(stderr, "largesteps toy1d: %s '%s'\n",
+                    strcmp(argv[a], "-o") == 0 || strcmp(argv[a], "--iters") == 0 ? "a value is missing after" : "unknown argument", argv[a]);
+            return toy1d_usage(stderr);
         }
     }
+    if (!ls_posix_check_output_dir(dir)) return 2;
     mem = malloc(mem_bytes);
     if (mem == NULL || ls_arena_init(&arena, mem, mem_bytes) != LS_OK) {
         free(mem);
@@ -153,9 +162,10 @@ int ls_cmd_toy1d(int argc, char **argv)
     printf("\n%-14s %6s %7s %6s %10s %10s %10s  %s\n", "method", "step", "lambda", "power", "first_inv", "end_err",
            "interior", "svg");
     if (ls_posix_mkdir_p(dir) != 0) {
-        fprintf(stderr, "largesteps toy1d: cannot create %s\n", dir);
+        fprintf(stderr, "largesteps toy1d: cannot create %s: %s\n", dir, strerror(errno));
         status = 1;
     }
+    set = status == 0 ? ls_posix_outset_begin(dir) : NULL; /* the plots appear together or not at all */
     for (k = 0; k < LS_TOY1D_METHODS; k++) {
         const ls_real *x = traj[k] + (size_t)iters * N;
         long first = -1;
@@ -163,12 +173,13 @@ int ls_cmd_toy1d(int argc, char **argv)
         if (fabs((double)x[N - 1] - (double)target[N - 1]) > end_err) end_err = fabs((double)x[N - 1] - (double)target[N - 1]);
         for (it = 0; it <= iters && first < 0; it++)
             if (inverted(traj[k] + (size_t)it * N)) first = (long)it;
-        int written = write_svg(dir, &m[k], traj[k], iters, target);
+        int written = set != NULL && write_svg(set, &m[k], traj[k], iters, target);
         if (!written) status = 1;
         printf("%-14s %6g %7g %6u %10ld %10.3e %10.6f  %s/toy1d-%s.svg%s\n", m[k].name, (double)m[k].step,
                (double)m[k].lambda, m[k].power, first, end_err, interior_error(x, target), dir, m[k].name,
                written ? "" : " (NOT WRITTEN)");
     }
+    if (set == NULL || !ls_posix_outset_commit(set)) status = 1;
     for (k = 0; k < LS_TOY1D_METHODS; k++) free(traj[k]);
     free(mem);
     if (status) fprintf(stderr, "largesteps toy1d: could not write the SVG files into %s\n", dir);

@@ -27,7 +27,7 @@ int ls_job_parse_remesh(const char *text, uint32_t *at, uint32_t *count)
     if (strcmp(text, "none") == 0) return 1;
     while (ok && *p != '\0') {
         char *end;
-        unsigned long it = strtoul(p, &end, 10);
+        unsigned long it = *p >= '0' && *p <= '9' ? strtoul(p, &end, 10) : (end = (char *)(uintptr_t)p, 0ul);
         ok = end != p && *count < LS_JOB_MAX_REMESH && it < 1000000ul && (*count == 0 || it > at[*count - 1u]);
         if (ok) at[(*count)++] = (uint32_t)it;
         p = *end == ',' ? end + 1 : end;
@@ -40,8 +40,10 @@ double ls_job_now_ms(void) { return (double)ls_posix_clock_ns(NULL) * 1e-6; }
 
 int ls_job_fail(const char *what, ls_status st, const ls_diag *d)
 {
-    fprintf(stderr, "largesteps: %s: %s%s%s\n", what, ls_status_str(st),
-            d != NULL && d->what != NULL && d->what[0] ? ": " : "", d != NULL && d->what != NULL ? d->what : "");
+    /* a file that could not be read: its reason alone (ls_posix_read_error) */
+    int unread = (st == LS_ERR_IO || st == LS_ERR_TOO_LARGE) && d != NULL && d->what == ls_posix_read_error();
+    fprintf(stderr, "largesteps: %s%s: %s%s%s\n", unread ? "cannot read " : "", what, unread ? "" : ls_status_str(st),
+            !unread && d != NULL && d->what != NULL && d->what[0] ? ": " : "", d != NULL && d->what != NULL ? d->what : "");
     return 0;
 }
 
@@ -67,6 +69,10 @@ static ls_status load_image(const char *path, ls_arena *arena, ls_image *img, ls
     unsigned char *data = NULL;
     size_t bytes = 0;
     ls_status st = ls_posix_read_file(path, &data, &bytes);
+    if (st != LS_OK && d != NULL) {
+        ls_diag_clear(d);
+        d->what = ls_posix_read_error();
+    }
     if (st == LS_OK) st = ls_image_decode(data, bytes, img, arena, d);
     free(data);
     return st;
@@ -252,7 +258,10 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         size_t bytes = 0;
         char path[4096];
         st = ls_posix_read_file(o->target, &text, &bytes);
-        if (st != LS_OK) return ls_job_fail(o->target, st, NULL);
+        if (st != LS_OK) {
+            fprintf(stderr, "largesteps: cannot read %s: %s\n", o->target, ls_posix_read_error());
+            return 0;
+        }
         st = has_suffix(o->target, ".xml") ? ls_scene_parse_mitsuba((const char *)text, bytes, arena, &scene, &d)
                                            : ls_scene_parse((const char *)text, bytes, arena, &scene, &d);
         free(text);
@@ -538,7 +547,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             t0 += ls_job_now_ms() - t1; /* the measurement is not the fit's time */
         }
         if (s->guard_every > 0 && (it % s->guard_every == 0 || !fit.saved_valid)) {
-            uint32_t pairs;
+            uint32_t pairs = 0;
             if (!fit_pairs(&fit, &pairs)) return 0;
             if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
                 uint32_t back = fit.saved_iteration;
@@ -587,7 +596,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
         if (time_budget_ms > 0 && r->ms[it] >= time_budget_ms) break;
     }
     if (s->guard_every > 0 && fit.saved_valid && fit.saved_iteration < fit.iteration) { /* the last stretch */
-        uint32_t pairs;
+        uint32_t pairs = 0;
         if (!fit_pairs(&fit, &pairs)) return 0;
         if (pairs > saved_pairs) {
             (void)ls_fit_rollback(&fit);

@@ -11,8 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <math.h>
+#include <errno.h>
 #include "ls_posix.h"
 #include "commands.h"
+#include "args.h"
 
 static int usage(FILE *out)
 {
@@ -27,7 +29,8 @@ static int usage(FILE *out)
                  "  toy1d -o DIR                the 1D toy of large steps, with SVG plots\n"
                  "  info                        the build configuration and the self-test\n"
                  "  info MESH                   counts, validation findings, genus and bounding box of a mesh\n"
-                 "  version                     the library version\n");
+                 "  version                     the library version\n"
+                 "options of every command:\n" LS_ARGS_GLOBAL_HELP);
     return out == stderr ? 2 : 0;
 }
 
@@ -89,7 +92,7 @@ static int cmd_info_mesh(const char *path)
     int problems = 0;
     st = ls_posix_read_data(path, &data, &bytes);
     if (st != LS_OK) {
-        fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_status_str(st));
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", path, ls_posix_read_error());
         return 1;
     }
     ls_diag_clear(&diag);
@@ -158,12 +161,42 @@ static int cmd_info_mesh(const char *path)
     return 0;
 }
 
-int main(int argc, char **argv)
+static int info_usage(FILE *out)
+{
+    fprintf(out, "usage: largesteps info [MESH]\n"
+                 "  without MESH: the library's build configuration and the self-test\n"
+                 "  MESH         an OBJ, PLY or OFF file (gzip-compressed too): counts, validation\n"
+                 "               findings, genus and bounding box\n" LS_ARGS_GLOBAL_HELP);
+    return out == stderr ? 2 : 0;
+}
+
+static int version_usage(FILE *out)
+{
+    fprintf(out, "usage: largesteps version\n  prints the library version\n");
+    return out == stderr ? 2 : 0;
+}
+
+static int is_help(const char *s)
+{
+    return strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0;
+}
+
+static int dispatch(int argc, char **argv)
 {
     if (argc < 2) return usage(stderr);
-    if (strcmp(argv[1], "info") == 0 && argc >= 3) return cmd_info_mesh(argv[2]);
-    if (strcmp(argv[1], "info") == 0) return cmd_info();
+    if (strcmp(argv[1], "info") == 0) {
+        if (argc >= 3 && is_help(argv[2])) return info_usage(stdout);
+        if (argc == 3 && strcmp(argv[2], "--") != 0 && argv[2][0] == '-') {
+            fprintf(stderr, "largesteps info: unknown option '%s'\n", argv[2]);
+            return info_usage(stderr);
+        }
+        if (argc == 4 && strcmp(argv[2], "--") == 0) return cmd_info_mesh(argv[3]);
+        if (argc > 3) return info_usage(stderr);
+        return argc == 3 ? cmd_info_mesh(argv[2]) : cmd_info();
+    }
     if (strcmp(argv[1], "version") == 0) {
+        if (argc >= 3 && is_help(argv[2])) return version_usage(stdout);
+        if (argc > 2) return version_usage(stderr);
         printf("%s\n", ls_version_string());
         return 0;
     }
@@ -173,7 +206,26 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "render") == 0) return ls_cmd_render(argc - 1, argv + 1);
     if (strcmp(argv[1], "fit") == 0) return ls_cmd_fit(argc - 1, argv + 1);
     if (strcmp(argv[1], "experiment") == 0) return ls_cmd_experiment(argc - 1, argv + 1);
-    if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0) return usage(stdout);
+    if (strcmp(argv[1], "help") == 0 || is_help(argv[1])) return usage(stdout);
     fprintf(stderr, "largesteps: unknown command '%s'\n", argv[1]);
     return usage(stderr);
+}
+
+int main(int argc, char **argv)
+{
+    int rc;
+    ls_posix_cleanup_on_signals();
+    argc = ls_args_global(argc, argv);
+    if (argc < 0) return 2;
+    rc = dispatch(argc, argv);
+    /* what went to stdout must have arrived: a full disk or a closed pipe
+     * is a failure, never a silent success */
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        int err = errno;
+        fprintf(stderr, "largesteps: writing to standard output failed: %s\n",
+                err != 0 ? strerror(err) : "write error");
+        return rc != 0 ? rc : 1;
+    }
+    return rc;
 }

@@ -15,47 +15,111 @@ void ls_report_json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void json_stats(FILE *f, const char *name, const ls_dist_stats *s, int comma)
+/* Non-finite numbers are not JSON: each is written as null, and its name and
+ * value are collected for a "not_finite" object that says why. */
+static char why[1024];
+static size_t why_len;
+
+static void why_reset(void)
 {
-    fprintf(f, "\"%s\": {\"max\": %.9g, \"mean\": %.9g, \"rms\": %.9g, \"count\": %u, \"argmax\": %lld}%s", name,
-            (double)s->max, (double)s->mean, (double)s->rms, (unsigned)s->count,
+    why[0] = 0;
+    why_len = 0;
+}
+
+static void num(FILE *f, const char *prefix, const char *name, double v)
+{
+    int n;
+    if (v == v && v - v == 0) {
+        fprintf(f, "%.9g", v);
+        return;
+    }
+    fputs("null", f);
+    n = snprintf(why + why_len, sizeof why - why_len, "%s\"%s%s%s\": \"%s\"", why_len > 0 ? ", " : "",
+                 prefix != NULL ? prefix : "", prefix != NULL ? "." : "", name,
+                 v != v ? "nan" : v > 0 ? "inf" : "-inf");
+    if (n > 0 && (size_t)n < sizeof why - why_len) why_len += (size_t)n;
+}
+
+void ls_report_json_number(FILE *f, double v)
+{
+    if (v == v && v - v == 0) fprintf(f, "%.9g", v);
+    else fputs("null", f);
+}
+
+static void json_stats(FILE *f, const char *way, const char *name, const ls_dist_stats *s, int comma)
+{
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "%s.%s", way, name);
+    fprintf(f, "\"%s\": {\"max\": ", name);
+    num(f, prefix, "max", (double)s->max);
+    fprintf(f, ", \"mean\": ");
+    num(f, prefix, "mean", (double)s->mean);
+    fprintf(f, ", \"rms\": ");
+    num(f, prefix, "rms", (double)s->rms);
+    fprintf(f, ", \"count\": %u, \"argmax\": %lld}%s", (unsigned)s->count,
             s->argmax == UINT32_MAX ? -1LL : (long long)s->argmax, comma ? ", " : "");
 }
 
 static void json_one_way(FILE *f, const char *name, const ls_dist_one_way *w)
 {
     fprintf(f, "  \"%s\": {", name);
-    json_stats(f, "vertex", &w->vertex, 1);
-    json_stats(f, "face", &w->face, 1);
-    json_stats(f, "normal_deg", &w->normal, 0);
+    json_stats(f, name, "vertex", &w->vertex, 1);
+    json_stats(f, name, "face", &w->face, 1);
+    json_stats(f, name, "normal_deg", &w->normal, 0);
     fprintf(f, "},\n");
+}
+
+/* "name": value, (value null when not finite) */
+static void field(FILE *f, const char *prefix, const char *name, double v, const char *sep)
+{
+    fprintf(f, "\"%s\": ", name);
+    num(f, prefix, name, v);
+    fputs(sep, f);
 }
 
 void ls_report_json_distance(FILE *f, const ls_distance_report *d)
 {
-    fprintf(f, "  \"diag_b\": %.9g,\n", (double)d->diag);
-    fprintf(f, "  \"vertex_hausdorff\": %.9g, \"vertex_hausdorff_rel\": %.9g,\n", (double)d->vertex_hausdorff,
-            (double)d->vertex_hausdorff_rel);
-    fprintf(f, "  \"hausdorff\": %.9g, \"hausdorff_rel\": %.9g,\n", (double)d->hausdorff, (double)d->hausdorff_rel);
-    fprintf(f, "  \"mean\": %.9g, \"mean_rel\": %.9g,\n", (double)d->mean, (double)d->mean_rel);
-    fprintf(f, "  \"rms\": %.9g, \"rms_rel\": %.9g,\n", (double)d->rms, (double)d->rms_rel);
+    why_reset();
+    fputs("  ", f);
+    field(f, NULL, "diag_b", (double)d->diag, ",\n  ");
+    field(f, NULL, "vertex_hausdorff", (double)d->vertex_hausdorff, ", ");
+    field(f, NULL, "vertex_hausdorff_rel", (double)d->vertex_hausdorff_rel, ",\n  ");
+    field(f, NULL, "hausdorff", (double)d->hausdorff, ", ");
+    field(f, NULL, "hausdorff_rel", (double)d->hausdorff_rel, ",\n  ");
+    field(f, NULL, "mean", (double)d->mean, ", ");
+    field(f, NULL, "mean_rel", (double)d->mean_rel, ",\n  ");
+    field(f, NULL, "rms", (double)d->rms, ", ");
+    field(f, NULL, "rms_rel", (double)d->rms_rel, ",\n");
     json_one_way(f, "a_to_b", &d->ab);
     json_one_way(f, "b_to_a", &d->ba);
+    /* why some numbers are null: the values that are not finite (coordinates
+     * near the range of ls_real overflow in the distances) */
+    if (why_len > 0) fprintf(f, "  \"not_finite\": {%s},\n", why);
 }
 
 void ls_report_json_tangle(FILE *f, const char *name, const ls_tangle_report *t, int comma)
 {
+    why_reset();
     fprintf(f, "  \"%s\": {\"intersecting_pairs\": %u, \"intersecting_faces\": %u, \"degenerate_faces\": %u, ", name,
             (unsigned)t->intersecting_pairs, (unsigned)t->intersecting_faces, (unsigned)t->degenerate_faces);
     if (t->has_reference)
         fprintf(f, "\"inverted_faces\": %u, ", (unsigned)t->inverted_faces);
     else
         fprintf(f, "\"inverted_faces\": null, ");
-    fprintf(f, "\"angle_deg\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"max\": %.9g}, ",
-            (double)t->angle_min, (double)t->angle_p1, (double)t->angle_p5, (double)t->angle_p50, (double)t->angle_max);
-    fprintf(f, "\"quality\": {\"min\": %.9g, \"p1\": %.9g, \"p5\": %.9g, \"p50\": %.9g, \"mean\": %.9g}}%s\n",
-            (double)t->quality_min, (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50,
-            (double)t->quality_mean, comma ? "," : "");
+    fprintf(f, "\"angle_deg\": {");
+    field(f, "angle_deg", "min", (double)t->angle_min, ", ");
+    field(f, "angle_deg", "p1", (double)t->angle_p1, ", ");
+    field(f, "angle_deg", "p5", (double)t->angle_p5, ", ");
+    field(f, "angle_deg", "p50", (double)t->angle_p50, ", ");
+    field(f, "angle_deg", "max", (double)t->angle_max, "}, ");
+    fprintf(f, "\"quality\": {");
+    field(f, "quality", "min", (double)t->quality_min, ", ");
+    field(f, "quality", "p1", (double)t->quality_p1, ", ");
+    field(f, "quality", "p5", (double)t->quality_p5, ", ");
+    field(f, "quality", "p50", (double)t->quality_p50, ", ");
+    field(f, "quality", "mean", (double)t->quality_mean, "}");
+    if (why_len > 0) fprintf(f, ", \"not_finite\": {%s}", why);
+    fprintf(f, "}%s\n", comma ? "," : "");
 }
 
 void ls_report_text_distance(FILE *f, const ls_distance_report *d)

@@ -9,7 +9,12 @@
 /* A JSON string literal with escapes. */
 void ls_report_json_string(FILE *f, const char *s);
 
-/* The fields (no braces) of a distance report: symmetric values, then
+/* A JSON number: "%.9g", or null when not finite (JSON has no inf or nan). */
+void ls_report_json_number(FILE *f, double v);
+
+/* The fields (no braces) of a distance report (numbers that are not finite
+ * are written as null and listed, with "inf", "-inf" or "nan", in a last
+ * "not_finite" object): symmetric values, then
  * "a_to_b" and "b_to_a" objects; each line indented by two spaces and ended
  * with ",\n". */
 void ls_report_json_distance(FILE *f, const ls_distance_report *d);
