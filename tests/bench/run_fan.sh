@@ -1,6 +1,6 @@
 #!/bin/sh
 # tests/bench/run_fan.sh - the distance and tangle metrics on overlapping
-# boxes (issue 35's reproducers): `largesteps metrics` on a planar triangle
+# boxes (the cases where a box-pruned search slows down): `largesteps metrics` on a planar triangle
 # fan against itself (N vertices: a centre and N - 1 rim points on a circle)
 # and on one vertex with F degenerate faces, at growing sizes; for the fans
 # also the number of triangle boxes within the rounding slack of a query

@@ -13,7 +13,8 @@
  * initial and final render of every view, one row each, each tile labelled
  * with its row and view, over a grey checkerboard so that masks show).
  *
- * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset)
+ * A scene file (.txt: the text format of scene.h; .xml: the Mitsuba subset;
+ * .json: a camera dataset, transforms.json, whose RGBA images are the target)
  * gives the cameras, the resolution, the lighting (SH coefficients, or an
  * environment map in PFM projected to SH and scaled), the background and the
  * target: a mesh rendered as above, or one image per camera (PNG or PFM, the

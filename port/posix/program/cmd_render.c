@@ -20,7 +20,9 @@
  *
  * Writes DIR/view_000.png ... (RGBA, 16 bits per sample unless --bits 8) and
  * DIR/contact.png (every view on a near-square grid, 1-pixel grey lines
- * between them), each written whole to a temporary name then renamed. DIR is
+ * between them) and DIR/transforms.json (the views as a camera dataset with
+ * the lighting used: `largesteps fit DIR/transforms.json` fits it), all
+ * written together or not at all. DIR is
  * created when missing. Prints, per view, the times of rasterization,
  * shading and encoding, the arena bytes the view used and the file size. */
 #define _POSIX_C_SOURCE 200809L
@@ -169,6 +171,7 @@ typedef struct render_run {
     void *geo_mem, *work_mem;
     size_t vis_bytes, rgba_bytes;
     int with_sheet; /* 0 when the sheet would pass the image size limits */
+    double *c2w;    /* [16 views] camera-to-world of each view (transforms.json) */
 } render_run;
 
 /* The run's mesh seen through mvp, as ls_raster and ls_shade read it. */
@@ -335,7 +338,50 @@ static double ms(uint64_t t0, uint64_t t1)
     return (double)(t1 - t0) * 1e-6;
 }
 
-/* The views and the contact sheet appear together or not at all. */
+/* DIR/transforms.json: the views as a camera dataset (scene.h's format, read
+ * by `largesteps fit DIR/transforms.json`), with the lighting recorded. */
+static int dataset_body(FILE *f, void *ctx)
+{
+    const render_run *r = (const render_run *)ctx;
+    uint32_t v, i, k;
+    fprintf(f, "{\n  \"camera_angle_x\": %.17g,\n  \"w\": %u,\n  \"h\": %u,\n",
+            (double)(ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0), (unsigned)r->a.res, (unsigned)r->a.res);
+    fprintf(f, "  \"largesteps_clip\": [%.17g, %.17g],\n  \"largesteps_background\": [0, 0, 0],\n",
+            (double)r->fr.near_plane, (double)r->fr.far_plane);
+    if (r->opts.mode == LS_SHADE_MASK) {
+        fprintf(f, "  \"largesteps_lighting\": \"mask\",\n");
+    } else if (r->opts.mode == LS_SHADE_SH) {
+        fprintf(f, "  \"largesteps_sh\": [");
+        for (k = 0; k < 27; k++) fprintf(f, "%s%.17g", k > 0 ? ", " : "", (double)r->sh[k]);
+        fprintf(f, "],\n");
+    } /* lambert: no SH form; the dataset leaves its lighting unknown */
+    fprintf(f, "  \"frames\": [\n");
+    for (v = 0; v < r->a.views; v++) {
+        const double *m = r->c2w + 16u * v;
+        fprintf(f, "    {\"file_path\": \"view_%03u.png\", \"transform_matrix\": [", (unsigned)v);
+        for (i = 0; i < 4; i++)
+            fprintf(f, "%s[%.17g, %.17g, %.17g, %.17g]", i > 0 ? ", " : "", m[4 * i], m[4 * i + 1], m[4 * i + 2],
+                    m[4 * i + 3]);
+        fprintf(f, "]}%s\n", v + 1 < r->a.views ? "," : "");
+    }
+    fprintf(f, "  ]\n}\n");
+    return 1;
+}
+
+/* The camera-to-world matrix of a rigid world-to-view matrix. */
+static void invert_view(const ls_real view[16], double c2w[16])
+{
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        for (k = 0; k < 3; k++) c2w[4 * i + k] = (double)view[4 * k + i];
+        c2w[4 * i + 3] = -((double)view[i] * (double)view[3] + (double)view[4 + i] * (double)view[7] +
+                           (double)view[8 + i] * (double)view[11]);
+    }
+    c2w[12] = c2w[13] = c2w[14] = 0;
+    c2w[15] = 1;
+}
+
+/* The views, the contact sheet and the dataset appear together or not at all. */
 static int render_views_into(render_run *r, ls_posix_outset *set);
 
 static int render_views(render_run *r)
@@ -343,7 +389,18 @@ static int render_views(render_run *r)
     ls_posix_outset *set = ls_posix_outset_begin(r->a.out_dir);
     int rc;
     if (set == NULL) return fprintf(stderr, "largesteps render: out of memory\n"), 1;
+    r->c2w = (double *)malloc(16u * sizeof(double) * r->a.views);
+    if (r->c2w == NULL) {
+        ls_posix_outset_abort(set);
+        return fprintf(stderr, "largesteps render: out of memory\n"), 1;
+    }
     rc = render_views_into(r, set);
+    if (rc == 0 && !ls_posix_outset_add(set, "transforms.json", dataset_body, r)) {
+        fprintf(stderr, "largesteps: %s\n", ls_posix_write_error());
+        rc = 1;
+    }
+    free(r->c2w);
+    r->c2w = NULL;
     if (rc != 0) {
         ls_posix_outset_abort(set);
         return rc;
@@ -358,14 +415,15 @@ static int render_views_into(render_run *r, ls_posix_outset *set)
     size_t files = 0;
     ls_diag d;
     for (v = 0; v < r->a.views; v++) {
-        ls_real mvp[16];
+        ls_real mvp[16], world_to_view[16];
         ls_view view;
         uint64_t t0, t1, t2, t3;
         size_t i, n = 4 * (size_t)r->a.res * r->a.res, fsize, used;
         char name[64];
         ls_status st;
         ls_diag_clear(&d);
-        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
+        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, world_to_view, mvp);
+        invert_view(world_to_view, r->c2w + 16u * v);
         t0 = ls_posix_clock_ns(NULL);
         if (st == LS_OK) st = ls_raster(&r->vis, run_view(r, mvp, &view), &r->work, &d);
         t1 = ls_posix_clock_ns(NULL);

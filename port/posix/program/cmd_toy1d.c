@@ -1,4 +1,4 @@
-/* cmd_toy1d.c - `largesteps toy1d [-o DIR] [--iters N]`: the seed's 1D toy
+/* cmd_toy1d.c - `largesteps toy1d [-o DIR] [--iters N]`: the 1D toy problem
  * (largesteps/toy1d.h). Prints, per iteration, every method's largest
  * interior error |x_i - t_i| (0 < i < 31), marked '*' while the points are
  * inverted (some x_{i+1} < x_i); then a summary per method; and writes one
