@@ -141,11 +141,16 @@ static const bad_case bad_cases[] = {
     {HDR "camera 0 0 3 0 0 0\ntarget mesh a.obj\n", 4, 1, "no 'resolution'"},
 };
 
-static void scene_text_errors_are_named(void)
+/* Every case of a table fails to parse with LS_ERR_PARSE at its line and
+ * column with its message, leaving the arena and the scene untouched, and
+ * the sizing query fails the same way. */
+typedef ls_status (*parse_fn)(const char *, size_t, ls_arena *, ls_scene *, ls_diag *);
+typedef ls_status (*bytes_fn)(const char *, size_t, size_t *, ls_diag *);
+static void check_bad_cases(const bad_case *cases, size_t n, parse_fn parse, bytes_fn bytes_query)
 {
     size_t i;
-    for (i = 0; i < sizeof bad_cases / sizeof bad_cases[0]; i++) {
-        const bad_case *c = &bad_cases[i];
+    for (i = 0; i < n; i++) {
+        const bad_case *c = &cases[i];
         ls_arena arena;
         ls_scene s;
         ls_diag d;
@@ -153,7 +158,7 @@ static void scene_text_errors_are_named(void)
         ls_status st;
         REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
         memset(&s, 0x5A, sizeof s);
-        st = ls_scene_parse(c->text, strlen(c->text), &arena, &s, &d);
+        st = parse(c->text, strlen(c->text), &arena, &s, &d);
         CHECK_MSG(st == LS_ERR_PARSE, "case %u: %s", (unsigned)i, ls_status_name(st));
         if (st != LS_ERR_PARSE) continue;
         CHECK_MSG(d.line == c->line && d.column == c->column, "case %u: at %u:%u, wanted %u:%u (%s)", (unsigned)i,
@@ -161,8 +166,13 @@ static void scene_text_errors_are_named(void)
         CHECK_MSG(strstr(d.what, c->what) != NULL, "case %u: '%s' lacks '%s'", (unsigned)i, d.what, c->what);
         CHECK_EQ(ls_arena_used(&arena), 0);
         CHECK(((const unsigned char *)&s)[0] == 0x5A);
-        CHECK_STATUS(ls_scene_parse_bytes(c->text, strlen(c->text), &bytes, NULL), LS_ERR_PARSE);
+        CHECK_STATUS(bytes_query(c->text, strlen(c->text), &bytes, NULL), LS_ERR_PARSE);
     }
+}
+
+static void scene_text_errors_are_named(void)
+{
+    check_bad_cases(bad_cases, sizeof bad_cases / sizeof bad_cases[0], ls_scene_parse, ls_scene_parse_bytes);
     {
         static const char nul[] = HDR "resolution 8 8\0\n";
         ls_arena arena;
@@ -282,24 +292,8 @@ static const bad_case bad_xml[] = {
 
 static void scene_mitsuba_errors_are_named(void)
 {
-    size_t i;
-    for (i = 0; i < sizeof bad_xml / sizeof bad_xml[0]; i++) {
-        const bad_case *c = &bad_xml[i];
-        ls_arena arena;
-        ls_scene s;
-        ls_diag d;
-        ls_status st;
-        REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
-        st = ls_scene_parse_mitsuba(c->text, strlen(c->text), &arena, &s, &d);
-        CHECK_MSG(st == LS_ERR_PARSE, "case %u: %s", (unsigned)i, ls_status_name(st));
-        if (st != LS_ERR_PARSE) continue;
-        CHECK_MSG(d.line == c->line && d.column == c->column, "case %u: at %u:%u, wanted %u:%u (%s)", (unsigned)i,
-                  (unsigned)d.line, (unsigned)d.column, (unsigned)c->line, (unsigned)c->column, d.what);
-        CHECK_MSG(strstr(d.what, c->what) != NULL, "case %u: '%s' lacks '%s'", (unsigned)i, d.what, c->what);
-        CHECK_EQ(ls_arena_used(&arena), 0);
-    }
+    check_bad_cases(bad_xml, sizeof bad_xml / sizeof bad_xml[0], ls_scene_parse_mitsuba, ls_scene_parse_mitsuba_bytes);
 }
-
 
 /* ---- camera datasets (transforms.json) ---- */
 
@@ -440,26 +434,8 @@ static const bad_case bad_json[] = {
 
 static void transforms_errors_are_named(void)
 {
-    size_t i;
-    for (i = 0; i < sizeof bad_json / sizeof bad_json[0]; i++) {
-        const bad_case *c = &bad_json[i];
-        ls_arena arena;
-        ls_scene s;
-        ls_diag d;
-        size_t bytes;
-        ls_status st;
-        REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
-        memset(&s, 0x5A, sizeof s);
-        st = ls_scene_parse_transforms(c->text, strlen(c->text), &arena, &s, &d);
-        CHECK_MSG(st == LS_ERR_PARSE, "case %u: %s", (unsigned)i, ls_status_name(st));
-        if (st != LS_ERR_PARSE) continue;
-        CHECK_MSG(d.line == c->line && d.column == c->column, "case %u: at %u:%u, wanted %u:%u (%s)", (unsigned)i,
-                  (unsigned)d.line, (unsigned)d.column, (unsigned)c->line, (unsigned)c->column, d.what);
-        CHECK_MSG(strstr(d.what, c->what) != NULL, "case %u: '%s' lacks '%s'", (unsigned)i, d.what, c->what);
-        CHECK_EQ(ls_arena_used(&arena), 0);
-        CHECK(((const unsigned char *)&s)[0] == 0x5A);
-        CHECK_STATUS(ls_scene_parse_transforms_bytes(c->text, strlen(c->text), &bytes, NULL), LS_ERR_PARSE);
-    }
+    check_bad_cases(bad_json, sizeof bad_json / sizeof bad_json[0], ls_scene_parse_transforms,
+                    ls_scene_parse_transforms_bytes);
 }
 
 typedef struct scene_job {

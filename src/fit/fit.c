@@ -599,14 +599,14 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     }
     fit->reg_loss = (ls_real)0;
     if (c->method == LS_FIT_LAPLACIAN || c->method == LS_FIT_BILAPLACIAN) {
-        /* w mean(...) ls_fit_impl_over the 3n values: value and gradient scaled by w / (3n) */
+        /* w mean(...) over the 3n values: value and gradient scaled by w / (3n) */
         const ls_real w = c->reg_weight / (ls_real)(3u * n);
         st = c->method == LS_FIT_LAPLACIAN ? ls_laplacian_energy(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block)
                                            : ls_laplacian_bilaplacian(&fit->lap, 3, xs, w, &fit->reg_loss, fit->grad, &fit->block);
         if (st != LS_OK) return st;
         for (i = 0; i < 3u * n; i++) fit->gx[i] += fit->grad[i];
     }
-    /* the translation's gradient: the sum ls_fit_impl_over the vertices, in order */
+    /* the translation's gradient: the sum over the vertices, in order */
     for (k = 0; k < 3; k++) {
         ls_real s = (ls_real)0;
         for (i = 0; i < n; i++) s += fit->gx[3u * i + k];
@@ -735,4 +735,32 @@ ls_status ls_fit_step(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
     ls_status st = fit_step_call(fit, monitor, diag);
     if (st == LS_OK) ls_diag_clear(diag);
     return st;
+}
+
+/* ls_fit_remesh's second half: *fit replaced by a fit on `mesh` (caller
+ * units) with configuration cfg (not in *fit), built in `arena`, keeping
+ * the frame, the views, the timing, the counts and the job's reservation. */
+ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mesh, ls_arena *arena, ls_diag *diag)
+{
+    ls_fit_config cfg = fit->config; /* here, not in the callers' frames: the deep chain below is the MCU's stack */
+    const ls_fit_views views = fit->views;
+    const ls_fit_timing timing = fit->timing;
+    const ls_fit_capacity capacity = fit->capacity;
+    const ls_arena job = fit->job;
+    const size_t job_fit_bytes = fit->job_fit_bytes;
+    const ls_real scale = fit->scale, radius = fit->radius;
+    const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
+    ls_status st;
+    cfg.optim.lr = cfg.optim.lr * lr_factor;
+    memset(fit, 0, sizeof *fit);
+    st = ls_fit_impl_fit_init_frame(fit, &cfg, &views, mesh, scale, radius, NULL, arena, diag);
+    if (st != LS_OK) return st;
+    fit->timing = timing;
+    fit->iteration = iteration;
+    fit->remeshes = remeshes + 1u;
+    fit->capacity = capacity;
+    fit->max_edges = max_edges;
+    fit->job = job;
+    fit->job_fit_bytes = job_fit_bytes;
+    return LS_OK;
 }

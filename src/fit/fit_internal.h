@@ -60,6 +60,10 @@ ls_status ls_fit_impl_fit_bytes_frame(const ls_fit_config *config, const ls_fit_
 ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, const ls_fit_views *views,
                                 const ls_mesh *initial, ls_real scale, ls_real radius, const fit_counts *lim,
                                 ls_arena *arena, ls_diag *diag);
+/* A fit made again on a new mesh of the same job (remeshing): the
+ * schedule's state (iteration, remeshes, timing, capacity, job) kept, the
+ * learning rate times lr_factor. */
+ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mesh, ls_arena *arena, ls_diag *diag);
 ls_status ls_fit_impl_init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                               ls_diag *diag);
 

@@ -2,7 +2,7 @@
  * schedule's limits (include/largesteps/fit.h) */
 #include "fit_internal.h"
 
-/* --- a whole job ls_fit_impl_within one reservation (fit.h: ls_fit_job_bytes) ------ */
+/* --- a whole job within one reservation (fit.h: ls_fit_job_bytes) ------ */
 
 /* LS_ERR_TOO_LARGE in *diag: `what` exceeded; index = the count, value =
  * the capacity. */
@@ -40,7 +40,7 @@ static int uses_factor(const ls_fit_config *c)
     return c->method == LS_FIT_LARGE_STEPS && (c->solver == LS_PARAM_LDLT || c->solver == LS_PARAM_AUTO);
 }
 
-/* The reservation for counts ls_fit_impl_within lim and a mesh of Euler characteristic
+/* The reservation for counts within lim and a mesh of Euler characteristic
  * euler: the fit's region (the largest block ls_fit_bytes can answer, and
  * the measurement that precedes it: positions, edges, Laplacian, the
  * factor's analysis) and above it the remesh work (the current positions,

@@ -174,43 +174,17 @@ static ls_status remesh_current(ls_fit *fit, ls_arena *work, ls_real h_factor, u
     return LS_OK;
 }
 
-/* ls_fit_remesh's second half: *fit replaced by a fit on `mesh` (caller
- * units) with configuration cfg (not in *fit), built in `arena`, keeping
- * the frame, the views, the timing, the counts and the job's reservation. */
-static ls_status rebuild(ls_fit *fit, const ls_fit_config *cfg, const ls_mesh *mesh, ls_arena *arena, ls_diag *diag)
-{
-    const ls_fit_views views = fit->views;
-    const ls_fit_timing timing = fit->timing;
-    const ls_fit_capacity capacity = fit->capacity;
-    const ls_arena job = fit->job;
-    const size_t job_fit_bytes = fit->job_fit_bytes;
-    const ls_real scale = fit->scale, radius = fit->radius;
-    const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
-    ls_status st;
-    memset(fit, 0, sizeof *fit);
-    st = ls_fit_impl_fit_init_frame(fit, cfg, &views, mesh, scale, radius, NULL, arena, diag);
-    if (st != LS_OK) return st;
-    fit->timing = timing;
-    fit->iteration = iteration;
-    fit->remeshes = remeshes + 1u;
-    fit->capacity = capacity;
-    fit->max_edges = max_edges;
-    fit->job = job;
-    fit->job_fit_bytes = job_fit_bytes;
-    return LS_OK;
-}
 
 static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real lr_factor, ls_remesh_info *info, ls_diag *diag)
 {
     ls_arena_mark mark, keep;
-    ls_fit_config cfg;
     ls_mesh out, copy;
     size_t start, new_bytes, copy_bytes;
     ls_status st;
     if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
     if (!(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2))
-        return invalid_arg(diag, "h_factor: the target edge ls_fit_impl_over the mean edge, allowed (0, 2] (the method: 0.5)");
-    if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor))
+        return invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
+    if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor) || !finite_r(fit->config.optim.lr * lr_factor))
         return invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
     if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
     if (arena == NULL) return invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
@@ -219,9 +193,8 @@ static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor,
         return invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
     mark = ls_arena_save(arena);
     st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
-    cfg = fit->config;
-    cfg.optim.lr = cfg.optim.lr * lr_factor;
-    if (st == LS_OK) st = ls_fit_impl_fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, arena, &new_bytes, NULL, diag);
+    /* the sizes do not depend on the learning rate */
+    if (st == LS_OK) st = ls_fit_impl_fit_bytes_frame(&fit->config, &fit->views, &out, fit->scale, arena, &new_bytes, NULL, diag);
     if (st == LS_OK) st = ls_mesh_bytes(out.vertex_count, out.face_count, &copy_bytes);
     if (st == LS_OK) {
         /* after the swap: [start, start + new fit) at the bottom, the copy of the
@@ -257,7 +230,7 @@ static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor,
     keep.bottom = start;
     keep.top = arena->top;
     ls_arena_restore(arena, keep);
-    st = rebuild(fit, &cfg, &copy, arena, diag);
+    st = ls_fit_impl_rebuild(fit, lr_factor, &copy, arena, diag);
     keep.bottom = arena->bottom;
     keep.top = mark.top;
     ls_arena_restore(arena, keep);
@@ -272,11 +245,11 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
 {
     ls_arena_mark mark = ls_arena_save(&fit->job);
     ls_arena region;
-    ls_fit_config cfg;
     fit_counts lim, have;
     ls_mesh out;
     size_t new_bytes = 0;
     ls_status st;
+    memset(&out, 0, sizeof out);
     lim.vertices = fit->capacity.max_vertices;
     lim.faces = fit->capacity.max_faces;
     lim.edges = fit->max_edges;
@@ -291,9 +264,8 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
         have.edges = have.factor_nnz = 0;
         st = ls_fit_impl_within(&have, &lim, 1, diag);
     }
-    cfg = fit->config;
-    cfg.optim.lr = cfg.optim.lr * lr_factor;
-    if (st == LS_OK) st = ls_fit_impl_fit_bytes_frame(&cfg, &fit->views, &out, fit->scale, &fit->job, &new_bytes, &have, diag);
+    /* the sizes do not depend on the learning rate */
+    if (st == LS_OK) st = ls_fit_impl_fit_bytes_frame(&fit->config, &fit->views, &out, fit->scale, &fit->job, &new_bytes, &have, diag);
     if (st == LS_OK) st = ls_fit_impl_within(&have, &lim, 1, diag);
     if (st == LS_OK && new_bytes > fit->job_fit_bytes) /* not reached: the bound covers the counts */
         st = ls_fit_impl_over(diag, "remesh: the new fit exceeds the job's reservation", new_bytes, (uint32_t)0);
@@ -303,7 +275,7 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
     }
     /* the point of no return */
     st = ls_arena_init(&region, fit->job.base, fit->job_fit_bytes);
-    if (st == LS_OK) st = rebuild(fit, &cfg, &out, &region, diag);
+    if (st == LS_OK) st = ls_fit_impl_rebuild(fit, lr_factor, &out, &region, diag);
     ls_arena_restore(&fit->job, mark);
     return st;
 }

@@ -55,7 +55,7 @@ void ls_mio_next_line(text *t)
     t->line_start = t->pos;
 }
 
-/* The next ls_mio_token of the current line (0 at its end or at a comment). */
+/* The next token of the current line (0 at its end or at a comment). */
 size_t ls_mio_token(text *t, const char **tok)
 {
     size_t start;
@@ -113,7 +113,7 @@ ls_status ls_mio_offset_error(ls_diag *diag, size_t at, ls_status st, const char
     return st;
 }
 
-/* Unsigned decimal ls_mio_token: 1 ok, 0 not a number, -1 above limit. */
+/* Unsigned decimal token: 1 ok, 0 not a number, -1 above limit. */
 int ls_mio_parse_uint(const char *tok, size_t len, uint64_t limit, uint64_t *out)
 {
     size_t i = 0;
@@ -129,7 +129,7 @@ int ls_mio_parse_uint(const char *tok, size_t len, uint64_t limit, uint64_t *out
     return 1;
 }
 
-/* Signed decimal ls_mio_token within [-limit, limit]: 1 ok, 0 not a number, -1 out of range. */
+/* Signed decimal token within [-limit, limit]: 1 ok, 0 not a number, -1 out of range. */
 int ls_mio_parse_int(const char *tok, size_t len, uint64_t limit, int64_t *out)
 {
     uint64_t v = 0;
@@ -168,7 +168,7 @@ int ls_mio_coord_finite(ls_real v)
     return v - v == (ls_real)0;
 }
 
-/* Reads one coordinate ls_mio_token into *v. */
+/* Reads one coordinate token into *v. */
 static ls_status read_coord(text *t, ls_real *v, ls_diag *diag, const char *missing)
 {
     const char *tok;
@@ -254,7 +254,7 @@ static ls_status read_obj(const char *s, size_t n, size_t start, sink *k, ls_dia
                 len = ls_mio_token(&t, &tok);
                 if (len == 0) break;
                 ok = obj_index(tok, len, &idx);
-                if (ok == 0) return ls_mio_text_error(diag, &t, at, LS_ERR_PARSE, "invalid face index ls_mio_token");
+                if (ok == 0) return ls_mio_text_error(diag, &t, at, LS_ERR_PARSE, "invalid face index token");
                 if (ok < 0) return ls_mio_text_error(diag, &t, at, LS_ERR_PARSE, "face index out of range");
                 if (idx == 0) return ls_mio_text_error(diag, &t, at, LS_ERR_PARSE, "face index 0 (OBJ indices start at 1)");
                 if (idx < 0) {

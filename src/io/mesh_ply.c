@@ -195,7 +195,7 @@ static void ply_skip_ws(ply_in *in)
     }
 }
 
-/* The next ascii ls_mio_token across line ends. */
+/* The next ascii token across line ends. */
 static size_t ply_token(ply_in *in, const char **tok, size_t *at)
 {
     for (;;) {

@@ -5,8 +5,7 @@
  * terms each, so that their rounding error (at most (LOSS_BLOCK + 1) u
  * relative, see loss.h) does not grow with the image; the blocks go into a
  * compensated sum. 8 keeps the bound at 20 u for about 1 instruction per
- * value of per-block work. (Eight lanes over pixel pairs, 16 pixels a block,
- * gave the same bound and 1 % fewer instructions, at 50 % more code.) */
+ * value of per-block work (the alternatives measured: docs/fast-paths.md). */
 #define LOSS_BLOCK 8u
 
 /* Neumaier's compensated addition of x to (*s, *c); fixed order, no FMA.

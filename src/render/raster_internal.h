@@ -186,7 +186,7 @@ static inline int top_left(const int32_t x[3], const int32_t y[3], int a, int b)
 
 /* sample_edges' rare case, a sample on an edge (some e[k] == 0, none < 0):
  * 1 when it is inside. Out of line, so that the compiler does not hoist the
- * edge tests out of the sample loops (7 % of the drawing, measured). */
+ * edge tests out of the sample loops (docs/fast-paths.md). */
 LS_NOINLINE static int on_edge_inside(const int32_t x[3], const int32_t y[3], const int64_t e[3])
 {
     return (e[0] != 0 || top_left(x, y, 1, 2)) && (e[1] != 0 || top_left(x, y, 2, 0)) &&
@@ -210,8 +210,7 @@ static inline int sample_edges(const int32_t x[3], const int32_t y[3], int64_t a
 }
 
 /* Boxes of at most this many samples are drawn sample by sample, larger
- * ones by rows (fewer instructions either way, measured: 8 gave 1.5 % more
- * on the armadillo at 512^2, 16 the same). */
+ * ones by rows (the fewest instructions: docs/fast-paths.md). */
 #define DRAW_SMALL 12
 
 #define RECT_DIRECT 0x8000u /* in a rect's x0 (samples are < LS_RASTER_MAX_DIM <= 2^15) */

@@ -54,7 +54,7 @@ static inline ls_real mrow(const ls_real r[4], ls_real x, ls_real y, ls_real z)
 }
 
 /* gcc's basic-block vectorizer pairs the matrix rows with more shuffles than
- * it saves (30 % more instructions in the vertex transform, measured). */
+ * it saves (docs/fast-paths.md). */
 #if defined(__GNUC__) && !defined(__clang__)
 #define NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
 #else
