@@ -38,16 +38,6 @@
 #define STORED_MAX 65535u
 #define NODES (2u * FIXED_LL)
 
-static const uint16_t len_base[29] = {3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27,
-                                      31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
-static const uint8_t len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
-                                      2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const uint16_t dist_base[30] = {1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129,
-                                       193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097,
-                                       6145, 8193, 12289, 16385, 24577};
-static const uint8_t dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6,
-                                       6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
-static const uint8_t cl_order[CL_SYMS] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* zlib's parameters per level: good, lazy, nice, chain. */
 static const uint16_t level_params[9][4] = {
@@ -263,8 +253,8 @@ static uint32_t data_bits(const deflate_state *s, const huff_code *lit, const hu
 {
     uint32_t bits = 0, i;
     for (i = 0; i < LL_SYMS; i++) bits += s->lit_freq[i] * lit->len[i];
-    for (i = 0; i < 29u; i++) bits += s->lit_freq[257u + i] * len_extra[i];
-    for (i = 0; i < D_SYMS; i++) bits += s->dist_freq[i] * (uint32_t)(dist->len[i] + dist_extra[i]);
+    for (i = 0; i < 29u; i++) bits += s->lit_freq[257u + i] * ls_deflate_len_extra[i];
+    for (i = 0; i < D_SYMS; i++) bits += s->dist_freq[i] * (uint32_t)(dist->len[i] + ls_deflate_dist_extra[i]);
     return bits;
 }
 
@@ -323,9 +313,9 @@ static void write_symbols(deflate_state *s, const huff_code *lit, const huff_cod
         } else {
             uint32_t lc = length_code(v + 3u), dc = dist_code(d);
             put_bits(s, lit->code[257u + lc], lit->len[257u + lc]);
-            if (len_extra[lc] > 0) put_bits(s, v + 3u - len_base[lc], len_extra[lc]);
+            if (ls_deflate_len_extra[lc] > 0) put_bits(s, v + 3u - ls_deflate_len_base[lc], ls_deflate_len_extra[lc]);
             put_bits(s, dist->code[dc], dist->len[dc]);
-            if (dist_extra[dc] > 0) put_bits(s, d - dist_base[dc], dist_extra[dc]);
+            if (ls_deflate_dist_extra[dc] > 0) put_bits(s, d - ls_deflate_dist_base[dc], ls_deflate_dist_extra[dc]);
         }
     }
     put_bits(s, lit->code[256], lit->len[256]);
@@ -379,7 +369,7 @@ static void flush_block(deflate_state *s, uint32_t last)
     code_lengths(s, hlit, hdist);
     build_lengths(s, s->cl_freq, CL_SYMS, CL_MAX_BITS, &s->cl);
     for (i = 0; i < CL_SYMS; i++)
-        if (s->cl.len[cl_order[i]] > 0 && i + 1u > hclen) hclen = i + 1u;
+        if (s->cl.len[ls_deflate_cl_order[i]] > 0 && i + 1u > hclen) hclen = i + 1u;
     dyn = 3u + 14u + 3u * hclen + 2u * s->cl_freq[16] + 3u * s->cl_freq[17] + 7u * s->cl_freq[18];
     for (i = 0; i < CL_SYMS; i++) dyn += s->cl_freq[i] * s->cl.len[i];
     dyn += data_bits(s, &s->lit, &s->dist);
@@ -395,7 +385,7 @@ static void flush_block(deflate_state *s, uint32_t last)
         put_bits(s, hlit - 257u, 5);
         put_bits(s, hdist - 1u, 5);
         put_bits(s, hclen - 4u, 4);
-        for (i = 0; i < hclen; i++) put_bits(s, s->cl.len[cl_order[i]], 3);
+        for (i = 0; i < hclen; i++) put_bits(s, s->cl.len[ls_deflate_cl_order[i]], 3);
         for (i = 0; i < s->ncl; i++) {
             uint32_t c = s->cl_sym[i];
             put_bits(s, s->cl.code[c], s->cl.len[c]);

@@ -101,4 +101,12 @@ static inline uint32_t ls_image_unorm_(float v, float m)
     return bits - 0x4B000000u;
 }
 
+/* Deflate's length and distance codes and the code-length order (RFC 1951
+ * 3.2.5, 3.2.7), shared by inflate.c and deflate.c. */
+extern const uint16_t ls_deflate_len_base[29];
+extern const uint8_t ls_deflate_len_extra[29];
+extern const uint16_t ls_deflate_dist_base[30];
+extern const uint8_t ls_deflate_dist_extra[30];
+extern const uint8_t ls_deflate_cl_order[19];
+
 #endif /* LS_IMAGE_CODEC_H */

@@ -42,16 +42,17 @@ typedef struct reader {
     uint32_t bad;  /* 1 once a padding bit was consumed */
 } reader;
 
-static const uint16_t len_base[29] = {3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27,
+/* RFC 1951 3.2.5 and 3.2.7: also the compressor's (deflate.c). */
+const uint16_t ls_deflate_len_base[29] = {3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27,
                                       31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
-static const uint8_t len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
+const uint8_t ls_deflate_len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                       2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const uint16_t dist_base[30] = {1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129,
+const uint16_t ls_deflate_dist_base[30] = {1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129,
                                        193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097,
                                        6145, 8193, 12289, 16385, 24577};
-static const uint8_t dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6,
+const uint8_t ls_deflate_dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6,
                                        6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
-static const uint8_t cl_order[CL_SYMS] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
+const uint8_t ls_deflate_cl_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 size_t ls_inflate_state_bytes_(void)
 {
@@ -226,7 +227,7 @@ static ls_status build_dynamic(reader *r, inflate_state *s, ls_diag *diag)
     if (hlit > 286u) FAIL_AT("deflate dynamic block: more than 286 literal/length codes");
     if (hdist > 30u) FAIL_AT("deflate dynamic block: more than 30 distance codes");
     memset(s->lengths, 0, CL_SYMS);
-    for (i = 0; i < hclen; i++) s->lengths[cl_order[i]] = (uint8_t)getbits(r, 3);
+    for (i = 0; i < hclen; i++) s->lengths[ls_deflate_cl_order[i]] = (uint8_t)getbits(r, 3);
     if (r->bad) FAIL_AT(TRUNCATED);
     if (huff_build(&s->cl, s->lengths, CL_SYMS, 1) != 0)
         FAIL_AT("deflate dynamic block: invalid code-length code lengths");
@@ -290,12 +291,12 @@ static ls_status inflate_codes(reader *r, const inflate_state *s, unsigned char 
         }
         sym -= 257;
         if (sym >= 29) FAIL_AT("deflate: invalid length symbol (286 or 287)");
-        len = len_base[sym] + take(r, len_extra[sym]);
+        len = ls_deflate_len_base[sym] + take(r, ls_deflate_len_extra[sym]);
         sym = decode(r, &s->dist);
         if (r->bad) FAIL_AT(TRUNCATED);
         if (sym < 0) FAIL_AT("deflate: invalid distance code");
         if (sym >= 30) FAIL_AT("deflate: invalid distance symbol (30 or 31)");
-        dist = dist_base[sym] + take(r, dist_extra[sym]);
+        dist = ls_deflate_dist_base[sym] + take(r, ls_deflate_dist_extra[sym]);
         if (r->bad) FAIL_AT(TRUNCATED);
         if (dist > o) FAIL_AT("deflate: distance too far back");
         if (len > cap - o) break;

@@ -589,15 +589,11 @@ static void raw_put(png_writer *w, const unsigned char *p, size_t n)
     }
 }
 
-static void encode_stored(const ls_image *image, const ls_image_format *f, ls_image_sink *sink)
+/* The signature and the IHDR chunk (both writers). */
+static void write_header(const ls_image *image, const ls_image_format *f, ls_image_sink *sink)
 {
     static const uint8_t color_of[5] = {0, 0, 4, 2, 6};
-    unsigned char ihdr[13], buf[512], zhead[2] = {0x78, 0x01};
-    png_writer w;
-    png_layout l;
-    size_t len = 0;
-    uint32_t x, y, k, bytes_per = f->bits / 8u;
-    (void)encoded_parts(image->width, image->height, f, &l);
+    unsigned char ihdr[13];
     ls_image_sink_put_(sink, png_signature, 8);
     put_be32(ihdr, image->width);
     put_be32(ihdr + 4, image->height);
@@ -605,6 +601,17 @@ static void encode_stored(const ls_image *image, const ls_image_format *f, ls_im
     ihdr[9] = color_of[f->channels];
     ihdr[10] = ihdr[11] = ihdr[12] = 0;
     write_chunk(sink, "IHDR", ihdr, 13);
+}
+
+static void encode_stored(const ls_image *image, const ls_image_format *f, ls_image_sink *sink)
+{
+    unsigned char buf[512], zhead[2] = {0x78, 0x01};
+    png_writer w;
+    png_layout l;
+    size_t len = 0;
+    uint32_t x, y, k, bytes_per = f->bits / 8u;
+    (void)encoded_parts(image->width, image->height, f, &l);
+    write_header(image, f, sink);
     w.sink = sink;
     w.crc = 0;
     w.chunk_left = 0;
@@ -747,18 +754,11 @@ static void encode_deflate(const ls_image *image, const ls_image_format *f, ls_i
     static const unsigned char zhead[2] = {0x78, 0x9c}; /* 32 KiB window, default level */
     png_scratch *ps = (png_scratch *)scratch;
     void *state = (unsigned char *)scratch + DEFLATE_AT;
-    unsigned char ihdr[13], b[4];
+    unsigned char b[4];
     png_idat z;
     uint32_t y, adler = 1;
     size_t bpp = (size_t)f->channels * (f->bits / 8u);
-    static const uint8_t color_of[5] = {0, 0, 4, 2, 6};
-    ls_image_sink_put_(sink, png_signature, 8);
-    put_be32(ihdr, image->width);
-    put_be32(ihdr + 4, image->height);
-    ihdr[8] = (unsigned char)f->bits;
-    ihdr[9] = color_of[f->channels];
-    ihdr[10] = ihdr[11] = ihdr[12] = 0;
-    write_chunk(sink, "IHDR", ihdr, 13);
+    write_header(image, f, sink);
     z.sink = sink;
     z.buf = ps->idat;
     z.n = 0;
