@@ -198,6 +198,67 @@ static void noisy_sphere_matches_all_pairs(void)
     free(a.base);
 }
 
+/* A fan around vertex 0 with its rim scattered in a ball (every pair shares
+ * the centre; they meet through the rim edges), random faces among the rim
+ * vertices, and faces with repeated vertices: the edge-by-edge search that
+ * skips subtrees holding an edge's end (a fan's spokes, a vertex's star)
+ * counts what all pairs count. */
+static void noisy_fan_matches_all_pairs(void)
+{
+    ls_arena a;
+    ls_mesh m;
+    ls_tangle_report r;
+    geo_rng g;
+    const uint32_t rim = 240, extra = 60, degenerate = 24;
+    uint32_t pairs, faces, first[2], i, f = 0;
+    REQUIRE(geo_arena(&a, 1 << 22) != NULL);
+    m.vertex_count = rim + 1u;
+    m.face_count = rim + extra + degenerate;
+    m.positions = (ls_real *)ls_arena_alloc(&a, 3u * m.vertex_count, sizeof(ls_real));
+    m.triangles = (uint32_t *)ls_arena_alloc(&a, 3u * m.face_count, sizeof(uint32_t));
+    REQUIRE(m.positions != NULL && m.triangles != NULL);
+    g.s = test_rng_seed(35);
+    m.positions[0] = m.positions[1] = m.positions[2] = 0;
+    for (i = 3; i < 3u * m.vertex_count; i++) m.positions[i] = (ls_real)(2.0 * geo_rand(&g) - 1.0);
+    for (i = 0; i < rim; i++, f++) {
+        m.triangles[3u * f] = 0;
+        m.triangles[3u * f + 1u] = 1u + i;
+        m.triangles[3u * f + 2u] = 1u + (i + 1u) % rim;
+    }
+    for (i = 0; i < extra; i++, f++) {
+        uint32_t k;
+        for (k = 0; k < 3u; k++) m.triangles[3u * f + k] = 1u + (uint32_t)(geo_rand(&g) * rim) % rim;
+    }
+    for (i = 0; i < degenerate; i++, f++) {
+        const uint32_t v = 1u + (uint32_t)(geo_rand(&g) * rim) % rim;
+        m.triangles[3u * f] = i % 3u == 0 ? 0u : v;
+        m.triangles[3u * f + 1u] = i % 2u == 0 ? 0u : v;
+        m.triangles[3u * f + 2u] = i % 4u == 0 ? 0u : 1u + (v % rim);
+    }
+    CHECK_STATUS(ls_tangle(&m, NULL, &a, &r, NULL), LS_OK);
+    all_pairs(&m, &pairs, &faces, first);
+    printf("     noisy fan (%u faces): %u intersecting pairs, %u faces (all pairs: %u, %u)\n", m.face_count,
+           r.intersecting_pairs, r.intersecting_faces, pairs, faces);
+    CHECK(pairs > 1000);
+    CHECK_EQ(r.intersecting_pairs, pairs);
+    CHECK_EQ(r.intersecting_faces, faces);
+    CHECK_EQ(r.first_pair[0], first[0]);
+    CHECK_EQ(r.first_pair[1], first[1]);
+    /* a flat fan: every pair touches at the centre, none crosses */
+    for (i = 0; i < rim; i++) {
+        const double t = 6.283185307179586 * i / rim;
+        m.positions[3u * (1u + i)] = (ls_real)cos(t);
+        m.positions[3u * (1u + i) + 1u] = (ls_real)sin(t);
+        m.positions[3u * (1u + i) + 2u] = 0;
+    }
+    m.face_count = rim;
+    CHECK_STATUS(ls_tangle(&m, NULL, &a, &r, NULL), LS_OK);
+    all_pairs(&m, &pairs, &faces, first);
+    CHECK_EQ(pairs, 0);
+    CHECK_EQ(r.intersecting_pairs, 0);
+    free(a.base);
+}
+
 /* A triangle soup (no shared vertices): flipping faces 3, 7 and 11 by
  * swapping two of their vertices' positions inverts exactly those. */
 static void inverted_faces(void)
@@ -440,6 +501,7 @@ int main(void)
     TEST_RUN(mesh_rules);
     TEST_RUN(folded_sphere);
     TEST_RUN(noisy_sphere_matches_all_pairs);
+    TEST_RUN(noisy_fan_matches_all_pairs);
     TEST_RUN(inverted_faces);
     TEST_RUN(equilateral_mesh);
     TEST_RUN(percentiles_against_sort);

@@ -76,6 +76,11 @@ ls_status ls_bvh_bytes(uint32_t face_count, size_t *bytes);
  * build's scratch, released before it returns. O(1). Errors as ls_bvh_bytes. */
 ls_status ls_bvh_tree_bytes(uint32_t face_count, size_t *bytes);
 
+/* ls_bvh_node_count: the nodes ls_bvh_build makes for face_count faces
+ * (the tree's shape depends on the count alone); 0 for no face or a count
+ * whose tree would not fit in 32-bit indices. O(log F). */
+uint32_t ls_bvh_node_count(uint32_t face_count);
+
 /* ls_bvh_check_mesh: the input checks of ls_bvh_build (and of the distance
  * and tangle metrics): at most (2^32 - 2) / 3 faces, every index below
  * vertex_count, every coordinate finite. O(V + F); no memory. Errors:

@@ -75,6 +75,14 @@ static ls_status bvh_size(uint32_t face_count, size_t *bytes, int scratch)
     return ls_size_get(&s, bytes);
 }
 
+uint32_t ls_bvh_node_count(uint32_t face_count)
+{
+    uint64_t nodes;
+    if (face_count == 0) return 0;
+    nodes = node_count_of(face_count, NULL);
+    return nodes > (uint64_t)UINT32_MAX ? 0u : (uint32_t)nodes;
+}
+
 ls_status ls_bvh_bytes(uint32_t face_count, size_t *bytes)
 {
     return bvh_size(face_count, bytes, 1);

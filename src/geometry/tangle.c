@@ -222,10 +222,11 @@ static ls_status tangle_size(uint32_t face_count, size_t *bytes)
     /* phase 1: the tree's build */
     ls_size_init(&s);
     ls_size_add(&s, bvh, 1);
-    /* phase 2: tree + face flags */
+    /* phase 2: tree + face flags + the nodes' common vertices */
     ls_size_init(&b);
     ls_size_add(&b, tree, 1);
     ls_size_add(&b, (size_t)face_count / 32u + 1u, sizeof(uint32_t));
+    ls_size_add(&b, 3u * (size_t)ls_bvh_node_count(face_count), sizeof(uint32_t));
     ls_size_max(&s, &b);
     /* phase 3 (tree released): keys, index, sort scratch for 3F corners */
     ls_size_init(&sortp);
@@ -369,32 +370,162 @@ static void orientation(const ls_mesh *m, const ls_mesh *ref, ls_tangle_report *
     }
 }
 
-static void intersections(const ls_mesh *m, const ls_bvh *bvh, uint32_t *flags, ls_tangle_report *r)
+/* ---- self-intersections ------------------------------------------------ */
+
+/* Two faces meet only where an edge of one meets the other (pair_test): an
+ * edge (a, b) of f can meet only faces that hold neither a nor b (a shared
+ * vertex leaves the opposite edges; two shared vertices, nothing). So the
+ * search goes edge by edge and skips every subtree whose faces all hold a or
+ * b: a fan's spokes, or a million faces on one vertex, are not paired with
+ * the whole tree (a search by face boxes tests Theta(F^2) pairs there). Each
+ * unordered pair is tested once, at the first of its edge-face contacts in a
+ * fixed order. */
+
+static int holds(const uint32_t *t, uint32_t v)
 {
-    uint32_t f, g, k, a;
+    return t[0] == v || t[1] == v || t[2] == v;
+}
+
+static void grow_box(const ls_real *p, ls_real *lo, ls_real *hi)
+{
+    uint32_t a;
+    for (a = 0; a < 3u; a++) {
+        if (p[a] < lo[a]) lo[a] = p[a];
+        if (p[a] > hi[a]) hi[a] = p[a];
+    }
+}
+
+static int boxes_overlap(const ls_real *alo, const ls_real *ahi, const ls_real *blo, const ls_real *bhi)
+{
+    uint32_t a;
+    for (a = 0; a < 3u; a++)
+        if (ahi[a] < blo[a] || bhi[a] < alo[a]) return 0;
+    return 1;
+}
+
+/* The box of edge k of face x (its vertices k and k + 1), grown by `slack`:
+ * seg_tri counts a point within its rounding tolerance of a triangle's plane
+ * as on it, so the box must reach that far. */
+static void edge_box(const ls_mesh *m, uint32_t x, uint32_t k, ls_real slack, ls_real lo[3], ls_real hi[3])
+{
+    const uint32_t *t = m->triangles + 3u * (size_t)x;
+    const ls_real *p = m->positions + 3u * (size_t)t[k], *q = m->positions + 3u * (size_t)t[(k + 1u) % 3u];
+    uint32_t a;
+    for (a = 0; a < 3u; a++) lo[a] = hi[a] = p[a];
+    grow_box(q, lo, hi);
+    for (a = 0; a < 3u; a++) {
+        lo[a] -= slack;
+        hi[a] += slack;
+    }
+}
+
+/* Edge k of face x can meet face y: y holds neither of its ends, and their
+ * boxes meet. */
+static int contact(const ls_mesh *m, uint32_t x, uint32_t k, uint32_t y, ls_real slack)
+{
+    const uint32_t *tx = m->triangles + 3u * (size_t)x, *ty = m->triangles + 3u * (size_t)y;
+    ls_real elo[3], ehi[3], flo[3], fhi[3];
+    uint32_t a;
+    if (holds(ty, tx[k]) || holds(ty, tx[(k + 1u) % 3u])) return 0;
+    edge_box(m, x, k, slack, elo, ehi);
+    for (a = 0; a < 3u; a++) flo[a] = fhi[a] = m->positions[3u * (size_t)ty[0] + a];
+    grow_box(m->positions + 3u * (size_t)ty[1], flo, fhi);
+    grow_box(m->positions + 3u * (size_t)ty[2], flo, fhi);
+    return boxes_overlap(elo, ehi, flo, fhi);
+}
+
+/* Edge k of f is the pair {f, g}'s first contact: the lower face's edges
+ * come first, then the higher's. */
+static int first_contact(const ls_mesh *m, uint32_t f, uint32_t k, uint32_t g, ls_real slack)
+{
+    const uint32_t x[2] = {f < g ? f : g, f < g ? g : f};
+    uint32_t s, j;
+    for (s = 0; s < 2u; s++)
+        for (j = 0; j < 3u; j++) {
+            if (x[s] == f && j == k) return 1;
+            if (contact(m, x[s], j, x[1u - s], slack)) return 0;
+        }
+    return 1;
+}
+
+/* The vertices every face of each node holds (up to 3 per node, LS_MESH_NONE
+ * for the rest), children before parents (a child's index is above its
+ * parent's). */
+static void common_vertices(const ls_mesh *m, const ls_bvh *bvh, uint32_t *com)
+{
+    uint32_t i = bvh->node_count, j, k;
+    while (i-- > 0u) {
+        const ls_bvh_node *n = &bvh->nodes[i];
+        uint32_t *c = com + 3u * (size_t)i;
+        if (n->count > 0u) {
+            const uint32_t *t = m->triangles + 3u * (size_t)bvh->order[n->first];
+            for (k = 0; k < 3u; k++) c[k] = t[k];
+            for (j = n->first + 1u; j < n->first + n->count; j++) {
+                t = m->triangles + 3u * (size_t)bvh->order[j];
+                for (k = 0; k < 3u; k++)
+                    if (c[k] != LS_MESH_NONE && !holds(t, c[k])) c[k] = LS_MESH_NONE;
+            }
+        } else {
+            const uint32_t *l = com + 3u * ((size_t)i + 1u), *r = com + 3u * (size_t)n->first;
+            for (k = 0; k < 3u; k++) c[k] = l[k] != LS_MESH_NONE && holds(r, l[k]) ? l[k] : LS_MESH_NONE;
+        }
+    }
+}
+
+static void count_pair(uint32_t f, uint32_t g, uint32_t *flags, ls_tangle_report *r)
+{
+    const uint32_t a = f < g ? f : g, b = f < g ? g : f;
+    if (r->intersecting_pairs == 0 || a < r->first_pair[0] || (a == r->first_pair[0] && b < r->first_pair[1])) {
+        r->first_pair[0] = a;
+        r->first_pair[1] = b;
+    }
+    r->intersecting_pairs++;
+    flags[f / 32u] |= 1u << (f % 32u);
+    flags[g / 32u] |= 1u << (g % 32u);
+}
+
+static void intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_t *com, uint32_t *flags,
+                          ls_tangle_report *r)
+{
+    const ls_bvh_node *root = &bvh->nodes[0];
+    uint32_t stack[LS_BVH_MAX_DEPTH + 2u];
+    ls_real slack, big = 0;
+    uint32_t f, k, a;
+    for (a = 0; a < 3u; a++) {
+        if (LS_RFABS(root->lo[a]) > big) big = LS_RFABS(root->lo[a]);
+        if (LS_RFABS(root->hi[a]) > big) big = LS_RFABS(root->hi[a]);
+    }
+    /* above seg_tri's on-plane tolerance: 64 eps x a sum of at most 6 coordinates, over the
+       cosine of the projection (>= 1/sqrt 3) */
+    slack = (ls_real)2048 * LS_REAL_EPSILON * big;
     for (f = 0; f < m->face_count; f++) {
         const uint32_t *t = m->triangles + 3u * (size_t)f;
-        ls_real lo[3], hi[3];
-        ls_bvh_overlap it;
-        for (a = 0; a < 3u; a++) {
-            lo[a] = hi[a] = m->positions[3u * (size_t)t[0] + a];
-            for (k = 1; k < 3u; k++) {
-                ls_real x = m->positions[3u * (size_t)t[k] + a];
-                if (x < lo[a]) lo[a] = x;
-                if (x > hi[a]) hi[a] = x;
+        for (k = 0; k < 3u; k++) {
+            const uint32_t va = t[k], vb = t[(k + 1u) % 3u];
+            ls_real lo[3], hi[3];
+            uint32_t sp = 1;
+            edge_box(m, f, k, slack, lo, hi);
+            stack[0] = 0;
+            while (sp > 0u) {
+                const uint32_t i = stack[--sp];
+                const ls_bvh_node *n = &bvh->nodes[i];
+                const uint32_t *c = com + 3u * (size_t)i;
+                uint32_t j;
+                if (!boxes_overlap(n->lo, n->hi, lo, hi) || holds(c, va) || holds(c, vb)) continue;
+                if (n->count == 0u) {
+                    if (sp + 2u > LS_BVH_MAX_DEPTH + 2u) return; /* not a tree of ls_bvh_build */
+                    stack[sp++] = n->first;
+                    stack[sp++] = i + 1u;
+                    continue;
+                }
+                for (j = n->first; j < n->first + n->count; j++) {
+                    const uint32_t g = bvh->order[j];
+                    if (g == f || !contact(m, f, k, g, slack) || !first_contact(m, f, k, g, slack) ||
+                        !pair_test(m, f, g))
+                        continue;
+                    count_pair(f, g, flags, r);
+                }
             }
-        }
-        if (ls_bvh_overlap_begin(bvh, lo, hi, &it) != LS_OK) continue;
-        while (ls_bvh_overlap_next(&it, &g)) {
-            if (g <= f || !pair_test(m, f, g)) continue;
-            if (r->intersecting_pairs == 0 || f < r->first_pair[0] ||
-                (f == r->first_pair[0] && g < r->first_pair[1])) {
-                r->first_pair[0] = f;
-                r->first_pair[1] = g;
-            }
-            r->intersecting_pairs++;
-            flags[f / 32u] |= 1u << (f % 32u);
-            flags[g / 32u] |= 1u << (g % 32u);
         }
     }
     for (f = 0; f <= m->face_count / 32u; f++) {
@@ -413,7 +544,7 @@ ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *are
     ls_arena_mark mark;
     ls_tangle_report r;
     ls_bvh bvh;
-    uint32_t *flags, *idx, *scratch, n3;
+    uint32_t *flags, *com, *idx, *scratch, n3;
     uint64_t *keys;
     size_t bytes;
     ls_status st;
@@ -438,9 +569,11 @@ ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *are
     st = ls_bvh_build(mesh, arena, &bvh, NULL);
     if (st != LS_OK) goto fail;
     flags = (uint32_t *)ls_arena_scratch(arena, mesh->face_count / 32u + 1u, sizeof(uint32_t));
-    if (flags == NULL) goto nomem;
+    com = (uint32_t *)ls_arena_scratch(arena, 3u * (size_t)bvh.node_count, sizeof(uint32_t));
+    if (flags == NULL || com == NULL) goto nomem;
     memset(flags, 0, (mesh->face_count / 32u + 1u) * sizeof(uint32_t));
-    intersections(mesh, &bvh, flags, &r);
+    common_vertices(mesh, &bvh, com);
+    intersections(mesh, &bvh, com, flags, &r);
     ls_arena_restore(arena, mark);
     n3 = 3u * mesh->face_count;
     keys = (uint64_t *)ls_arena_scratch(arena, n3, sizeof(uint64_t));
