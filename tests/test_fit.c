@@ -471,6 +471,81 @@ static void fit_mean_mode_projects(void)
     free(before);
 }
 
+/* view_batch: every pool position maps to a view once per pass over the
+ * pool; a batch's step is bit for bit the step of a fit given just those
+ * views; a batch of the whole pool is the fit without a batch. */
+static void fit_view_batch(void)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views views, sub;
+    ls_fit fa, fb;
+    ls_mesh init;
+    ls_diag d;
+    ls_real sub_mvp[2][16];
+    const ls_real *sub_targets[2];
+    uint32_t count, batch, pos, k, seen[64], bad = 0;
+    memset(&c, 0, sizeof c);
+    for (count = 1; count <= 64; count++)
+        for (batch = 0; batch <= count; batch++) {
+            c.view_batch = batch;
+            memset(seen, 0, sizeof seen);
+            for (pos = 0; pos < count; pos++) {
+                uint32_t b = batch == 0 || batch == count ? count : batch;
+                uint32_t v = ls_fit_view_of(&c, count, pos / b, pos % b);
+                if (v >= count || seen[v]++) bad++;
+            }
+        }
+    CHECK(bad == 0);
+    c.view_batch = 3;
+    CHECK(ls_fit_view_of(&c, 0, 5, 1) == 0);
+    c.view_batch = 0;
+    CHECK(ls_fit_view_of(&c, 7, 5, 4) == 4);
+    /* consecutive views of a batch are apart: the stride of 16 is 5 or 7 */
+    c.view_batch = 4;
+    k = ls_fit_view_of(&c, 16, 0, 1);
+    printf("     stride for 16 views: %u\n", (unsigned)k);
+    CHECK(k == 5 || k == 7);
+
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    initial_sphere(&arena, &init, (ls_real)0.6);
+    config_for(&c, LS_FIT_LARGE_STEPS);
+    views.count = NV;
+    views.mvp = &mvps[0][0];
+    views.targets = (const ls_real *const *)targets;
+    c.view_batch = NV + 1u;
+    CHECK_STATUS(ls_fit_init(&fa, &c, &views, &init, &arena, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "view_batch") != NULL);
+    c.view_batch = 2;
+    REQUIRE(ls_fit_init(&fa, &c, &views, &init, &arena, &d) == LS_OK);
+    for (k = 0; k < 2; k++) {
+        uint32_t v = ls_fit_view_of(&c, NV, 0, k);
+        memcpy(sub_mvp[k], mvps[v], sizeof sub_mvp[k]);
+        sub_targets[k] = targets[v];
+    }
+    sub.count = 2;
+    sub.mvp = &sub_mvp[0][0];
+    sub.targets = sub_targets;
+    c.view_batch = 0;
+    REQUIRE(ls_fit_init(&fb, &c, &sub, &init, &arena, &d) == LS_OK);
+    REQUIRE(ls_fit_step(&fa, NULL, &d) == LS_OK);
+    REQUIRE(ls_fit_step(&fb, NULL, &d) == LS_OK);
+    printf("     batch of 2 of %u views: loss %.9g, the same 2 views alone %.9g\n", NV, (double)fa.loss, (double)fb.loss);
+    CHECK(fa.loss == fb.loss);
+    CHECK(memcmp(fa.params, fb.params, (3u * fa.vertex_count + 3u) * sizeof(ls_real)) == 0);
+    /* the whole pool as a batch: the fit without one, bit for bit */
+    c.view_batch = NV;
+    REQUIRE(ls_fit_init(&fa, &c, &views, &init, &arena, &d) == LS_OK);
+    c.view_batch = 0;
+    REQUIRE(ls_fit_init(&fb, &c, &views, &init, &arena, &d) == LS_OK);
+    for (k = 0; k < 2; k++) {
+        REQUIRE(ls_fit_step(&fa, NULL, &d) == LS_OK);
+        REQUIRE(ls_fit_step(&fb, NULL, &d) == LS_OK);
+    }
+    CHECK(fa.loss == fb.loss);
+    CHECK(memcmp(fa.params, fb.params, (3u * fa.vertex_count + 3u) * sizeof(ls_real)) == 0);
+}
+
 typedef struct fit_job {
     ls_fit fit;
     ls_fit_config c;
@@ -537,6 +612,7 @@ int main(void)
     TEST_RUN(fit_guard_rolls_back_and_counts);
     TEST_RUN(fit_guard_refuses_a_tangling_remesh);
     TEST_RUN(fit_mean_mode_projects);
+    TEST_RUN(fit_view_batch);
     TEST_RUN(fit_memory_query_is_exact);
     for (v = 0; v < NV; v++) free(targets[v]);
     free(buf);

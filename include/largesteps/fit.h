@@ -132,6 +132,12 @@ typedef struct ls_fit_config {
     uint32_t mean_mode;       /* large steps: LS_FIT_MEAN_* */
     uint32_t guard;           /* 1: the fit holds a checkpoint (ls_fit_save, ls_fit_rollback) and the
                                * memory of its self-intersection check (ls_fit_tangle); 0: neither */
+    uint32_t view_batch;      /* views rendered per iteration: 0 (or views.count) all of them; B < count:
+                               * B views of the pool, iteration i taking the views (i B + k) s mod count,
+                               * k < B, s the stride coprime to count nearest count (3 - sqrt 5) / 2
+                               * (ls_fit_view_of), so that a batch spreads over the pool and every
+                               * view comes back every count / B iterations. More views at the
+                               * cost of fewer: coverage without the time. The loss is the batch's. */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -339,6 +345,12 @@ ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
  * (NULL, no guard; rollback: no checkpoint since init or the last remesh). */
 ls_status ls_fit_save(ls_fit *fit);
 ls_status ls_fit_rollback(ls_fit *fit);
+
+/* ls_fit_view_of: the view index rendered k-th (k < the batch) at iteration
+ * `iteration` of a fit with this configuration and views.count = count
+ * (config.view_batch, above); k itself when the batch is all views. O(log
+ * count) (the stride's gcd). count 0 gives 0. */
+uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t iteration, uint32_t k);
 
 /* ls_fit_mesh: the current mesh: x = M^{-1} u (large steps; one solve) plus
  * the translation, times S (caller units), written into positions

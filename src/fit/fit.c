@@ -118,6 +118,7 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->mean_mode > LS_FIT_MEAN_PROJECT) return "config->mean_mode: allowed LS_FIT_MEAN_KEEP or LS_FIT_MEAN_PROJECT";
     if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
+    if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
     if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
     if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
     return NULL;
@@ -471,6 +472,42 @@ static size_t first_nonfinite(const ls_real *v, size_t count)
     return count;
 }
 
+static uint32_t gcd_u32(uint32_t a, uint32_t b)
+{
+    while (b != 0u) {
+        uint32_t t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+
+/* The batch's views (fit.h): the golden-angle stride spreads consecutive
+ * positions over the pool (a Fibonacci sphere's views are in height order). */
+uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t iteration, uint32_t k)
+{
+    uint32_t batch, s, d;
+    uint64_t pos;
+    if (count == 0u) return 0u;
+    batch = config != NULL ? config->view_batch : 0u;
+    if (batch == 0u || batch >= count) return k % count;
+    /* count (3 - sqrt 5) / 2 rounded, with integers only: 0.381966011250105 */
+    s = (uint32_t)(((uint64_t)count * 381966011u + 500000000u) / 1000000000u);
+    if (s == 0u) s = 1u;
+    for (d = 0u; d < count; d++) { /* the nearest coprime stride, below first */
+        if (s > d && gcd_u32(s - d, count) == 1u) {
+            s -= d;
+            break;
+        }
+        if (s + d < count && gcd_u32(s + d, count) == 1u) {
+            s += d;
+            break;
+        }
+    }
+    pos = (uint64_t)iteration * batch + k;
+    return (uint32_t)((pos % count) * s % count);
+}
+
 /* Renders every view and accumulates the loss and dL/d(rendered positions)
  * into fit->gx. */
 static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -480,7 +517,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     ls_loss_acc acc;
     ls_view view;
-    uint32_t v;
+    uint32_t v, k, batch;
     uint64_t t0;
     ls_status st;
     memset(&view, 0, sizeof view);
@@ -500,12 +537,14 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         st = ls_shade_vertex_normals(fit->xr, n, fit->triangles, nf, fit->normals, diag);
         if (st != LS_OK) return st;
     }
-    st = ls_loss_begin(&acc, c->loss, c->width, c->height, fit->views.count);
+    batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
+    st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
-    for (v = 0; v < fit->views.count; v++) {
+    for (k = 0; k < batch; k++) {
         uint64_t t1, t2, t3;
+        v = ls_fit_view_of(c, fit->views.count, fit->iteration, k);
         view.mvp = fit->mvp + 16u * (size_t)v;
-        st = ls_monitor_report(monitor, "fit.view", v, fit->views.count);
+        st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
         if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
         if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
