@@ -40,7 +40,7 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
 less() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
 
 # 1. the embedded bunny, shortened acceptance run
-if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --quiet -o "$out/bunny" > "$build/fit_bunny.log" 2>&1; then
+if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --settle 0 --quiet -o "$out/bunny" > "$build/fit_bunny.log" 2>&1; then
     ok "fit_embedded_bunny_runs"
     for f in result.obj log.csv convergence.svg contact.png metrics.json; do
         if [ -s "$out/bunny/$f" ]; then ok "fit_writes_$f"; else bad "fit_writes_$f"; fi
@@ -71,6 +71,10 @@ else
     tail -n 5 "$build/fit_bunny.log"
 fi
 
+# (Both without the default's settling phase, --settle 0: the bounds below
+# were measured on this schedule; the settle is measured on the suite, where
+# it lowers the bunny's H, docs/fit-suite.md, but at 200 iterations it takes
+# steps the shortened run needs.)
 # 1b. the spread of that run: a fit's Hausdorff maximum follows the last bits
 # of its trajectory (a collapsed ear in one run, 1-3 % in its neighbours), so
 # the same run with the learning rate moved in the 7th digit, k x 1e-6 for
@@ -83,7 +87,7 @@ fi
 hs=$(field "$out/bunny/metrics.json" vertex_hausdorff_rel)
 for k in -4 -3 -2 -1 1 2 3 4; do
     lr=$(awk -v k=$k 'BEGIN { printf "%.8f", 0.01 * (1 + k * 1e-6) }')
-    if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --lr $lr --track 0 --quiet -o "$out/bunny_$lr" \
+    if "$ls" fit --iters 200 --res 96 --views 16 --remesh 60,140 --settle 0 --lr $lr --track 0 --quiet -o "$out/bunny_$lr" \
         > "$build/fit_bunny_$lr.log" 2>&1; then
         hs="$hs $(field "$out/bunny_$lr/metrics.json" vertex_hausdorff_rel)"
     else
@@ -113,6 +117,24 @@ initial icosphere 2
 EOF
 check fit_text_scene "$ls" fit "$out/scene/scene.txt" --iters 10 --remesh 5 --quiet -o "$out/scene/result"
 if grep -q '"vertices"' "$out/scene/result/metrics.json" 2>/dev/null; then ok "fit_scene_metrics"; else bad "fit_scene_metrics"; fi
+
+# 2b. diagnostics instead of a silent run: a start that a view with the object
+# in its target does not see (it could never move it there), and a gradient
+# of zeros (everything outside the views) stop before any output is written
+awk '/^v / { $2 = $2 + 100 } { print }' fixtures/meshes/bunny.obj > "$out/scene/far.obj"
+sed -e 's/^initial icosphere 2$/initial mesh far.obj/' "$out/scene/scene.txt" > "$out/scene/unseen.txt"
+sed -e 's/^target mesh bunny.obj$/target mesh far.obj/' "$out/scene/unseen.txt" > "$out/scene/still.txt"
+rm -rf "$out/scene/unseen" "$out/scene/still"
+"$ls" fit "$out/scene/unseen.txt" --iters 10 --quiet -o "$out/scene/unseen" > "$build/fit_unseen.log" 2>&1
+got=$?
+if [ "$got" = 1 ] && grep -q "frame 0 (counting from 0) does not see the initial mesh, while its target shows the object" \
+        "$build/fit_unseen.log" && [ ! -e "$out/scene/unseen" ]; then ok "fit_view_without_the_start_refused"
+else bad "fit_view_without_the_start_refused (status $got)"; cat "$build/fit_unseen.log"; fi
+"$ls" fit "$out/scene/still.txt" --iters 100 --quiet -o "$out/scene/still" > "$build/fit_still.log" 2>&1
+got=$?
+if [ "$got" = 1 ] && grep -q "the gradient has been zero for 20 iterations (iteration 19, " "$build/fit_still.log" &&
+        [ ! -e "$out/scene/still" ]; then ok "fit_zero_gradient_stops"
+else bad "fit_zero_gradient_stops (status $got)"; cat "$build/fit_still.log"; fi
 
 # 3. errors: exit status 2 for usage, 1 for bad input, a message, no output
 expect() { # name, status, pattern, command...
@@ -179,8 +201,8 @@ expect experiment_texture_bad_grid 2 "usage" "$ls" experiment texture --lr-ls 0.
 # 7. outputs people look at (log.csv, convergence.svg, contact.png, the ETA)
 # A short fit with two remeshes and distances every 10 iterations: every row
 # of log.csv has its loss and time (the last row, the final mesh, too); the
-# plot's y axes are logarithmic (ticks at powers of ten, minor ticks) with
-# x ticks, and each panel marks both remeshes; the contact sheet is opaque
+# plot's axes are logarithmic (ticks at powers of ten, minor ticks; iterations
+# counted from 1), and each panel marks both remeshes; the contact sheet is opaque
 # (the checkerboard under the tiles).
 check outputs_fit "$ls" fit --iters 40 --res 32 --views 3 --remesh 10,25 --track 10 --quiet -o "$out/outputs"
 csv=$out/outputs/log.csv
@@ -191,11 +213,14 @@ else bad "outputs_csv_rows_complete"; tail -n 2 "$csv"; fi
 svg=$out/outputs/convergence.svg
 if [ "$(grep -c 'class="remesh"' "$svg" 2>/dev/null)" = 8 ]; then ok "outputs_svg_remesh_markers (2 remeshes x 4 panels)"
 else bad "outputs_svg_remesh_markers ($(grep -c 'class="remesh"' "$svg" 2>/dev/null) markers)"; fi
-# every y tick label a power of ten, at least 2 per panel; minor ticks; x ticks
-if sed -n 's/.*class="ytick".*>\([^<]*\)<\/text><\/g>$/\1/p' "$svg" |
+# every y and x tick label a power of ten, at least 2 per panel; minor ticks on both axes
+decade_labels() { # class: every label a power of ten, at least 8
+    sed -n "s/.*class=\"$1\".*>\([^<]*\)<\/text><\/g>\$/\1/p" "$svg" |
         awk '{ if ($1 <= 0) bad = 1; else { l = log($1) / log(10); d = l - sprintf("%.0f", l); if (d * d > 1e-12) bad = 1 } n++ }
-             END { exit !(n >= 8 && !bad) }' &&
-    [ "$(grep -c 'class="yminor"' "$svg")" -ge 8 ] && [ "$(grep -c 'class="xtick"' "$svg")" -ge 8 ]; then
+             END { exit !(n >= 8 && !bad) }'
+}
+if decade_labels ytick && decade_labels xtick &&
+    [ "$(grep -c 'class="yminor"' "$svg")" -ge 8 ] && [ "$(grep -c 'class="xminor"' "$svg")" -ge 8 ]; then
     ok "outputs_svg_log_axes_and_ticks ($(grep -c 'class="ytick"' "$svg") decade ticks)"
 else bad "outputs_svg_log_axes_and_ticks"; fi
 if python3 - "$out/outputs/contact.png" <<'PY'

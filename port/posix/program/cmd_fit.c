@@ -50,7 +50,9 @@ static int usage(FILE *f)
     fprintf(f,
             "usage: largesteps fit [TARGET.obj|.ply|.off] [options] -o DIR\n"
             "  without TARGET: the bunny compiled into the program\n"
-            "  --views N          views on a Fibonacci sphere (1..1024; default 16)\n"
+            "  --views N          views on a Fibonacci sphere (1..1024; default 32)\n"
+            "  --batch B          views rendered per iteration, spread over the --views pool (0 = all;\n"
+            "                     default 16; all when the pool has no more)\n"
             "  --res R            render size R x R (8..4096; default 128)\n"
             "  --iters N          iterations (0..1000000; default 800)\n"
             "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
@@ -70,6 +72,9 @@ static int usage(FILE *f)
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
+            "  --settle F         the last F of the iterations run at a lower learning rate (0..1;\n"
+            "                     default 0.125; 0: off)\n"
+            "  --settle-lr X      that rate's factor (0 < X <= 1; default 0.5)\n"
             "  --guard N          every N iterations (default 25) check the mesh for self-intersections;\n"
             "                     new ones roll the fit back to the last check, remesh it and lower lr\n"
             "  --guard-lr F       the learning rate's factor at a roll-back (0 < F <= 1; default 0.7)\n"
@@ -135,11 +140,11 @@ static int ss3(const char *o)
 /* Options whose parser printed its own message (a number and its range). */
 static int ranged(const char *o)
 {
-    static const char *const names[] = {"--views", "--res", "--iters", "--level", "--init-coarse", "--init-smooth",
+    static const char *const names[] = {"--views", "--batch", "--res", "--iters", "--level", "--init-coarse", "--init-smooth",
                                         "--target-ss", "--ss", "--aa-adaptive", "--track", "--max-vertices",
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
-                                        "--guard", "--perturb", "--reg", "--boost"};
+                                        "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost"};
     size_t k;
     for (k = 0; k < sizeof names / sizeof names[0]; k++)
         if (strcmp(o, names[k]) == 0) return 1;
@@ -154,7 +159,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     int lr_set = 0, lambda_set = 0, alpha_set = 0;
     uint32_t perturb = 0;
     memset(a, 0, sizeof *a);
-    a->views = 16;
+    a->views = 32;
     a->res = 128;
     ls_job_schedule_default(&a->sched);
     a->level = 3;
@@ -166,6 +171,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     a->cfg.weight = (ls_real)0.95;
     a->cfg.reg_weight = 1;
     a->cfg.shading.mode = LS_SHADE_SH;
+    a->cfg.view_batch = 16; /* 16 of the 32 views each iteration: twice the coverage for the same time */
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int ok = 1;
@@ -196,6 +202,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         cur_opt = o;
         if (strcmp(o, "-o") == 0) a->out = v;
         else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
+        else if (strcmp(o, "--batch") == 0) ok = parse_u32(v, 0, 1024, &a->cfg.view_batch);
         else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
@@ -226,6 +233,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--lambda") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA, lambda_set = 1;
         else if (strcmp(o, "--alpha") == 0) ok = parse_range(v, 0, 1, LS_ARG_HI_OPEN, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA, alpha_set = 1;
         else if (strcmp(o, "--lr") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_LO_OPEN, &lr), lr_set = 1;
+        else if (strcmp(o, "--settle") == 0) ok = parse_range(v, 0, 1, LS_ARG_CLOSED, &a->sched.settle);
+        else if (strcmp(o, "--settle-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.settle_lr);
         else if (strcmp(o, "--guard-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.guard_lr);
         else if (strcmp(o, "--guard-remesh") == 0) ok = parse_range(v, 0, 1000, LS_ARG_CLOSED, &a->sched.guard_remesh);
         else if (strcmp(o, "--guard") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.guard_every);
@@ -266,6 +275,15 @@ static int parse_args(int argc, char **argv, fit_args *a)
     (void)lr_set;
     a->cfg.width = a->cfg.height = a->res;
     return 1;
+}
+
+/* Some pixel of an RGBA image has coverage (alpha above 0). */
+static int covered(const ls_real *rgba, uint32_t width, uint32_t height)
+{
+    size_t i, n = (size_t)width * height;
+    for (i = 0; i < n; i++)
+        if (rgba[4u * i + 3u] > (ls_real)0) return 1;
+    return 0;
 }
 
 typedef struct log_data {
@@ -310,38 +328,38 @@ static int write_log(FILE *f, void *ctx)
     return !ferror(f);
 }
 
-/* A step of 1, 2 or 5 x 10^k giving about n ticks over [0, span]. */
-static double nice_step(double span, double n)
+/* The decades [*lo, *hi] (powers of ten, at least one apart) around the
+ * positive values of v[0..n) and e[0..ne). */
+static void decades(const double *v, uint32_t n, const double *e, uint32_t ne, double *lo, double *hi)
 {
-    double raw = span / n, p = pow(10.0, floor(log10(raw))), m = raw / p;
-    return (m <= 1 ? 1 : m <= 2 ? 2 : m <= 5 ? 5 : 10) * p;
+    uint32_t i;
+    *lo = 1e300;
+    *hi = -1e300;
+    for (i = 0; i < n + ne; i++) {
+        double x = i < n ? v[i] : e[i - n];
+        if (x > 0 && log10(x) < *lo) *lo = log10(x);
+        if (x > 0 && log10(x) > *hi) *hi = log10(x);
+    }
+    if (!(*hi >= *lo)) *lo = 0, *hi = 1;
+    *lo = floor(*lo);
+    *hi = ceil(*hi);
+    if (*hi - *lo < 1) *hi = *lo + 1;
 }
 
-/* One panel of the convergence plot: y on a log scale (whole decades, a
- * labelled tick and a grid line at each power of ten, minor ticks at 2..9
- * times it) against x on a linear scale from 0 (ticks at 1, 2 or 5 x 10^k),
- * as a polyline; a dashed vertical line at each x of marks[0..nmarks)
- * (the remeshes). */
+/* One panel: y (log) against x (log, x > 0), a tick and a grid line at every
+ * power of ten with minor ticks at 2..9 on both axes, and the remeshes
+ * (marks, in x's units) as dashed lines. */
 static void svg_panel(FILE *f, double px, double py, double pw, double ph, const char *title, const char *xlabel,
                       const double *x, const double *y, uint32_t n, const char *colour, const double *marks,
                       uint32_t nmarks)
 {
-    double x1 = 0, lo = 1e300, hi = -1e300, step, v;
+    double xlo, xhi, lo, hi;
     int k, m;
     uint32_t i;
-    for (i = 0; i < n; i++) {
-        if (x[i] > x1) x1 = x[i];
-        if (y[i] > 0 && log10(y[i]) < lo) lo = log10(y[i]);
-        if (y[i] > 0 && log10(y[i]) > hi) hi = log10(y[i]);
-    }
-    for (i = 0; i < nmarks; i++)
-        if (marks[i] > x1) x1 = marks[i];
-    if (!(x1 > 0)) x1 = 1;
-    if (!(hi >= lo)) lo = 0, hi = 1;
-    lo = floor(lo);
-    hi = ceil(hi);
-    if (hi - lo < 1) hi = lo + 1;
-#define SX(v_) (px + pw * (v_) / x1)
+    decades(x, n, marks, nmarks, &xlo, &xhi);
+    decades(y, n, NULL, 0, &lo, &hi);
+#define LX(v_) ((v_) > 0 ? log10(v_) : xlo)
+#define SX(v_) (px + pw * (LX(v_) - xlo) / (xhi - xlo))
 #define SY(l_) (py + ph - ph * ((l_) - lo) / (hi - lo))
     fprintf(f, "<g class=\"panel\">\n<text x=\"%g\" y=\"%g\">%s</text>\n", px, py - 8, title);
     for (k = (int)lo; k <= (int)hi; k++) {
@@ -354,11 +372,17 @@ static void svg_panel(FILE *f, double px, double py, double pw, double ph, const
             fprintf(f, "<line class=\"yminor\" x1=\"%g\" x2=\"%g\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"black\"/>\n", px - 3,
                     px, SY(k + log10((double)m)), SY(k + log10((double)m)));
     }
-    step = nice_step(x1, 5);
-    for (v = 0; v <= x1 * (1 + 1e-9); v += step)
+    for (k = (int)xlo; k <= (int)xhi; k++) {
+        const double v = pow(10.0, k);
+        fprintf(f, "<line class=\"grid\" x1=\"%.1f\" x2=\"%.1f\" y1=\"%g\" y2=\"%g\" stroke=\"#ddd\"/>\n", SX(v), SX(v),
+                py, py + ph);
         fprintf(f, "<g class=\"xtick\"><line x1=\"%.1f\" x2=\"%.1f\" y1=\"%g\" y2=\"%g\" stroke=\"black\"/>"
                    "<text x=\"%.1f\" y=\"%g\" text-anchor=\"middle\">%g</text></g>\n",
                 SX(v), SX(v), py + ph, py + ph + 5, SX(v), py + ph + 18, v);
+        for (m = 2; m <= 9 && k < (int)xhi; m++)
+            fprintf(f, "<line class=\"xminor\" x1=\"%.1f\" x2=\"%.1f\" y1=\"%g\" y2=\"%g\" stroke=\"black\"/>\n",
+                    SX(m * v), SX(m * v), py + ph, py + ph + 3);
+    }
     fprintf(f, "<text x=\"%g\" y=\"%g\" text-anchor=\"end\">%s</text>\n", px + pw, py + ph + 34, xlabel);
     fprintf(f, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"black\"/>\n", px, py, pw, ph);
     for (i = 0; i < nmarks; i++)
@@ -368,6 +392,7 @@ static void svg_panel(FILE *f, double px, double py, double pw, double ph, const
     fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", colour);
     for (i = 0; i < n; i++) fprintf(f, "%.1f,%.1f ", SX(x[i]), y[i] > 0 ? SY(log10(y[i])) : py + ph);
     fprintf(f, "\"/>\n</g>\n");
+#undef LX
 #undef SX
 #undef SY
 }
@@ -389,19 +414,19 @@ static int write_svg(FILE *f, void *ctx)
     int ok = it != NULL && loss != NULL && hit != NULL && hms != NULL && hv != NULL;
     for (i = 0; l->sched != NULL && i < l->sched->remesh_count && i < LS_JOB_MAX_REMESH; i++)
         if (l->sched->remesh_at[i] < n) { /* done: before iteration remesh_at */
-            mit[nm] = (double)l->sched->remesh_at[i];
+            mit[nm] = (double)l->sched->remesh_at[i] + 1.0; /* the first iteration after it, counting from 1 */
             mms[nm++] = l->sched->remesh_at[i] > 0 ? r->ms[l->sched->remesh_at[i] - 1u] / 1000.0 : 0.0;
         }
     if (ok) {
-        for (i = 0; i < n; i++) it[i] = (double)i, loss[i] = (double)r->loss[i];
-        for (i = 0; i < t; i++) hit[i] = (double)r->track_it[i], hms[i] = r->track_ms[i] / 1000.0, hv[i] = 100.0 * (double)r->track_h_rel[i];
+        for (i = 0; i < n; i++) it[i] = (double)i + 1.0, loss[i] = (double)r->loss[i];
+        for (i = 0; i < t; i++) hit[i] = (double)r->track_it[i] + 1.0, hms[i] = r->track_ms[i] / 1000.0, hv[i] = 100.0 * (double)r->track_h_rel[i];
         fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
         fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
-        svg_panel(f, 70, 40, 360, 220, "image loss against iteration", "iteration", it, loss, n, "#1f5fbf", mit, nm);
+        svg_panel(f, 70, 40, 360, 220, "image loss against iteration", "iteration (from 1)", it, loss, n, "#1f5fbf", mit, nm);
         for (i = 0; i < n; i++) it[i] = r->ms[i] / 1000.0;
         svg_panel(f, 510, 40, 360, 220, "image loss against time", "seconds", it, loss, n, "#1f5fbf", mms, nm);
         if (t > 0) {
-            svg_panel(f, 70, 360, 360, 220, "dense Hausdorff / bbox diagonal, % (against iteration)", "iteration", hit, hv,
+            svg_panel(f, 70, 360, 360, 220, "dense Hausdorff / bbox diagonal, % (against iteration)", "iteration (from 1)", hit, hv,
                       t, "#bf3f1f", mit, nm);
             svg_panel(f, 510, 360, 360, 220, "dense Hausdorff / bbox diagonal, % (against time)", "seconds", hms, hv, t,
                       "#bf3f1f", mms, nm);
@@ -485,6 +510,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_smooth = a.init_smooth;
     o.init_auto = !a.init_sphere;
     if (!ls_job_load(&p, &o, &arena)) return 1;
+    if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
     if (p.auto_coarse)
         printf("the target has genus %d, which a sphere cannot reach: starting from the target remeshed to %g of its "
                "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
@@ -505,6 +531,15 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     ls_diag_clear(&d);
     st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
     if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
+    /* a view whose target shows the object but which does not see the start cannot move it */
+    for (v = 0; v < p.views; v++)
+        if (covered(p.targets[v], p.width, p.height) && !covered(renders[v], p.width, p.height)) {
+            fprintf(stderr, "largesteps fit: frame %u (counting from 0) does not see the initial mesh, while its target "
+                            "shows the object: "
+                            "check that camera (a dataset's transform_matrix is camera-to-world, OpenGL: looking "
+                            "down -z) or give an initial mesh where the cameras look\n", (unsigned)v);
+            return 1;
+        }
     tty = isatty(1);
     if (!ls_job_fit(&p, &a.cfg, &a.sched, a.quiet ? 0 : tty ? 2 : 1,
                     a.track > 0 ? a.track : a.sched.iterations + 1u, &a.cap, &arena, &run))
@@ -553,11 +588,13 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         j.d = have_metrics ? &dist : NULL;
         j.t = &tangle;
         if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps fit: cannot create %s: %s\n", a.out, strerror(errno)), 1;
-        st = ls_contact_init(&sheet, &arena, 3u * p.views, p.width, p.height, p.views, 1, NULL);
-        for (v = 0; v < p.views && st == LS_OK; v++) {
-            st = ls_contact_put_rgba(&sheet, v, p.targets[v]);
-            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, p.views + v, renders[v]);
-            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * p.views + v, renders[p.views + v]);
+        const uint32_t shown = ls_report_sheet_views(p.views);
+        st = ls_contact_init(&sheet, &arena, 3u * shown, p.width, p.height, shown, 1, NULL);
+        for (v = 0; v < shown && st == LS_OK; v++) {
+            const uint32_t w = ls_report_sheet_view(v, p.views);
+            st = ls_contact_put_rgba(&sheet, v, p.targets[w]);
+            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, shown + v, renders[w]);
+            if (st == LS_OK) st = ls_contact_put_rgba(&sheet, 2u * shown + v, renders[p.views + w]);
         }
         if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;

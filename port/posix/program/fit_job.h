@@ -10,6 +10,9 @@
 #include <largesteps.h>
 
 #define LS_JOB_MAX_REMESH 32u
+/* A fit whose gradient is exactly zero this many iterations in a row stops
+ * with a message (nothing would ever move). */
+#define LS_JOB_STILL_LIMIT 20u
 
 typedef struct ls_job_options {
     const char *target;     /* mesh or scene path; NULL: the embedded bunny */
@@ -96,6 +99,10 @@ typedef struct ls_job_schedule {
                                 learning rate by guard_lr */
     ls_real guard_lr;
     ls_real guard_remesh;
+    ls_real settle;          /* the last settle x iterations (rounded down) run at settle_lr x the
+                                learning rate: the steps' jitter dies down before the result is
+                                taken (0: off) */
+    ls_real settle_lr;
 } ls_job_schedule;
 
 /* The program's default schedule: 800 iterations, remeshes before 200 and

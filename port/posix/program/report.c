@@ -145,16 +145,27 @@ void ls_report_text_tangle(FILE *f, const char *name, const ls_tangle_report *t)
             (double)t->quality_p1, (double)t->quality_p5, (double)t->quality_p50, (double)t->quality_mean);
 }
 
+uint32_t ls_report_sheet_views(uint32_t views)
+{
+    return views < LS_REPORT_SHEET_VIEWS ? views : LS_REPORT_SHEET_VIEWS;
+}
+
+uint32_t ls_report_sheet_view(uint32_t column, uint32_t views)
+{
+    return (uint32_t)((uint64_t)column * views / ls_report_sheet_views(views));
+}
+
 ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views)
 {
     static const char *const rows[3] = {"target", "initial", "result"};
+    const uint32_t shown = ls_report_sheet_views(views);
     char text[32];
     uint32_t r, v;
     ls_status st = LS_OK;
     for (r = 0; r < 3u && st == LS_OK; r++)
-        for (v = 0; v < views && st == LS_OK; v++) {
-            snprintf(text, sizeof text, "%s %u", rows[r], (unsigned)v);
-            st = ls_contact_label(sheet, r * views + v, text);
+        for (v = 0; v < shown && st == LS_OK; v++) {
+            snprintf(text, sizeof text, "%s %u", rows[r], (unsigned)ls_report_sheet_view(v, views));
+            st = ls_contact_label(sheet, r * shown + v, text);
         }
     return st == LS_OK ? ls_contact_backdrop(sheet, 8, 0.35f, 0.55f) : st;
 }

@@ -53,10 +53,18 @@ void ls_report_eta_remesh(ls_report_eta *e, uint32_t it, double start_ms, double
 /* Milliseconds left after `done` of `total` iterations, elapsed_ms so far. */
 double ls_report_eta_ms(const ls_report_eta *e, uint32_t done, uint32_t total, double elapsed_ms);
 
-/* The finishing of `largesteps fit`'s contact sheet (3 rows of `views`
- * tiles: target, initial, result): each tile labelled "<row> <view>", then
- * the sheet put over a grey checkerboard (ls_contact_backdrop: 8-pixel
- * squares of 0.35 and 0.55) so that a mask fit's white silhouettes show. */
+/* The views a contact sheet shows: all of them up to LS_REPORT_SHEET_VIEWS,
+ * else that many spread over the pool; ls_report_sheet_view gives the view
+ * index of column `column`. */
+#define LS_REPORT_SHEET_VIEWS 16u
+uint32_t ls_report_sheet_views(uint32_t views);
+uint32_t ls_report_sheet_view(uint32_t column, uint32_t views);
+
+/* The finishing of `largesteps fit`'s contact sheet (3 rows of
+ * ls_report_sheet_views(views) tiles: target, initial, result): each tile
+ * labelled "<row> <view>", then the sheet put over a grey checkerboard
+ * (ls_contact_backdrop: 8-pixel squares of 0.35 and 0.55) so that a mask
+ * fit's white silhouettes show. */
 ls_status ls_report_fit_sheet(ls_contact *sheet, uint32_t views);
 
 #endif /* LS_REPORT_H */
