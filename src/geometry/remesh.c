@@ -751,7 +751,10 @@ static ls_status rm_prepare(const ls_mesh *in, const ls_remesh_params *params, l
     if (st != LS_OK) return st;
     st = rm_sizes_get(in, &rep, params, z);
     if (st != LS_OK)
-        diag_set(diag, st, st == LS_ERR_INVALID ? "params->vertex_cap: allowed 0 or >= in->vertex_count" : "mesh too large");
+        diag_set(diag, st,
+                 st != LS_ERR_INVALID       ? "mesh too large"
+                 : params->vertex_cap != 0u ? "params->vertex_cap: allowed 0 or >= in->vertex_count"
+                                            : "params->vertex_cap: 0 sizes below in->vertex_count for this h; pass one");
     return st;
 }
 
