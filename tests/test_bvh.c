@@ -321,8 +321,14 @@ static void errors(void)
     m.positions[4] = 0;
     m.face_count = 0;
     CHECK_STATUS(ls_bvh_build(&m, &a, &b, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "mesh->face_count") != NULL);
     m.face_count = 1;
     CHECK_STATUS(ls_bvh_build(NULL, &a, &b, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "mesh is NULL") == 0);
+    CHECK_STATUS(ls_bvh_build(&m, NULL, &b, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "arena is NULL") == 0);
+    CHECK_STATUS(ls_bvh_check_mesh(NULL, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "mesh is NULL") == 0);
     CHECK_STATUS(ls_bvh_build(&m, &a, &b, &d), LS_OK);
     q[1] = (ls_real)INFINITY;
     CHECK_STATUS(ls_bvh_closest(&b, q, 1, &h), LS_ERR_NONFINITE);

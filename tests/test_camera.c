@@ -384,6 +384,18 @@ static void framing_fits_the_bounding_sphere(void)
     CHECK_STATUS(ls_camera_frame(pts, NP, 1, LS_FOV_X, 1, (ls_real)0.5, &fr, NULL), LS_ERR_INVALID);
     CHECK_STATUS(ls_camera_frame(pts, 1, 1, LS_FOV_X, 1, 1, &fr, NULL), LS_ERR_INVALID); /* one point */
     CHECK_STATUS(ls_camera_frame(pts, NP, 4, LS_FOV_X, 1, 1, &fr, NULL), LS_ERR_INVALID);
+    {
+        CHECK_STATUS(ls_camera_frame(pts, 0, 1, LS_FOV_X, 1, 1, &fr, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "vertex_count") != NULL);
+        CHECK_STATUS(ls_camera_frame(pts, NP, 1, LS_FOV_X, 1, (ls_real)0.5, &fr, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "margin") != NULL);
+        CHECK_STATUS(ls_camera_frame(pts, 1, 1, LS_FOV_X, 1, 1, &fr, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "positions") != NULL);
+        CHECK_STATUS(ls_camera_frame(pts, NP, 4, LS_FOV_X, 1, 1, &fr, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "fov") != NULL);
+        CHECK_STATUS(ls_camera_frame(pts, NP, 1, 5u, 1, 1, &fr, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "fov_axis") != NULL);
+    }
     pts[3 * 17 + 1] = (ls_real)INFINITY;
     ls_diag_clear(&dg);
     CHECK_STATUS(ls_camera_frame(pts, NP, 1, LS_FOV_X, 1, 1, &fr, &dg), LS_ERR_NONFINITE);

@@ -314,9 +314,12 @@ static void errors(void)
     CHECK(strcmp(d.what, "mesh A: vertex coordinate not finite") == 0);
     mb.positions[3] = 1;
     CHECK_STATUS(ls_mesh_distance(NULL, &mb, 10, 10, &a, &r, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "a is NULL") == 0);
     mb.face_count = 0;
     CHECK_STATUS(ls_mesh_distance(&ma, &mb, 10, 10, &a, &r, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "b->face_count") != NULL);
     CHECK_STATUS(ls_distance_one_way(&ma, NULL, 10, &w, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "target is NULL") == 0);
     CHECK_STATUS(ls_mesh_distance_bytes(0, 1, &bytes), LS_ERR_INVALID);
     CHECK_STATUS(ls_distance_sample_point(&ma, 10, 10, &f, q), LS_ERR_INVALID);
     CHECK_EQ(ls_distance_default_samples(&ma), 1000);

@@ -265,6 +265,13 @@ static void set_weight_and_extremes(void)
     CHECK(memcmp(x1, x2, sizeof x1) == 0);
     CHECK_STATUS(ls_grid_solver_set_weight(&h, LS_SYSTEM_LAMBDA, (ls_real)-1, &dg), LS_ERR_INVALID);
     CHECK(dg.what != NULL && dg.has_value);
+    CHECK(strstr(dg.what, "weight: lambda") != NULL);
+    CHECK_STATUS(ls_grid_solver_set_weight(&h, LS_SYSTEM_ALPHA, (ls_real)1, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "weight: alpha") != NULL);
+    CHECK_STATUS(ls_grid_solver_set_weight(&h, 7u, (ls_real)0.5, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "form") != NULL);
+    CHECK_STATUS(ls_grid_solver_set_weight(NULL, LS_SYSTEM_LAMBDA, (ls_real)1, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "g: ") != NULL);
     CHECK_STATUS(ls_grid_solver_set_weight(&h, LS_SYSTEM_LAMBDA, (ls_real)NAN, NULL), LS_ERR_INVALID);
     CHECK_STATUS(ls_grid_solver_set_weight(&h, LS_SYSTEM_LAMBDA, (ls_real)INFINITY, NULL), LS_ERR_INVALID);
     CHECK_STATUS(ls_grid_solver_set_weight(&h, LS_SYSTEM_ALPHA, (ls_real)1, NULL), LS_ERR_INVALID);

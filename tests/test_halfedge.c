@@ -236,6 +236,9 @@ static void build_rejects_nonmanifold(void)
     CHECK_EQ(a.bottom, 0);
     CHECK_EQ(a.top, 0);
     CHECK_STATUS(ls_he_build(&m, 2, &a, &he, NULL, &d), LS_ERR_INVALID);
+    CHECK_MSG(strstr(d.what, "vertex_cap") != NULL, "what = %s", d.what);
+    CHECK_STATUS(ls_he_build(&m, 0, &a, NULL, NULL, &d), LS_ERR_INVALID);
+    CHECK_MSG(strcmp(d.what, "he is NULL") == 0, "what = %s", d.what);
 }
 
 /* Random operations: after each, the checker; at the end, the indexed mesh

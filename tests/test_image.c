@@ -805,6 +805,21 @@ static void inflate_handcrafted_dynamic_block(void)
     CHECK_EQ(ls_arena_used(&a), 0);
     /* the output buffer one byte short */
     CHECK_STATUS(ls_inflate(stream, n, out, 11, &got, &a, &d), LS_ERR_TOO_LARGE);
+    /* argument errors name the argument */
+    CHECK_STATUS(ls_inflate(stream, n, out, sizeof out, NULL, &a, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "out_bytes is NULL") == 0);
+    CHECK_STATUS(ls_zlib_decompress(NULL, n, out, sizeof out, &got, &a, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "src is NULL") != NULL);
+    {
+        ls_image_info info;
+        ls_image img;
+        CHECK_STATUS(ls_image_decode_info(stream, n, NULL, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "info is NULL") == 0);
+        CHECK_STATUS(ls_image_decode_info(NULL, n, &info, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "data is NULL") != NULL);
+        CHECK_STATUS(ls_image_decode(stream, n, &img, NULL, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "arena is NULL") == 0);
+    }
     /* the same in a zlib wrapper */
     zs[0] = 0x78;
     zs[1] = 0x9c;

@@ -264,6 +264,11 @@ static void isolated_vertices_keep_a_diagonal(void)
         m.face_count = 1;
         CHECK_STATUS(ls_laplacian_uniform(&m, LS_LAP_UPPER, &a, &L, &dg), LS_ERR_MESH);
         CHECK_STATUS(ls_laplacian_uniform(&m, 5u, &a, &L, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "storage") != NULL);
+        CHECK_STATUS(ls_laplacian_cot(&m, 9u, LS_LAP_UPPER, &a, &L, NULL, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "convention") != NULL);
+        CHECK_STATUS(ls_laplacian_cot(NULL, LS_COT_HALF, LS_LAP_UPPER, &a, &L, NULL, &dg), LS_ERR_INVALID);
+        CHECK(strcmp(dg.what, "mesh is NULL") == 0);
     }
 }
 
@@ -324,10 +329,16 @@ static void system_matrix_forms_and_update(void)
     /* alpha = 0.95 is (1 - alpha)(I + 19 L) */
     CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_ALPHA, (ls_real)1, &M, &dg), LS_ERR_INVALID);
     CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_ALPHA, (ls_real)-0.1, &M, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "weight: alpha") != NULL);
     CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_LAMBDA, (ls_real)-1, &M, &dg), LS_ERR_INVALID);
     CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_LAMBDA, (ls_real)NAN, &M, &dg), LS_ERR_INVALID);
     CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_LAMBDA, (ls_real)INFINITY, &M, &dg), LS_ERR_INVALID);
     CHECK_STATUS(ls_laplacian_system_update(&L, 7u, (ls_real)1, &M, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "form") != NULL);
+    CHECK_STATUS(ls_laplacian_system_update(&L, LS_SYSTEM_LAMBDA, (ls_real)1, NULL, &dg), LS_ERR_INVALID);
+    CHECK(strcmp(dg.what, "m is NULL") == 0);
+    CHECK_STATUS(ls_laplacian_system(&L, LS_SYSTEM_LAMBDA, (ls_real)1, NULL, &M, &dg), LS_ERR_INVALID);
+    CHECK(strcmp(dg.what, "arena is NULL") == 0);
     to_dense(&M, 1, dl);
     for (i = 0; i < 16; i++) CHECK(dl[i] == dm[i]); /* unchanged by the failures */
     /* lambda = 1e8: the identity rounds away in float (degree-3 diagonal 6 * 1e8), not in double */

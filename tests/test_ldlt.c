@@ -453,6 +453,7 @@ static void ldlt_errors(void)
     /* a matrix whose pattern size differs from the analyzed one */
     REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 2, r, c, v}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_refactor(&f, &a, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "a: ") != NULL);
     /* empty 0 x 0: trivially fine; n x n with no entries: zero pivot */
     REQUIRE(ls_csc_from_triplets(&(ls_triplets){0, 0, 0, r, c, v}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL), LS_OK);
@@ -464,11 +465,18 @@ static void ldlt_errors(void)
     CHECK(dg.value == 0);
     /* bad arguments */
     CHECK_STATUS(ls_ldlt_analyze(NULL, LS_ORDER_AMD, NULL, &arena, &f, NULL), LS_ERR_INVALID);
-    CHECK_STATUS(ls_ldlt_analyze(&a, 7, NULL, &arena, &f, NULL), LS_ERR_INVALID);
-    CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_GIVEN, NULL, &arena, &f, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_ldlt_analyze(&a, 7, NULL, &arena, &f, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "method") != NULL);
+    CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_GIVEN, NULL, &arena, &f, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "perm is NULL") != NULL);
+    CHECK_STATUS(ls_ldlt_analyze_mesh(&a, LS_ORDER_ND, NULL, &arena, &f, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "xyz") != NULL);
+    CHECK_STATUS(ls_ldlt_factor(NULL, &a, &arena, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "f: ") != NULL);
     {
         uint32_t perm[3] = {0, 0, 1};
         CHECK_STATUS(ls_ldlt_analyze(&a, LS_ORDER_GIVEN, perm, &arena, &f, &dg), LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "perm") != NULL);
     }
 }
 

@@ -109,6 +109,17 @@ static void loss_fixed_order(void)
         CHECK_STATUS(ls_loss_finish(&acc, &c), LS_ERR_STATE);
         for (v = 0; v < V; v++) CHECK_STATUS(ls_loss_view(&acc, img[v], ref[v], grad2[v], NULL), LS_OK);
         CHECK_STATUS(ls_loss_view(&acc, img[0], ref[0], NULL, NULL), LS_ERR_INVALID);
+        {
+            ls_diag dg;
+            CHECK_STATUS(ls_loss_view(&acc, img[0], ref[0], NULL, &dg), LS_ERR_INVALID);
+            CHECK(strstr(dg.what, "acc->view_count") != NULL);
+            CHECK_STATUS(ls_loss_view(&acc, NULL, ref[0], NULL, &dg), LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "rendered is NULL") == 0);
+            CHECK_STATUS(ls_loss_views(&(ls_loss_shape){kind, W, H, 0}, pi, pr, pg, &a, &dg), LS_ERR_INVALID);
+            CHECK(strstr(dg.what, "shape->view_count") != NULL);
+            CHECK_STATUS(ls_loss_views(&(ls_loss_shape){7u, W, H, V}, pi, pr, pg, &a, &dg), LS_ERR_INVALID);
+            CHECK(strstr(dg.what, "shape->kind") != NULL);
+        }
         CHECK_STATUS(ls_loss_finish(&acc, &b), LS_OK);
         CHECK(memcmp(&a, &b, sizeof a) == 0);
         CHECK(memcmp(grad, grad2, sizeof grad) == 0);

@@ -505,6 +505,13 @@ static void edges_and_adjacency_are_sorted_and_complete(void)
     CHECK_STATUS(ls_mesh_edges_build(&m, a, &e, &d), LS_ERR_MESH);
     CHECK_EQ(d.index, 2);
     CHECK_STATUS(ls_mesh_face_normals(&m, NULL, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "out is NULL") != NULL);
+    CHECK_STATUS(ls_mesh_edges_build(NULL, a, &e, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "mesh is NULL") == 0);
+    CHECK_STATUS(ls_mesh_edges_build(&m, a, NULL, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "edges is NULL") == 0);
+    CHECK_STATUS(ls_mesh_require(NULL, LS_MESH_REQ_ALL, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "r is NULL") == 0);
 }
 
 /* --- welding ----------------------------------------------------------------------- */
@@ -651,6 +658,8 @@ static void face_and_vertex_normals(void)
         CHECK_STATUS(ls_mesh_face_normals(&s.m, fn, NULL), LS_OK);
         CHECK_NEAR(fn[2], 1, TEST_EPS(2));
         CHECK_STATUS(ls_mesh_vertex_normals(&s.m, 3, vn, NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_mesh_vertex_normals(&s.m, 3, vn, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "weighting") != NULL);
         s.t[5] = 4;
         memset(vn, 0x5A, sizeof vn);
         CHECK_STATUS(ls_mesh_vertex_normals(&s.m, 0, vn, &d), LS_ERR_MESH);

@@ -241,7 +241,13 @@ static void malformed_text_inputs(void)
         CHECK_STATUS(read_mem(nobom, sizeof nobom, LS_MESH_FORMAT_AUTO, &m, &d), LS_ERR_PARSE);
         CHECK(strstr(d.what, "NUL") != NULL && d.offset == 1);
         CHECK_STATUS(read_mem(NULL, 5, LS_MESH_FORMAT_AUTO, &m, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "data is NULL") != NULL);
         CHECK_STATUS(read_mem("v", 1, 9, &m, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "format") != NULL);
+        CHECK_STATUS(ls_mesh_read("v", 1, LS_MESH_FORMAT_AUTO, NULL, &m, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "arena is NULL") == 0);
+        CHECK_STATUS(ls_mesh_read_info("v", 1, LS_MESH_FORMAT_AUTO, NULL, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "info is NULL") == 0);
     }
 }
 

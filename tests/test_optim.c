@@ -306,6 +306,14 @@ static void optim_rejects_bad_configurations(void)
     CHECK_STATUS(ls_optim_init(&opt, &good, 11, 2, big, &arena), LS_OK);
     CHECK_STATUS(ls_optim_reset(&opt, 2, zero), LS_ERR_INVALID);
     CHECK_STATUS(ls_optim_step(&opt, NULL, NULL, NULL), LS_ERR_INVALID);
+    {
+        ls_real p[11] = {0}, g[11] = {0};
+        ls_diag dg;
+        CHECK_STATUS(ls_optim_step(&opt, NULL, g, &dg), LS_ERR_INVALID);
+        CHECK(strcmp(dg.what, "params is NULL") == 0);
+        CHECK_STATUS(ls_optim_step_mapped(&opt, p, g, NULL, &dg), LS_ERR_INVALID);
+        CHECK(strcmp(dg.what, "mapped is NULL") == 0);
+    }
     CHECK_EQ(opt.count, 11);
 }
 

@@ -208,11 +208,17 @@ static void order_errors(void)
     REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
     REQUIRE(ls_csc_from_triplets(&(ls_triplets){3, 2, 2, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     CHECK_STATUS(ls_order_amd(&a, &arena, perm, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "not square") != NULL);
     CHECK_STATUS(ls_order_amd(NULL, &arena, perm, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_order_amd(NULL, &arena, perm, &dg), LS_ERR_INVALID);
+    CHECK(strcmp(dg.what, "a is NULL") == 0);
     REQUIRE(ls_csc_from_triplets(&(ls_triplets){2, 2, 2, r, c, NULL}, &arena, &a, NULL) == LS_OK);
     a.rowidx[1] = 7;
     CHECK_STATUS(ls_order_amd(&a, &arena, perm, &dg), LS_ERR_INVALID);
     CHECK(dg.has_index && dg.index == 1);
+    CHECK(strstr(dg.what, "a->rowidx") != NULL);
+    CHECK_STATUS(ls_order_nd_geom(&a, NULL, &arena, perm, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "xyz") != NULL);
     CHECK_STATUS(ls_order_bytes(1u << 30, 10, &bytes), LS_ERR_TOO_LARGE);
     perm[0] = 1; perm[1] = 1; perm[2] = 0;
     {

@@ -732,6 +732,14 @@ static void bad_input_is_rejected(void)
             .mvp = mvp}, &a, NULL), LS_ERR_STATE);
     CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 4,
             .mvp = mvp}, &a, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 4,
+            .mvp = mvp}, &a, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "view->vertex_count") != NULL);
+    CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = NULL, .triangle_count = 1, .vertex_count = 3,
+            .mvp = mvp}, &a, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "view->indices") != NULL);
+    CHECK_STATUS(ls_raster(&vis, NULL, &a, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "view is NULL") == 0);
     ls_diag_clear(&d);
     CHECK_STATUS(ls_raster(&vis, &(ls_view){.positions = pos, .indices = idx, .triangle_count = 1, .vertex_count = 3,
             .mvp = mvp}, &a, &d), LS_ERR_MESH);

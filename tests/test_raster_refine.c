@@ -847,6 +847,19 @@ static void refine_scratch_sweep(void)
     CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
             .vertex_count = sc.nv, .opts = &c.o}, 8, c.img, &arena, NULL, NULL),
                  LS_ERR_INVALID);
+    {
+        ls_diag dg;
+        CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &c.o}, 8, c.img, &arena, NULL, &dg), LS_ERR_INVALID);
+        CHECK(strcmp(dg.what, "view->table is NULL") == 0);
+        CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &c.o, .table = &c.et}, LS_REFINE_MAX + 1, c.img, &arena, NULL, &dg),
+                LS_ERR_INVALID);
+        CHECK(strstr(dg.what, "aa: ") != NULL);
+        CHECK_STATUS(ls_refine_shade(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                .vertex_count = sc.nv, .opts = &c.o, .table = &c.et}, 8, NULL, &arena, NULL, &dg), LS_ERR_INVALID);
+        CHECK(strcmp(dg.what, "image is NULL") == 0);
+    }
     CHECK_EQ(arena.top, 0);
 }
 

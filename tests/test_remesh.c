@@ -709,9 +709,11 @@ static void rejects_bad_input(void)
     CHECK_EQ(out.vertex_count, 0x33333333u);
     p.h = 0;
     CHECK_STATUS(ls_remesh(&m, &p, &a, &out, NULL, &d), LS_ERR_INVALID);
+    CHECK_MSG(strstr(d.what, "params->h") != NULL, "what = %s", d.what);
     p.h = (ls_real)0.5;
     p.iterations = 0;
     CHECK_STATUS(ls_remesh(&m, &p, &a, &out, NULL, &d), LS_ERR_INVALID);
+    CHECK_MSG(strstr(d.what, "params->iterations") != NULL, "what = %s", d.what);
     pos[3] = (ls_real)NAN;
     m.face_count = 2;
     ls_remesh_params_default(&p, (ls_real)0.5);
@@ -748,6 +750,11 @@ static void capacity_exceeded(void)
     p.vertex_cap = in.m.vertex_count - 1u;
     CHECK_STATUS(ls_remesh_bytes_bound(&in.m, &rep, &p, &bound), LS_ERR_INVALID);
     CHECK_STATUS(ls_remesh(&in.m, &p, &a, &out, NULL, NULL), LS_ERR_INVALID);
+    {
+        ls_diag d;
+        CHECK_STATUS(ls_remesh(&in.m, &p, &a, &out, NULL, &d), LS_ERR_INVALID);
+        CHECK_MSG(strstr(d.what, "params->vertex_cap") != NULL, "what = %s", d.what);
+    }
     free(buf);
     free_mesh(&in);
 }

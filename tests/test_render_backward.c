@@ -443,6 +443,8 @@ static void vertex_normals_backward_fd_and_sweep(void)
         CHECK_STATUS(ls_vertex_normals_backward(c.pos, c.nv, c.f, c.nt, c.gn, c.gp, &arena, &diag), LS_ERR_MESH);
         CHECK_EQ(diag.index, 1);
         CHECK_STATUS(ls_vertex_normals_backward(c.pos, c.nv, c.f, c.nt, c.gn, c.gp, NULL, NULL), LS_ERR_INVALID);
+        CHECK_STATUS(ls_vertex_normals_backward(c.pos, c.nv, c.f, c.nt, c.gn, c.gp, NULL, &diag), LS_ERR_INVALID);
+        CHECK(strcmp(diag.what, "arena is NULL") == 0);
         CHECK_EQ(arena.bottom + arena.top, 0);
     }
 }

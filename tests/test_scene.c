@@ -178,11 +178,20 @@ static void scene_text_errors_are_named(void)
         ls_arena arena;
         ls_scene s;
         ls_diag d;
+        size_t bytes;
         REQUIRE(ls_arena_init(&arena, work.bytes, sizeof work.bytes) == LS_OK);
         CHECK_STATUS(ls_scene_parse(nul, sizeof nul - 1, &arena, &s, &d), LS_ERR_PARSE);
         CHECK(strstr(d.what, "NUL") != NULL);
         CHECK_STATUS(ls_scene_parse(NULL, 3, &arena, &s, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "text is NULL") != NULL);
         CHECK_STATUS(ls_scene_parse(nul, 3, NULL, &s, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "arena is NULL") == 0);
+        CHECK_STATUS(ls_scene_parse_mitsuba(nul, 3, &arena, NULL, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "scene is NULL") == 0);
+        CHECK_STATUS(ls_scene_parse_transforms_bytes(nul, 3, NULL, &d), LS_ERR_INVALID);
+        CHECK(strcmp(d.what, "bytes is NULL") == 0);
+        CHECK_STATUS(ls_scene_parse_mitsuba_bytes(NULL, 3, &bytes, &d), LS_ERR_INVALID);
+        CHECK(strstr(d.what, "text is NULL") != NULL);
     }
     {
         static const char ok[] = HDR OK_REST;

@@ -100,6 +100,7 @@ static void shade_matches_interpolated_reference(void)
                            (ls_real)-0.48, (ls_real)-0.6, (ls_real)0.64};
     ls_real colors[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, (ls_real)0.5, (ls_real)0.5, (ls_real)0.5};
     ls_real sh[27], out[4 * 20 * 16];
+    ls_diag dg;
     ls_light lights[2] = {{{0, 0, 1}, {1, (ls_real)0.5, (ls_real)0.25}},
                           {{(ls_real)0.6, 0, (ls_real)0.8}, {(ls_real)0.2, (ls_real)0.2, (ls_real)0.2}}};
     ls_shade_opts o;
@@ -179,14 +180,22 @@ static void shade_matches_interpolated_reference(void)
     /* argument errors */
     o.mode = 7;
     CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
-            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
+            .normals = normals, .opts = &o}, out, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "view->opts->mode") != NULL);
     o.mode = LS_SHADE_SH;
     o.sh = NULL;
     CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
-            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
+            .normals = normals, .opts = &o}, out, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "view->opts->sh") != NULL);
     o.mode = LS_SHADE_MASK;
     CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 3,
-            .normals = normals, .opts = &o}, out, NULL), LS_ERR_INVALID);
+            .normals = normals, .opts = &o}, out, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "view->vertex_count") != NULL);
+    CHECK_STATUS(ls_shade(&(ls_view){.vis = &vis, .indices = quad_idx, .triangle_count = 2, .vertex_count = 4,
+            .normals = normals, .opts = &o}, NULL, &dg), LS_ERR_INVALID);
+    CHECK(strcmp(dg.what, "out is NULL") == 0);
+    CHECK_STATUS(ls_shade_vertex_normals(NULL, 4, quad_idx, 2, out, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "positions") != NULL);
 }
 
 static void box_resolve_and_coverage(void)

@@ -942,6 +942,10 @@ static void edge_table_build(void)
     c.f[1] = c.f[0];
     CHECK_STATUS(ls_edge_table_build(&c.et, c.f, 1, 4, &arena, &diag), LS_ERR_MESH);
     CHECK(strcmp(diag.what, "triangle with a repeated vertex") == 0);
+    CHECK_STATUS(ls_edge_table_build(NULL, c.f, 1, 4, &arena, &diag), LS_ERR_INVALID);
+    CHECK(strcmp(diag.what, "table is NULL") == 0);
+    CHECK_STATUS(ls_edge_table_build(&c.et, NULL, 1, 4, &arena, &diag), LS_ERR_INVALID);
+    CHECK(strstr(diag.what, "indices") != NULL);
     CHECK_STATUS(ls_edge_table_bytes(0x55555555u, &bytes), LS_ERR_TOO_LARGE);
 }
 
@@ -1033,6 +1037,29 @@ static void silhouette_scratch_sweep(void)
         CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
                 .vertex_count = sc.nv + 1, .opts = &c.o, .mvp = c.mvp, .table = &c.et, .boost = 1}, c.gimg, c.gp, &a2,
                 NULL), LS_ERR_INVALID);
+        {
+            ls_diag dg;
+            CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                    .vertex_count = sc.nv, .opts = &c.o, .mvp = c.mvp, .table = &c.et, .boost = 1}, c.gimg, c.gp, NULL,
+                    &dg), LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "arena is NULL") == 0);
+            CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                    .vertex_count = sc.nv + 1, .opts = &c.o, .mvp = c.mvp, .table = &c.et, .boost = 1}, c.gimg, c.gp,
+                    &a2, &dg), LS_ERR_INVALID);
+            CHECK(strstr(dg.what, "view->table") != NULL);
+            CHECK_STATUS(ls_silhouette_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt,
+                    .vertex_count = sc.nv, .opts = &c.o, .table = &c.et, .boost = 1}, c.gimg, c.gp, &a2, &dg),
+                    LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "view->mvp is NULL") == 0);
+            CHECK_STATUS(ls_pair_forward(NULL, c.gimg, c.gp, &dg), LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "view is NULL") == 0);
+            CHECK_STATUS(ls_pair_forward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt},
+                    c.gimg, c.gp, &dg), LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "view->table is NULL") == 0);
+            CHECK_STATUS(ls_pair_backward(&(ls_view){.vis = &c.vis, .indices = sc.f, .triangle_count = sc.nt},
+                    c.gimg, c.gimg, NULL, c.gp, &dg), LS_ERR_INVALID);
+            CHECK(strcmp(dg.what, "view->table is NULL") == 0);
+        }
         CHECK(memcmp(gp2, c.gp, sizeof gp2) == 0);
         CHECK_STATUS(ls_silhouette_scratch_bytes(&(ls_view){.indices = sc.f, .triangle_count = sc.nt, .table = &c.et},
                 &bytes), LS_ERR_INVALID);

@@ -74,8 +74,15 @@ static void sparse_from_triplets_errors(void)
     REQUIRE(ls_arena_init(&arena, big, sizeof big) == LS_OK);
     CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, NULL}, &arena, &m, &dg), LS_ERR_INVALID);
     CHECK(dg.has_index && dg.index == 1);
+    CHECK(strstr(dg.what, "t->rows") != NULL);
     CHECK(ls_arena_used(&arena) == 0);
     CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, NULL, c, NULL}, &arena, &m, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, NULL, c, NULL}, &arena, &m, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "t->rows") != NULL);
+    CHECK_STATUS(ls_csc_from_triplets(NULL, &arena, &m, &dg), LS_ERR_INVALID);
+    CHECK(strcmp(dg.what, "t is NULL") == 0);
+    CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){3, 3, 3, r, c, NULL}, NULL, &m, &dg), LS_ERR_INVALID);
+    CHECK(strstr(dg.what, "arena") != NULL);
     /* empty matrix */
     CHECK_STATUS(ls_csc_from_triplets(&(ls_triplets){0, 0, 0, NULL, NULL, NULL}, &arena, &m, NULL), LS_OK);
     CHECK_EQ(ls_csc_nnz(&m), 0);

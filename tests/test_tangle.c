@@ -436,8 +436,11 @@ static void errors(void)
     m.positions[5] = 0;
     m.face_count = 0;
     CHECK_STATUS(ls_tangle(&m2, &m, &a, &r, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "reference->face_count") != NULL);
     CHECK_STATUS(ls_tangle(&m, NULL, &a, &r, &d), LS_ERR_INVALID);
+    CHECK(strstr(d.what, "mesh->face_count") != NULL);
     CHECK_STATUS(ls_tangle(NULL, NULL, &a, &r, &d), LS_ERR_INVALID);
+    CHECK(strcmp(d.what, "mesh is NULL") == 0);
     CHECK_STATUS(ls_tangle_bytes(0, &bytes), LS_ERR_INVALID);
     CHECK_STATUS(ls_tangle_bytes(UINT32_MAX, &bytes), LS_ERR_TOO_LARGE);
     CHECK_EQ(ls_arena_used(&a), a.bottom);

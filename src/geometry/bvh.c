@@ -179,7 +179,11 @@ ls_status ls_bvh_check_mesh(const ls_mesh *mesh, ls_diag *diag)
     uint32_t f, v;
     if (mesh == NULL || (mesh->face_count > 0 && mesh->triangles == NULL) ||
         (mesh->vertex_count > 0 && mesh->positions == NULL)) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 mesh == NULL                                           ? "mesh is NULL"
+                 : (mesh->face_count > 0 && mesh->triangles == NULL) ? "mesh->triangles is NULL with face_count > 0"
+                                                                     : "mesh->positions is NULL with vertex_count > 0",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     if (mesh->face_count > (UINT32_MAX - 1u) / 3u) {
@@ -213,7 +217,14 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
     ls_status st;
     if (mesh == NULL || arena == NULL || bvh == NULL || mesh->face_count == 0 || mesh->triangles == NULL ||
         mesh->positions == NULL) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument or mesh without faces", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 mesh == NULL              ? "mesh is NULL"
+                 : arena == NULL           ? "arena is NULL"
+                 : bvh == NULL             ? "bvh is NULL"
+                 : mesh->face_count == 0   ? "mesh->face_count: 0; at least one face"
+                 : mesh->triangles == NULL ? "mesh->triangles is NULL"
+                                           : "mesh->positions is NULL",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = ls_bvh_check_mesh(mesh, diag);

@@ -239,7 +239,14 @@ ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t
     ls_status st;
     if (src == NULL || target == NULL || out == NULL || target->nodes == NULL ||
         (src->face_count > 0 && src->triangles == NULL) || (src->vertex_count > 0 && src->positions == NULL)) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 src == NULL             ? "src is NULL"
+                 : target == NULL        ? "target is NULL"
+                 : out == NULL           ? "out is NULL"
+                 : target->nodes == NULL ? "target->nodes is NULL (ls_bvh_build first)"
+                 : src->positions == NULL && src->vertex_count > 0 ? "src->positions is NULL with vertex_count > 0"
+                                                                  : "src->triangles is NULL with face_count > 0",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = check_mesh(src, "face index out of range", "vertex coordinate not finite", diag);
@@ -282,7 +289,18 @@ ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_
     uint32_t k;
     if (a == NULL || b == NULL || arena == NULL || out == NULL || a->face_count == 0 || b->face_count == 0 ||
         a->triangles == NULL || b->triangles == NULL || a->positions == NULL || b->positions == NULL) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument or mesh without faces", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 a == NULL               ? "a is NULL"
+                 : b == NULL             ? "b is NULL"
+                 : arena == NULL         ? "arena is NULL"
+                 : out == NULL           ? "out is NULL"
+                 : a->face_count == 0    ? "a->face_count: 0; at least one face"
+                 : b->face_count == 0    ? "b->face_count: 0; at least one face"
+                 : a->triangles == NULL  ? "a->triangles is NULL"
+                 : b->triangles == NULL  ? "b->triangles is NULL"
+                 : a->positions == NULL  ? "a->positions is NULL"
+                                         : "b->positions is NULL",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = check_mesh(a, "mesh A: face index out of range", "mesh A: vertex coordinate not finite", diag);

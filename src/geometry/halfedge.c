@@ -201,12 +201,18 @@ ls_status ls_he_build(const ls_mesh *mesh, uint32_t vertex_cap, ls_arena *arena,
     ls_status st;
     if (mesh == NULL || arena == NULL || he == NULL || (mesh->vertex_count > 0 && mesh->positions == NULL) ||
         (mesh->face_count > 0 && mesh->triangles == NULL)) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 mesh == NULL    ? "mesh is NULL"
+                 : arena == NULL ? "arena is NULL"
+                 : he == NULL    ? "he is NULL"
+                 : mesh->positions == NULL && mesh->vertex_count > 0 ? "mesh->positions is NULL with vertex_count > 0"
+                                                                    : "mesh->triangles is NULL with face_count > 0",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     if (vertex_cap == 0) vertex_cap = mesh->vertex_count;
     if (vertex_cap < mesh->vertex_count) {
-        diag_set(diag, LS_ERR_INVALID, "vertex capacity below the vertex count", (uint64_t)vertex_cap, 1);
+        diag_set(diag, LS_ERR_INVALID, "vertex_cap: allowed 0 or >= mesh->vertex_count", (uint64_t)vertex_cap, 1);
         return LS_ERR_INVALID;
     }
     if (mesh->face_count > (NONE - 1u) / 3u) {

@@ -58,12 +58,23 @@ ls_status ls_mesh_alloc(ls_mesh *mesh, uint32_t vertex_count, uint32_t face_coun
     return LS_OK;
 }
 
+/* What is wrong with the mesh argument, or NULL when it is usable. */
+static const char *mesh_problem(const ls_mesh *mesh)
+{
+    if (mesh == NULL) return "mesh is NULL";
+    if (mesh->vertex_count > 0 && mesh->positions == NULL) return "mesh->positions is NULL with vertex_count > 0";
+    if (mesh->face_count > 0 && mesh->triangles == NULL) return "mesh->triangles is NULL with face_count > 0";
+    return NULL;
+}
+
 static ls_status check_mesh(const ls_mesh *mesh)
 {
-    if (mesh == NULL) return LS_ERR_INVALID;
-    if (mesh->vertex_count > 0 && mesh->positions == NULL) return LS_ERR_INVALID;
-    if (mesh->face_count > 0 && mesh->triangles == NULL) return LS_ERR_INVALID;
-    return LS_OK;
+    return mesh_problem(mesh) == NULL ? LS_OK : LS_ERR_INVALID;
+}
+
+static ls_status invalid_arg(ls_diag *diag, const char *what)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
 }
 
 /* The first face with an index out of range, or LS_MESH_NONE. */
@@ -359,7 +370,7 @@ ls_status ls_mesh_validate(const ls_mesh *mesh, ls_arena *arena, ls_mesh_report 
 ls_status ls_mesh_require(const ls_mesh_report *r, uint32_t flags, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (r == NULL) return LS_ERR_INVALID;
+    if (r == NULL) return invalid_arg(diag, "r is NULL");
     if ((flags & LS_MESH_REQ_INDICES) && r->bad_index_faces > 0) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", r->first_bad_index_face);
         return LS_ERR_MESH;
@@ -613,7 +624,9 @@ ls_status ls_mesh_edges_build(const ls_mesh *mesh, ls_arena *arena, ls_mesh_edge
     uint64_t *keys;
     uint32_t *idx, *tmp, *out, bad, count = 0;
     size_t h, nh, i;
-    if (check_mesh(mesh) != LS_OK || arena == NULL || edges == NULL) return LS_ERR_INVALID;
+    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
+    if (arena == NULL) return invalid_arg(diag, "arena is NULL");
+    if (edges == NULL) return invalid_arg(diag, "edges is NULL");
     if (mesh->face_count > MAX_VALIDATE_FACES) return LS_ERR_TOO_LARGE;
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
@@ -772,7 +785,8 @@ ls_status ls_mesh_face_normals(const ls_mesh *mesh, ls_real *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     uint32_t f, bad;
-    if (check_mesh(mesh) != LS_OK || (out == NULL && mesh->face_count > 0)) return LS_ERR_INVALID;
+    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
+    if (out == NULL && mesh->face_count > 0) return invalid_arg(diag, "out is NULL with face_count > 0");
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
@@ -804,8 +818,9 @@ ls_status ls_mesh_vertex_normals(const ls_mesh *mesh, uint32_t weighting, ls_rea
     ls_diag_clear(diag);
     uint32_t f, v, k, bad;
     const ls_real *p;
-    if (check_mesh(mesh) != LS_OK || (out == NULL && mesh->vertex_count > 0)) return LS_ERR_INVALID;
-    if (weighting > LS_NORMALS_ANGLE) return LS_ERR_INVALID;
+    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
+    if (out == NULL && mesh->vertex_count > 0) return invalid_arg(diag, "out is NULL with vertex_count > 0");
+    if (weighting > LS_NORMALS_ANGLE) return invalid_arg(diag, "weighting: allowed LS_NORMALS_UNIFORM .. LS_NORMALS_ANGLE");
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);

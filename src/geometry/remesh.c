@@ -751,7 +751,10 @@ static ls_status rm_prepare(const ls_mesh *in, const ls_remesh_params *params, l
     if (st != LS_OK) return st;
     st = rm_sizes_get(in, &rep, params, z);
     if (st != LS_OK)
-        diag_set(diag, st, st == LS_ERR_INVALID ? "vertex capacity below the vertex count" : "mesh too large");
+        diag_set(diag, st,
+                 st != LS_ERR_INVALID       ? "mesh too large"
+                 : params->vertex_cap != 0u ? "params->vertex_cap: allowed 0 or >= in->vertex_count"
+                                            : "params->vertex_cap: 0 sizes below in->vertex_count for this h; pass one");
     return st;
 }
 
@@ -772,7 +775,15 @@ ls_status ls_remesh(const ls_mesh *in, const ls_remesh_params *params, ls_arena 
     if (in == NULL || params == NULL || arena == NULL || out == NULL || !(params->h > 0) ||
         !LS_RISFINITE(params->h) || params->iterations == 0 || params->project > 1u ||
         !(params->sharp_angle >= 0)) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument or bad parameter");
+        diag_set(diag, LS_ERR_INVALID,
+                 in == NULL                     ? "in is NULL"
+                 : params == NULL               ? "params is NULL"
+                 : arena == NULL                ? "arena is NULL"
+                 : out == NULL                  ? "out is NULL"
+                 : !(params->h > 0) || !LS_RISFINITE(params->h) ? "params->h: allowed finite and > 0"
+                 : params->iterations == 0      ? "params->iterations: allowed >= 1"
+                 : params->project > 1u         ? "params->project: allowed 0 or 1"
+                                                : "params->sharp_angle: allowed >= 0 degrees");
         return LS_ERR_INVALID;
     }
     mark = ls_arena_save(arena);

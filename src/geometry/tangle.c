@@ -552,7 +552,17 @@ ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *are
         mesh->positions == NULL ||
         (reference != NULL && (reference->face_count != mesh->face_count || reference->triangles == NULL ||
                                reference->positions == NULL))) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument, no faces, or reference of another size", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 mesh == NULL               ? "mesh is NULL"
+                 : arena == NULL            ? "arena is NULL"
+                 : out == NULL              ? "out is NULL"
+                 : mesh->face_count == 0    ? "mesh->face_count: 0; at least one face"
+                 : mesh->triangles == NULL  ? "mesh->triangles is NULL"
+                 : mesh->positions == NULL  ? "mesh->positions is NULL"
+                 : reference->face_count != mesh->face_count ? "reference->face_count: allowed = mesh->face_count"
+                 : reference->triangles == NULL ? "reference->triangles is NULL"
+                                                : "reference->positions is NULL",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = ls_tangle_bytes(mesh->face_count, &bytes);

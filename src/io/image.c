@@ -234,8 +234,8 @@ ls_status ls_image_decode_info(const void *data, size_t bytes, ls_image_info *in
     const unsigned char *p = (const unsigned char *)data;
     ls_status st;
     if (diag != NULL) ls_diag_clear(diag);
-    if (info == NULL || (data == NULL && bytes > 0))
-        return ls_image_fail_(diag, LS_ERR_INVALID, "NULL argument", -1);
+    if (info == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "info is NULL", -1);
+    if (data == NULL && bytes > 0) return ls_image_fail_(diag, LS_ERR_INVALID, "data is NULL with bytes > 0", -1);
     memset(info, 0, sizeof *info);
     if (bytes >= 8u && p[0] == 0x89u && p[1] == 'P' && p[2] == 'N' && p[3] == 'G' && p[4] == '\r' &&
         p[5] == '\n' && p[6] == 0x1au && p[7] == '\n')
@@ -259,7 +259,8 @@ ls_status ls_image_decode(const void *data, size_t bytes, ls_image *image, ls_ar
     ls_image out;
     ls_arena_mark mark;
     ls_status st;
-    if (image == NULL || arena == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "NULL argument", -1);
+    if (image == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "image is NULL", -1);
+    if (arena == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "arena is NULL", -1);
     st = ls_image_decode_info(data, bytes, &info, diag);
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);

@@ -416,9 +416,11 @@ static ls_status run_public(ls_inflate_input *in, size_t *out_bytes, ls_arena *a
     void *state;
     ls_status st;
     if (out_bytes != NULL) *out_bytes = 0;
-    if ((in->file == NULL && in->file_bytes > 0) || (in->dst == NULL && in->cap > 0) || out_bytes == NULL ||
-        arena == NULL)
-        return ls_image_fail_(diag, LS_ERR_INVALID, "NULL argument", -1);
+    if (in->file == NULL && in->file_bytes > 0)
+        return ls_image_fail_(diag, LS_ERR_INVALID, "src is NULL with src_bytes > 0", -1);
+    if (in->dst == NULL && in->cap > 0) return ls_image_fail_(diag, LS_ERR_INVALID, "dst is NULL with dst_bytes > 0", -1);
+    if (out_bytes == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "out_bytes is NULL", -1);
+    if (arena == NULL) return ls_image_fail_(diag, LS_ERR_INVALID, "arena is NULL", -1);
     mark = ls_arena_save(arena);
     state = ls_arena_scratch(arena, 1, sizeof(inflate_state));
     if (state == NULL) return ls_image_fail_(diag, LS_ERR_NOMEM, "arena too small for the inflate state", -1);

@@ -107,7 +107,8 @@ ls_status ls_scene_run(ls_scene_pass_fn pass, const ls_scene_input *in, ls_arena
     ls_size size;
     size_t total;
     ls_status st;
-    if (text == NULL && length > 0) return LS_ERR_INVALID;
+    if (text == NULL && length > 0)
+        return ls_diag_set(diag, LS_ERR_INVALID, "text is NULL with length > 0", LS_DIAG_NO_INDEX);
     memset(&b, 0, sizeof b);
     b.measure = 1;
     b.scene = &s;
@@ -525,7 +526,7 @@ ls_status ls_scene_parse_bytes(const char *text, size_t length, size_t *bytes, l
 {
     ls_diag_clear(diag);
     ls_scene_input in;
-    if (bytes == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "bytes is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(text_pass, &in, NULL, NULL, bytes, diag);
@@ -535,7 +536,8 @@ ls_status ls_scene_parse(const char *text, size_t length, ls_arena *arena, ls_sc
 {
     ls_diag_clear(diag);
     ls_scene_input in;
-    if (arena == NULL || scene == NULL) return LS_ERR_INVALID;
+    if (arena == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "arena is NULL", LS_DIAG_NO_INDEX);
+    if (scene == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "scene is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(text_pass, &in, arena, scene, NULL, diag);

@@ -513,7 +513,7 @@ ls_status ls_scene_parse_mitsuba_bytes(const char *text, size_t length, size_t *
 {
     ls_diag_clear(diag);
     ls_scene_input in;
-    if (bytes == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "bytes is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(xml_pass, &in, NULL, NULL, bytes, diag);
@@ -523,7 +523,8 @@ ls_status ls_scene_parse_mitsuba(const char *text, size_t length, ls_arena *aren
 {
     ls_diag_clear(diag);
     ls_scene_input in;
-    if (arena == NULL || scene == NULL) return LS_ERR_INVALID;
+    if (arena == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "arena is NULL", LS_DIAG_NO_INDEX);
+    if (scene == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "scene is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(xml_pass, &in, arena, scene, NULL, diag);

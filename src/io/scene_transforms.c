@@ -354,7 +354,7 @@ static ls_status transforms_pass(ls_scene_builder *b, const char *text, size_t l
 ls_status ls_scene_parse_transforms_bytes(const char *text, size_t length, size_t *bytes, ls_diag *diag)
 {
     ls_scene_input in;
-    if (bytes == NULL) return LS_ERR_INVALID;
+    if (bytes == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "bytes is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(transforms_pass, &in, NULL, NULL, bytes, diag);
@@ -363,7 +363,8 @@ ls_status ls_scene_parse_transforms_bytes(const char *text, size_t length, size_
 ls_status ls_scene_parse_transforms(const char *text, size_t length, ls_arena *arena, ls_scene *scene, ls_diag *diag)
 {
     ls_scene_input in;
-    if (arena == NULL || scene == NULL) return LS_ERR_INVALID;
+    if (arena == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "arena is NULL", LS_DIAG_NO_INDEX);
+    if (scene == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "scene is NULL", LS_DIAG_NO_INDEX);
     in.text = text;
     in.length = length;
     return ls_scene_run(transforms_pass, &in, arena, scene, NULL, diag);

@@ -291,12 +291,12 @@ ls_status ls_grid_solver_set_weight(ls_grid_solver *g, uint32_t form, ls_real we
 {
     ls_diag_clear(diag);
     if (g == NULL || g->fx.mu == NULL)
-        return ls_diag_set(diag, LS_ERR_INVALID, "NULL or uninitialized grid solver", LS_DIAG_NO_INDEX);
+        return ls_diag_set(diag, LS_ERR_INVALID, "g: NULL or not initialized (ls_grid_solver_init first)", LS_DIAG_NO_INDEX);
     if (form != LS_SYSTEM_LAMBDA && form != LS_SYSTEM_ALPHA)
-        return ls_diag_set(diag, LS_ERR_INVALID, "unknown system form", LS_DIAG_NO_INDEX);
+        return ls_diag_set(diag, LS_ERR_INVALID, "form: allowed LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA", LS_DIAG_NO_INDEX);
     if (!(weight >= (ls_real)0) || !LS_RISFINITE(weight) || (form == LS_SYSTEM_ALPHA && !(weight < (ls_real)1))) {
         (void)ls_diag_set(diag, LS_ERR_INVALID,
-                          form == LS_SYSTEM_ALPHA ? "alpha outside [0, 1)" : "lambda negative or not finite",
+                          form == LS_SYSTEM_ALPHA ? "weight: alpha in [0, 1)" : "weight: lambda finite and >= 0",
                           LS_DIAG_NO_INDEX);
         if (diag != NULL) {
             diag->has_value = 1;

@@ -189,9 +189,14 @@ nomem:
     return LS_ERR_NOMEM;
 }
 
-static int args_ok(const ls_mesh *mesh, uint32_t storage, const ls_arena *arena, const ls_csc *out)
+/* The first bad argument of a Laplacian build, or NULL. */
+static const char *args_problem(const ls_mesh *mesh, uint32_t storage, const ls_arena *arena, const ls_csc *out)
 {
-    return mesh != NULL && arena != NULL && out != NULL && (storage == LS_LAP_UPPER || storage == LS_LAP_FULL);
+    if (mesh == NULL) return "mesh is NULL";
+    if (arena == NULL) return "arena is NULL";
+    if (out == NULL) return "out is NULL";
+    if (storage != LS_LAP_UPPER && storage != LS_LAP_FULL) return "storage: allowed LS_LAP_UPPER or LS_LAP_FULL";
+    return NULL;
 }
 
 ls_status ls_laplacian_uniform(const ls_mesh *mesh, uint32_t storage, ls_arena *arena, ls_csc *out, ls_diag *diag)
@@ -200,8 +205,10 @@ ls_status ls_laplacian_uniform(const ls_mesh *mesh, uint32_t storage, ls_arena *
     ls_arena_mark mark;
     ls_csc m;
     ls_status st;
-    if (!args_ok(mesh, storage, arena, out)) {
-        set_diag(diag, LS_ERR_INVALID, "NULL argument or unknown storage", 0, 0);
+    const char *bad;
+    bad = args_problem(mesh, storage, arena, out);
+    if (bad != NULL) {
+        set_diag(diag, LS_ERR_INVALID, bad, 0, 0);
         return LS_ERR_INVALID;
     }
     mark = ls_arena_save(arena);
@@ -257,9 +264,14 @@ ls_status ls_laplacian_cot(const ls_mesh *mesh, uint32_t convention, uint32_t st
     ls_csc m;
     ls_status st;
     uint32_t f, v, count = 0;
-    if (!args_ok(mesh, storage, arena, out) || (convention != LS_COT_REFERENCE && convention != LS_COT_HALF) ||
-        (mesh->vertex_count > 0 && mesh->positions == NULL)) {
-        set_diag(diag, LS_ERR_INVALID, "NULL argument, unknown storage or convention", 0, 0);
+    const char *bad;
+    bad = args_problem(mesh, storage, arena, out);
+    if (bad == NULL && convention != LS_COT_REFERENCE && convention != LS_COT_HALF)
+        bad = "convention: allowed LS_COT_REFERENCE or LS_COT_HALF";
+    if (bad == NULL && mesh->vertex_count > 0 && mesh->positions == NULL)
+        bad = "mesh->positions is NULL with vertex_count > 0";
+    if (bad != NULL) {
+        set_diag(diag, LS_ERR_INVALID, bad, 0, 0);
         return LS_ERR_INVALID;
     }
     for (v = 0; v < 3u * mesh->vertex_count; v++) {
@@ -402,12 +414,12 @@ static ls_status system_check(const ls_csc *lap, uint32_t form, ls_real weight, 
     uint32_t j;
     if (lap == NULL || lap->colptr == NULL || lap->nrows != lap->ncols ||
         (ls_csc_nnz(lap) > 0 && (lap->rowidx == NULL || lap->values == NULL))) {
-        set_diag(diag, LS_ERR_INVALID, "NULL or non-square Laplacian", 0, 0);
+        set_diag(diag, LS_ERR_INVALID, "lap: NULL, not square, or colptr/rowidx/values NULL", 0, 0);
         return LS_ERR_INVALID;
     }
     if (form == LS_SYSTEM_LAMBDA) {
         if (!(weight >= (ls_real)0) || !LS_RISFINITE(weight)) {
-            set_diag(diag, LS_ERR_INVALID, "lambda must be finite and >= 0", 0, 0);
+            set_diag(diag, LS_ERR_INVALID, "weight: lambda finite and >= 0", 0, 0);
             if (diag != NULL) {
                 diag->has_value = 1;
                 diag->value = weight;
@@ -417,7 +429,7 @@ static ls_status system_check(const ls_csc *lap, uint32_t form, ls_real weight, 
         *shift = (ls_real)1;
     } else if (form == LS_SYSTEM_ALPHA) {
         if (!(weight >= (ls_real)0 && weight < (ls_real)1)) {
-            set_diag(diag, LS_ERR_INVALID, "alpha must be in [0, 1)", 0, 0);
+            set_diag(diag, LS_ERR_INVALID, "weight: alpha in [0, 1)", 0, 0);
             if (diag != NULL) {
                 diag->has_value = 1;
                 diag->value = weight;
@@ -426,14 +438,14 @@ static ls_status system_check(const ls_csc *lap, uint32_t form, ls_real weight, 
         }
         *shift = (ls_real)1 - weight;
     } else {
-        set_diag(diag, LS_ERR_INVALID, "unknown system form", 0, 0);
+        set_diag(diag, LS_ERR_INVALID, "form: allowed LS_SYSTEM_LAMBDA or LS_SYSTEM_ALPHA", 0, 0);
         return LS_ERR_INVALID;
     }
     for (j = 0; j < lap->ncols; j++) {
         uint32_t d = find_entry(lap, j, j);
         ls_real wd;
         if (d == UINT32_MAX) {
-            set_diag(diag, LS_ERR_INVALID, "Laplacian column without its diagonal entry", j, 1);
+            set_diag(diag, LS_ERR_INVALID, "lap: column without its diagonal entry", j, 1);
             return LS_ERR_INVALID;
         }
         wd = weight * lap->values[d];
@@ -467,7 +479,7 @@ ls_status ls_laplacian_system(const ls_csc *lap, uint32_t form, ls_real weight, 
     ls_real shift = (ls_real)1, *values;
     ls_status st;
     if (arena == NULL || m == NULL) {
-        set_diag(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        set_diag(diag, LS_ERR_INVALID, arena == NULL ? "arena is NULL" : "m is NULL", 0, 0);
         return LS_ERR_INVALID;
     }
     st = system_check(lap, form, weight, &shift, diag);
@@ -494,7 +506,11 @@ ls_status ls_laplacian_system_update(const ls_csc *lap, uint32_t form, ls_real w
     ls_status st;
     if (m == NULL || lap == NULL || m->colptr != lap->colptr || m->rowidx != lap->rowidx || m->ncols != lap->ncols ||
         m->values == NULL) {
-        set_diag(diag, LS_ERR_INVALID, "the matrix does not share the Laplacian's pattern", 0, 0);
+        set_diag(diag, LS_ERR_INVALID,
+                 m == NULL     ? "m is NULL"
+                 : lap == NULL ? "lap is NULL"
+                               : "m: values NULL, or colptr/rowidx/ncols not those of lap",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = system_check(lap, form, weight, &shift, diag);

@@ -266,7 +266,10 @@ static ls_status step_args(const ls_optim *opt, const ls_real *params, const ls_
                            ls_diag *diag)
 {
     const char *what = NULL;
-    if (opt == NULL || params == NULL || grad == NULL || !mapped_ok) what = "opt, params, grad or mapped is NULL";
+    if (opt == NULL) what = "opt is NULL";
+    else if (params == NULL) what = "params is NULL";
+    else if (grad == NULL) what = "grad is NULL";
+    else if (!mapped_ok) what = "mapped is NULL";
     else if (opt->m1 == NULL || opt->count == 0) what = "opt: not initialised (ls_optim_init)";
     else if (!valid_config(&opt->config)) return ls_optim_config_check(&opt->config, diag);
     if (what == NULL) return LS_OK;

@@ -185,6 +185,11 @@ static void add_view(ls_loss_acc *acc, ls_real s)
     acc->views_done++;
 }
 
+static ls_status loss_invalid(const char *what, ls_diag *diag)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+}
+
 static int acc_ok(const ls_loss_acc *acc)
 {
     return acc->views_done < acc->view_count && (acc->kind == LS_LOSS_L1 || acc->kind == LS_LOSS_L2);
@@ -212,7 +217,10 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
     ls_diag_clear(diag);
     ls_real s = (ls_real)0;
     ls_status st;
-    if (acc == NULL || rendered == NULL || target == NULL || !acc_ok(acc)) return LS_ERR_INVALID;
+    if (acc == NULL) return loss_invalid("acc is NULL", diag);
+    if (rendered == NULL) return loss_invalid("rendered is NULL", diag);
+    if (target == NULL) return loss_invalid("target is NULL", diag);
+    if (!acc_ok(acc)) return loss_invalid("acc: not begun, or all acc->view_count views already added", diag);
     /* the sum first (it reads only): nothing is written on failure */
     st = checked_sum(acc, rendered, target, &s, diag);
     if (st != LS_OK) return st;
@@ -236,13 +244,30 @@ ls_status ls_loss_views(const ls_loss_shape *shape, const ls_real *const *render
     ls_loss_acc acc;
     uint32_t v, view_count;
     ls_status st;
-    if (shape == NULL || rendered == NULL || target == NULL || loss == NULL) return LS_ERR_INVALID;
+    if (shape == NULL) return loss_invalid("shape is NULL", diag);
+    if (rendered == NULL) return loss_invalid("rendered is NULL", diag);
+    if (target == NULL) return loss_invalid("target is NULL", diag);
+    if (loss == NULL) return loss_invalid("loss is NULL", diag);
     view_count = shape->view_count;
     st = ls_loss_begin(&acc, shape->kind, shape->width, shape->height, view_count);
+    if (st == LS_ERR_INVALID) {
+        int kind_ok = shape->kind == LS_LOSS_L1 || shape->kind == LS_LOSS_L2;
+        return loss_invalid(!kind_ok          ? "shape->kind: allowed LS_LOSS_L1 or LS_LOSS_L2"
+                            : view_count == 0 ? "shape->view_count: 0; at least one view"
+                                              : "shape->width, shape->height: allowed >= 1",
+                            diag);
+    }
     if (st != LS_OK) return st;
     /* Check every view before writing any gradient. */
     for (v = 0; v < view_count; v++) {
-        if (rendered[v] == NULL || target[v] == NULL) return LS_ERR_INVALID;
+        if (rendered[v] == NULL || target[v] == NULL) {
+            (void)loss_invalid("rendered[v] or target[v] is NULL (v: diag->offset)", diag);
+            if (diag != NULL) {
+                diag->has_offset = 1;
+                diag->offset = v;
+            }
+            return LS_ERR_INVALID;
+        }
     }
     /* The sums (the same bits as view by view), then the gradients. */
     for (v = 0; v < view_count; v++) {

@@ -57,8 +57,11 @@ static ls_status validate(const ls_real mvp[16], const ls_real *positions, uint3
                           const uint32_t *indices, uint32_t triangle_count, ls_diag *diag)
 {
     int i;
-    if (mvp == NULL || (vertex_count > 0 && positions == NULL) || (triangle_count > 0 && indices == NULL))
-        return LS_ERR_INVALID;
+    if (mvp == NULL) return ls_invalid_arg(diag, "view->mvp is NULL");
+    if (vertex_count > 0 && positions == NULL)
+        return ls_invalid_arg(diag, "view->positions is NULL with vertex_count > 0");
+    if (triangle_count > 0 && indices == NULL)
+        return ls_invalid_arg(diag, "view->indices is NULL with triangle_count > 0");
     if (triangle_count > UINT32_MAX - 1u) return LS_ERR_TOO_LARGE;
     for (i = 0; i < 16; i++) {
         if (!finite_r(mvp[i])) {
@@ -731,9 +734,11 @@ static ls_status raster_impl(ls_vis *vis, ls_arena *arena, const ls_real mvp[16]
     cpass cp;
     dpass dp;
     ls_status st;
-    if (vis == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "vis is NULL");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
     if (vis->magic != VIS_MAGIC) return LS_ERR_STATE;
-    if (vertex_count > vis->vertex_capacity) return LS_ERR_INVALID;
+    if (vertex_count > vis->vertex_capacity)
+        return ls_invalid_arg(diag, "view->vertex_count: allowed <= vis->vertex_capacity");
     st = validate(mvp, positions, vertex_count, indices, triangle_count, diag);
     if (st != LS_OK) return st;
     ls_rast_ctx_init(&cx, mvp, vis->sw, vis->sh);
@@ -824,6 +829,6 @@ static ls_status raster_impl(ls_vis *vis, ls_arena *arena, const ls_real mvp[16]
 ls_status ls_raster(ls_vis *vis, const ls_view *view, ls_arena *arena, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return raster_impl(vis, arena, view->mvp, view->positions, view->vertex_count, view->indices, view->triangle_count, diag);
 }

@@ -200,19 +200,25 @@ ls_status ls_refine_scratch_bytes_bound(uint32_t width, uint32_t height, uint32_
     return ls_size_get(&s, bytes);
 }
 
-static ls_status check_vis(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, uint32_t aa)
+static ls_status check_vis(const ls_vis *vis, const uint32_t *indices, uint32_t triangle_count, uint32_t aa,
+                           ls_diag *diag)
 {
-    if (vis == NULL || aa > LS_REFINE_MAX) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "view->vis is NULL");
+    if (aa > LS_REFINE_MAX) return ls_invalid_arg(diag, "aa: allowed 0 .. LS_REFINE_MAX");
     if (vis->tri == NULL || vis->clip == NULL) return LS_ERR_STATE;
-    if (vis->triangle_count != triangle_count || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if (vis->triangle_count != triangle_count)
+        return ls_invalid_arg(diag, "view->triangle_count: allowed = view->vis->triangle_count");
+    if (triangle_count > 0 && indices == NULL)
+        return ls_invalid_arg(diag, "view->indices is NULL with triangle_count > 0");
     return LS_OK;
 }
 
-static ls_status check_table(const ls_edge_table *table, uint32_t triangle_count)
+static ls_status check_table(const ls_edge_table *table, uint32_t triangle_count, ls_diag *diag)
 {
-    if (table == NULL) return LS_ERR_INVALID;
+    if (table == NULL) return ls_invalid_arg(diag, "view->table is NULL");
     if (table->twin == NULL && triangle_count > 0) return LS_ERR_STATE;
-    if (table->triangle_count != triangle_count) return LS_ERR_INVALID;
+    if (table->triangle_count != triangle_count)
+        return ls_invalid_arg(diag, "view->table->triangle_count: allowed = view->triangle_count");
     return LS_OK;
 }
 
@@ -224,10 +230,10 @@ static ls_status refine_scratch_bytes_impl(const ls_vis *vis, const ls_edge_tabl
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
-    st = check_vis(vis, indices, triangle_count, aa);
+    st = check_vis(vis, indices, triangle_count, aa, NULL);
     if (st != LS_OK) return st;
     if (off_mode(aa, vis->ss)) return LS_OK;
-    st = check_table(table, triangle_count);
+    st = check_table(table, triangle_count, NULL);
     if (st == LS_OK) st = ls_check_triangle_indices(indices, triangle_count, vis->vertex_count, NULL);
     if (st == LS_OK) {
         int cull = cull_orientation(vis, table, indices, triangle_count);
@@ -673,8 +679,9 @@ static ls_status refine_shade_impl(const ls_vis *vis, const ls_edge_table *table
     size_t before;
     uint32_t counts[2];
     ls_status st;
-    if (image == NULL || arena == NULL) return LS_ERR_INVALID;
-    st = check_vis(vis, indices, triangle_count, aa);
+    if (image == NULL) return ls_invalid_arg(diag, "image is NULL");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    st = check_vis(vis, indices, triangle_count, aa, diag);
     if (st != LS_OK) return st;
     counts[0] = triangle_count;
     counts[1] = vertex_count;
@@ -684,7 +691,7 @@ static ls_status refine_shade_impl(const ls_vis *vis, const ls_edge_table *table
         if (info != NULL) memset(info, 0, sizeof *info);
         return LS_OK;
     }
-    st = check_table(table, triangle_count);
+    st = check_table(table, triangle_count, diag);
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);
     before = ls_arena_used(arena);
@@ -713,7 +720,7 @@ ls_status ls_refine_shade(const ls_view *view, uint32_t aa, ls_real *image, ls_a
                           ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return refine_shade_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals, view->vertex_count,
                            view->opts, aa, image, arena, info, diag);
 }
@@ -730,8 +737,8 @@ static ls_status refine_shade_backward_impl(const ls_vis *vis, const ls_edge_tab
     ls_arena_mark mark;
     pixel_job job;
     ls_status st;
-    if (arena == NULL) return LS_ERR_INVALID;
-    st = check_vis(vis, indices, triangle_count, aa);
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    st = check_vis(vis, indices, triangle_count, aa, diag);
     if (st != LS_OK) return st;
     st = ls_shade_backward_begin(&bc, vis, indices, triangle_count, normals, vertex_count, opts, mvp, grad_image,
                                  grads, diag);
@@ -741,7 +748,7 @@ static ls_status refine_shade_backward_impl(const ls_vis *vis, const ls_edge_tab
         ls_shade_backward_pixels(&bc, triangle_count, grad_image, NULL);
         return LS_OK;
     }
-    st = check_table(table, triangle_count);
+    st = check_table(table, triangle_count, diag);
     if (st != LS_OK) return st;
     if (opts->mode == LS_SHADE_MASK) return LS_OK; /* nothing depends on positions inside */
     mark = ls_arena_save(arena);
@@ -765,7 +772,7 @@ ls_status ls_refine_shade_backward(const ls_view *view, uint32_t aa, const ls_re
                                    const ls_shade_grads *grads, ls_arena *arena, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return refine_shade_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
                                     view->vertex_count, view->opts, aa, view->mvp, grad_image, grads, arena, diag);
 }

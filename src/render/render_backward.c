@@ -332,7 +332,11 @@ ls_status ls_shade_backward_begin(ls_shade_bctx *bc, const ls_vis *vis, const ui
 {
     uint32_t counts[2];
     ls_status st;
-    if (vis == NULL || opts == NULL || mvp == NULL || grad_image == NULL || grads == NULL) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "view->vis is NULL");
+    if (opts == NULL) return ls_invalid_arg(diag, "view->opts is NULL");
+    if (mvp == NULL) return ls_invalid_arg(diag, "view->mvp is NULL");
+    if (grad_image == NULL) return ls_invalid_arg(diag, "grad_image is NULL");
+    if (grads == NULL) return ls_invalid_arg(diag, "grads is NULL");
     if (vis->tri == NULL || vis->clip == NULL) return LS_ERR_STATE;
     counts[0] = triangle_count;
     counts[1] = vertex_count;
@@ -424,7 +428,7 @@ ls_status ls_shade_backward_grads(const ls_view *view, const ls_real *grad_image
                                   ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return shade_backward_grads_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts,
                                    view->mvp, grad_image, grads, diag);
 }
@@ -447,9 +451,10 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
     ls_arena_mark mark;
     ls_real *m;
     uint32_t t, v;
-    if (arena == NULL || (vertex_count > 0 && (positions == NULL || grad_normals == NULL || grad_positions == NULL)) ||
-        (triangle_count > 0 && indices == NULL))
-        return LS_ERR_INVALID;
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (vertex_count > 0 && (positions == NULL || grad_normals == NULL || grad_positions == NULL))
+        return ls_invalid_arg(diag, "positions, grad_normals or grad_positions is NULL with vertex_count > 0");
+    if (triangle_count > 0 && indices == NULL) return ls_invalid_arg(diag, "indices is NULL with triangle_count > 0");
     if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
     if (vertex_count == 0) return LS_OK;
     mark = ls_arena_save(arena);

@@ -26,6 +26,12 @@
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
                                     ls_diag *diag);
 
+/* LS_ERR_INVALID with diag naming the argument (what: static text). */
+static inline ls_status ls_invalid_arg(ls_diag *diag, const char *what)
+{
+    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+}
+
 /* ls_clip_barycentric: perspective-correct barycentrics b of the NDC point
  * (px, py) in triangle f from the clip coordinates (4 per vertex): with
  * u_k = x_k - px w_k and v_k = y_k - py w_k, a = u x v and b = a / sum(a).

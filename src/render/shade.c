@@ -203,16 +203,29 @@ ls_status ls_shade_check_args(const ls_vis *vis, const uint32_t counts[2], const
                               const ls_real *normals, const ls_shade_opts *opts, ls_diag *diag)
 {
     const uint32_t triangle_count = counts[0], vertex_count = counts[1];
-    if (vis == NULL || opts == NULL) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "view->vis is NULL");
+    if (opts == NULL) return ls_invalid_arg(diag, "view->opts is NULL");
     if (vis->tri == NULL) return LS_ERR_STATE;
-    if (vis->triangle_count != triangle_count || vis->vertex_count != vertex_count) return LS_ERR_INVALID;
-    if (opts->mode > LS_SHADE_COLOR || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
-    if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_SH && opts->sh == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL) return LS_ERR_INVALID;
-    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL && opts->texture == NULL) return LS_ERR_INVALID;
-    if (opts->texture != NULL && (opts->uvs == NULL || ls_texture_check(opts->texture) != LS_OK))
-        return LS_ERR_INVALID;
+    if (vis->triangle_count != triangle_count)
+        return ls_invalid_arg(diag, "view->triangle_count: allowed = view->vis->triangle_count");
+    if (vis->vertex_count != vertex_count)
+        return ls_invalid_arg(diag, "view->vertex_count: allowed = view->vis->vertex_count");
+    if (opts->mode > LS_SHADE_COLOR)
+        return ls_invalid_arg(diag, "view->opts->mode: allowed LS_SHADE_MASK .. LS_SHADE_COLOR");
+    if (triangle_count > 0 && indices == NULL)
+        return ls_invalid_arg(diag, "view->indices is NULL with triangle_count > 0");
+    if ((opts->mode == LS_SHADE_SH || opts->mode == LS_SHADE_LAMBERT) && normals == NULL)
+        return ls_invalid_arg(diag, "view->normals is NULL; needed by LS_SHADE_SH and LS_SHADE_LAMBERT");
+    if (opts->mode == LS_SHADE_SH && opts->sh == NULL)
+        return ls_invalid_arg(diag, "view->opts->sh is NULL; needed by LS_SHADE_SH");
+    if (opts->mode == LS_SHADE_LAMBERT && opts->light_count > 0 && opts->lights == NULL)
+        return ls_invalid_arg(diag, "view->opts->lights is NULL with light_count > 0");
+    if (opts->mode == LS_SHADE_COLOR && opts->vertex_colors == NULL && opts->texture == NULL)
+        return ls_invalid_arg(diag, "view->opts: LS_SHADE_COLOR needs vertex_colors or texture");
+    if (opts->texture != NULL && opts->uvs == NULL)
+        return ls_invalid_arg(diag, "view->opts->uvs is NULL; needed with a texture");
+    if (opts->texture != NULL && ls_texture_check(opts->texture) != LS_OK)
+        return ls_invalid_arg(diag, "view->opts->texture: texels NULL, wrap_u unknown or size out of range");
     return ls_check_triangle_indices(indices, triangle_count, vertex_count, diag);
 }
 
@@ -224,7 +237,7 @@ static ls_status shade_impl(const ls_vis *vis, const uint32_t *indices, uint32_t
     ls_real inv_n, bg_pixel[4];
     uint32_t counts[2];
     ls_status st;
-    if (out == NULL) return LS_ERR_INVALID;
+    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
     counts[0] = triangle_count;
     counts[1] = vertex_count;
     st = ls_shade_check_args(vis, counts, indices, normals, opts, diag);
@@ -299,7 +312,7 @@ static ls_status shade_impl(const ls_vis *vis, const uint32_t *indices, uint32_t
 ls_status ls_shade(const ls_view *view, ls_real *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return shade_impl(view->vis, view->indices, view->triangle_count, view->normals, view->vertex_count, view->opts, out, diag);
 }
 
@@ -356,8 +369,9 @@ ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_coun
 {
     ls_diag_clear(diag);
     uint32_t v;
-    if ((vertex_count > 0 && (positions == NULL || out == NULL)) || (triangle_count > 0 && indices == NULL))
-        return LS_ERR_INVALID;
+    if (vertex_count > 0 && positions == NULL) return ls_invalid_arg(diag, "positions is NULL with vertex_count > 0");
+    if (vertex_count > 0 && out == NULL) return ls_invalid_arg(diag, "out is NULL with vertex_count > 0");
+    if (triangle_count > 0 && indices == NULL) return ls_invalid_arg(diag, "indices is NULL with triangle_count > 0");
     if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
     ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, out);
     for (v = 0; v < vertex_count; v++) {

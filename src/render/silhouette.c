@@ -423,9 +423,12 @@ static ls_status scratch_size(uint32_t vertex_count, size_t tiles, uint32_t tria
 static ls_status check_args(const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                             const ls_real *normals, const ls_shade_opts *opts, const uint32_t counts[2], ls_diag *diag)
 {
-    if (vis == NULL || table == NULL || opts == NULL) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "view->vis is NULL");
+    if (table == NULL) return ls_invalid_arg(diag, "view->table is NULL");
+    if (opts == NULL) return ls_invalid_arg(diag, "view->opts is NULL");
     if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
-    if (table->triangle_count != counts[0] || table->vertex_count != counts[1]) return LS_ERR_INVALID;
+    if (table->triangle_count != counts[0] || table->vertex_count != counts[1])
+        return ls_invalid_arg(diag, "view->table: triangle_count and vertex_count allowed = the view's");
     return ls_shade_check_args(vis, counts, indices, normals, opts, diag);
 }
 
@@ -726,7 +729,10 @@ static ls_status silhouette_backward_impl(const ls_vis *vis, const ls_edge_table
     ls_arena_mark mark;
     uint64_t *bits = NULL, *ord = NULL;
     ls_status st;
-    if (mvp == NULL || grad_image == NULL || grad_positions == NULL || arena == NULL) return LS_ERR_INVALID;
+    if (mvp == NULL) return ls_invalid_arg(diag, "view->mvp is NULL");
+    if (grad_image == NULL) return ls_invalid_arg(diag, "grad_image is NULL");
+    if (grad_positions == NULL) return ls_invalid_arg(diag, "grad_positions is NULL");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
     counts[0] = triangle_count;
     counts[1] = vertex_count;
     st = check_args(vis, table, indices, normals, opts, counts, diag);
@@ -761,7 +767,7 @@ ls_status ls_silhouette_backward(const ls_view *view, const ls_real *grad_image,
                                  ls_arena *arena, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return silhouette_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->normals,
                                   view->vertex_count, view->opts, view->mvp, view->boost, grad_image, grad_positions,
                                   arena, diag);

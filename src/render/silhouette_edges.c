@@ -42,7 +42,9 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
     ls_diag_clear(diag);
     ls_arena_mark mark;
     uint32_t *twin = NULL, t, n, boundary = 0;
-    if (table == NULL || arena == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if (table == NULL) return ls_invalid_arg(diag, "table is NULL");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (triangle_count > 0 && indices == NULL) return ls_invalid_arg(diag, "indices is NULL with triangle_count > 0");
     if ((uint64_t)triangle_count * 3u >= (uint64_t)LS_EDGE_NONE) return LS_ERR_TOO_LARGE;
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
@@ -70,9 +72,9 @@ ls_status ls_edge_table_build(ls_edge_table *table, const uint32_t *indices, uin
             keys[i] = ((uint64_t)lo << 32) | hi;
             order[i] = i;
         }
-        if (ls_sort_u64(keys, order, n, sscr) != LS_OK) {
+        if (ls_sort_u64(keys, order, n, sscr) != LS_OK) { /* not reached: its arrays are allocated above */
             ls_arena_restore(arena, mark);
-            return LS_ERR_INVALID;
+            return ls_invalid_arg(diag, "internal: the edge sort refused its arrays");
         }
         i = 0;
         while (i < n) {

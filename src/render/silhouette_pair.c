@@ -119,11 +119,16 @@ static int pair_next(const pctx *pc, size_t *k, pitem *it)
 static ls_status pair_check(pctx *pc, const ls_vis *vis, const ls_edge_table *table, const uint32_t *indices,
                             uint32_t triangle_count, ls_diag *diag)
 {
-    if (vis == NULL || table == NULL || (triangle_count > 0 && indices == NULL)) return LS_ERR_INVALID;
+    if (vis == NULL) return ls_invalid_arg(diag, "view->vis is NULL");
+    if (table == NULL) return ls_invalid_arg(diag, "view->table is NULL");
+    if (triangle_count > 0 && indices == NULL)
+        return ls_invalid_arg(diag, "view->indices is NULL with triangle_count > 0");
     if (vis->tri == NULL || vis->clip == NULL || table->magic != EDGE_TABLE_MAGIC) return LS_ERR_STATE;
-    if (vis->ss != 1u || vis->triangle_count != triangle_count || table->triangle_count != triangle_count ||
-        table->vertex_count != vis->vertex_count)
-        return LS_ERR_INVALID;
+    if (vis->ss != 1u) return ls_invalid_arg(diag, "view->vis->ss: allowed 1 (one sample per pixel)");
+    if (vis->triangle_count != triangle_count)
+        return ls_invalid_arg(diag, "view->triangle_count: allowed = view->vis->triangle_count");
+    if (table->triangle_count != triangle_count || table->vertex_count != vis->vertex_count)
+        return ls_invalid_arg(diag, "view->table: triangle_count and vertex_count allowed = view->vis's");
     pc->vis = vis;
     pc->table = table;
     pc->indices = indices;
@@ -140,7 +145,9 @@ static ls_status pair_forward_impl(const ls_vis *vis, const ls_edge_table *table
     pitem it;
     ls_status st = pair_check(&pc, vis, table, indices, triangle_count, diag);
     if (st != LS_OK) return st;
-    if (image_in == NULL || image_out == NULL || image_in == image_out) return LS_ERR_INVALID;
+    if (image_in == NULL) return ls_invalid_arg(diag, "image_in is NULL");
+    if (image_out == NULL) return ls_invalid_arg(diag, "image_out is NULL");
+    if (image_in == image_out) return ls_invalid_arg(diag, "image_out: allowed != image_in (no in place)");
     n = 4 * (size_t)vis->width * vis->height;
     for (p = 0; p < n; p++) image_out[p] = image_in[p];
     while (pair_next(&pc, &k, &it)) {
@@ -154,7 +161,7 @@ static ls_status pair_forward_impl(const ls_vis *vis, const ls_edge_table *table
 ls_status ls_pair_forward(const ls_view *view, const ls_real *image_in, ls_real *image_out, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return pair_forward_impl(view->vis, view->table, view->indices, view->triangle_count, image_in, image_out, diag);
 }
 
@@ -169,8 +176,11 @@ static ls_status pair_backward_impl(const ls_vis *vis, const ls_edge_table *tabl
     pitem it;
     ls_status st = pair_check(&pc, vis, table, indices, triangle_count, diag);
     if (st != LS_OK) return st;
-    if (mvp == NULL || image_in == NULL || grad_out == NULL || grad_positions == NULL || grad_in == grad_out)
-        return LS_ERR_INVALID;
+    if (mvp == NULL) return ls_invalid_arg(diag, "view->mvp is NULL");
+    if (image_in == NULL) return ls_invalid_arg(diag, "image_in is NULL");
+    if (grad_out == NULL) return ls_invalid_arg(diag, "grad_out is NULL");
+    if (grad_positions == NULL) return ls_invalid_arg(diag, "grad_positions is NULL");
+    if (grad_in == grad_out) return ls_invalid_arg(diag, "grad_in: allowed != grad_out (no in place)");
     ls_sil_sctx_init(&sc, vis, indices, triangle_count);
     sc.m = mvp;
     if (grad_in != NULL) {
@@ -208,7 +218,7 @@ ls_status ls_pair_backward(const ls_view *view, const ls_real *image_in, const l
                            ls_real *grad_positions, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (view == NULL) return LS_ERR_INVALID;
+    if (view == NULL) return ls_invalid_arg(diag, "view is NULL");
     return pair_backward_impl(view->vis, view->table, view->indices, view->triangle_count, view->mvp, view->boost, image_in,
                             grad_out, grad_in, grad_positions, diag);
 }

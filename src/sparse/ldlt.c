@@ -309,7 +309,13 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
     if (!square_ok(a) || arena == NULL || f == NULL || method > LS_ORDER_AUTO ||
         (method == LS_ORDER_GIVEN && perm == NULL && a->ncols > 0) ||
         (method >= LS_ORDER_ND && xyz == NULL && a->ncols > 0)) {
-        diag_fill(diag, LS_ERR_INVALID, "NULL argument, matrix not square or unknown ordering");
+        diag_fill(diag, LS_ERR_INVALID,
+                  !square_ok(a)     ? "a: NULL, or not square, or colptr/rowidx NULL"
+                  : arena == NULL   ? "arena is NULL"
+                  : f == NULL       ? "f is NULL"
+                  : method > LS_ORDER_AUTO ? "method: allowed LS_ORDER_NATURAL .. LS_ORDER_AUTO"
+                  : method == LS_ORDER_GIVEN ? "perm is NULL; needed by LS_ORDER_GIVEN"
+                                    : "xyz is NULL; needed by LS_ORDER_ND and LS_ORDER_AUTO");
         return LS_ERR_INVALID;
     }
     n = a->ncols;
@@ -317,7 +323,7 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
     g.c_nnz = upper_count(a, &bad);
     st = bad ? LS_ERR_INVALID : analyze_bytes_n(n, a->colptr[n], g.c_nnz, method, &bytes);
     if (st != LS_OK) {
-        diag_fill(diag, st, st == LS_ERR_INVALID ? "row index out of range" : "matrix too large");
+        diag_fill(diag, st, st == LS_ERR_INVALID ? "a->rowidx[k]: allowed < a->nrows" : "matrix too large");
         return st;
     }
     g.n = n;
@@ -372,7 +378,7 @@ LDLT_NOIPA static ls_status analyze_impl(const ls_csc *a, uint32_t method, const
         for (j = 0; j < n; j++) {
             if (perm[j] >= n || g.pinv[perm[j]] != NONE) {
                 ls_arena_restore(arena, mark);
-                diag_fill(diag, LS_ERR_INVALID, "perm is not a permutation");
+                diag_fill(diag, LS_ERR_INVALID, "perm: not a permutation of 0 .. n-1");
                 if (diag != NULL) {
                     diag->has_index = 1;
                     diag->index = j;
@@ -658,9 +664,13 @@ static ls_status factor_values(ls_ldlt *f, const ls_csc *a, ls_diag *diag)
 
 static ls_status check_matrix(const ls_ldlt *f, const ls_csc *a, ls_diag *diag)
 {
-    if (f == NULL || f->state == 0 || !square_ok(a) || a->ncols != f->n || a->colptr[a->ncols] != f->a_nnz ||
+    if (f == NULL || f->state == 0) {
+        diag_fill(diag, LS_ERR_INVALID, "f: NULL or not analyzed (ls_ldlt_analyze first)");
+        return LS_ERR_INVALID;
+    }
+    if (!square_ok(a) || a->ncols != f->n || a->colptr[a->ncols] != f->a_nnz ||
         (f->a_nnz > 0 && a->values == NULL)) {
-        diag_fill(diag, LS_ERR_INVALID, "matrix does not match the analyzed pattern");
+        diag_fill(diag, LS_ERR_INVALID, "a: NULL, no values, or not the analyzed pattern (n, nnz)");
         return LS_ERR_INVALID;
     }
     return LS_OK;
@@ -675,7 +685,7 @@ ls_status ls_ldlt_factor(ls_ldlt *f, const ls_csc *a, ls_arena *arena, ls_diag *
     if (st != LS_OK) return st;
     if (f->li != NULL) return ls_ldlt_refactor(f, a, diag);
     if (arena == NULL) {
-        diag_fill(diag, LS_ERR_INVALID, "NULL arena for the first factorization");
+        diag_fill(diag, LS_ERR_INVALID, "arena is NULL; needed by the first factorization");
         return LS_ERR_INVALID;
     }
     g = *f;

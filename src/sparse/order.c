@@ -463,7 +463,9 @@ ls_status ls_order_amd(const ls_csc *a, ls_arena *arena, uint32_t *perm, ls_diag
         a->nrows != a->ncols) {
         if (diag != NULL) {
             diag->status = LS_ERR_INVALID;
-            diag->what = "NULL argument or matrix not square";
+            diag->what = a == NULL ? "a is NULL" : arena == NULL ? "arena is NULL"
+                       : a->nrows != a->ncols ? "a: not square (nrows != ncols)"
+                       : perm == NULL ? "perm is NULL" : "a->colptr is NULL";
         }
         return LS_ERR_INVALID;
     }
@@ -476,7 +478,7 @@ ls_status ls_order_amd(const ls_csc *a, ls_arena *arena, uint32_t *perm, ls_diag
             if (a->rowidx[q] >= n) {
                 if (diag != NULL) {
                     diag->status = LS_ERR_INVALID;
-                    diag->what = "row index out of range";
+                    diag->what = "a->rowidx[k]: allowed < a->nrows";
                     diag->has_index = 1;
                     diag->index = q;
                 }
@@ -673,7 +675,10 @@ ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena,
         (a->ncols > 0 && (perm == NULL || xyz == NULL))) {
         if (diag != NULL) {
             diag->status = LS_ERR_INVALID;
-            diag->what = "NULL argument or matrix not square";
+            diag->what = a == NULL ? "a is NULL" : arena == NULL ? "arena is NULL"
+                       : a->colptr == NULL ? "a->colptr is NULL"
+                       : a->nrows != a->ncols ? "a: not square (nrows != ncols)"
+                       : perm == NULL ? "perm is NULL" : "xyz is NULL";
         }
         return LS_ERR_INVALID;
     }
@@ -697,7 +702,7 @@ ls_status ls_order_nd_geom(const ls_csc *a, const ls_real *xyz, ls_arena *arena,
             if (a->rowidx[q] >= n) {
                 if (diag != NULL) {
                     diag->status = LS_ERR_INVALID;
-                    diag->what = "row index out of range";
+                    diag->what = "a->rowidx[k]: allowed < a->nrows";
                     diag->has_index = 1;
                     diag->index = q;
                 }

@@ -60,7 +60,9 @@ static ls_status from_triplets(uint32_t nrows, uint32_t ncols, size_t count, con
     size_t t, bytes;
     ls_status st;
     if (arena == NULL || out == NULL || (count > 0 && (rows == NULL || cols == NULL))) {
-        diag_set(diag, LS_ERR_INVALID, "NULL argument", 0, 0);
+        diag_set(diag, LS_ERR_INVALID,
+                 arena == NULL ? "arena is NULL" : out == NULL ? "out is NULL" : "t->rows or t->cols is NULL; needed when t->count > 0",
+                 0, 0);
         return LS_ERR_INVALID;
     }
     st = ls_csc_from_triplets_bytes(nrows, ncols, count, &bytes);
@@ -70,7 +72,7 @@ static ls_status from_triplets(uint32_t nrows, uint32_t ncols, size_t count, con
     }
     for (t = 0; t < count; t++) {
         if (rows[t] >= nrows || cols[t] >= ncols) {
-            diag_set(diag, LS_ERR_INVALID, "triplet index out of range", (uint64_t)t, 1);
+            diag_set(diag, LS_ERR_INVALID, "t->rows[i] or t->cols[i]: allowed < t->nrows, < t->ncols", (uint64_t)t, 1);
             return LS_ERR_INVALID;
         }
     }
@@ -124,7 +126,7 @@ nomem:
 
 ls_status ls_csc_from_triplets(const ls_triplets *t, ls_arena *arena, ls_csc *out, ls_diag *diag)
 {
-    if (t == NULL) return LS_ERR_INVALID;
+    if (t == NULL) return ls_diag_set(diag, LS_ERR_INVALID, "t is NULL", LS_DIAG_NO_INDEX);
     return from_triplets(t->nrows, t->ncols, t->count, t->rows, t->cols, t->vals, arena, out, diag);
 }
 
