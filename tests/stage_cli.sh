@@ -303,6 +303,56 @@ if "$ls" render fixtures/meshes/bunny.obj --views 4 --res 32 --shading lambert -
         grep -q "does not record its lighting: fitting the images' alpha masks" "$build/ds_mask.log"; then
     ok "fit_dataset_unknown_lighting_fits_masks"
 else bad "fit_dataset_unknown_lighting_fits_masks"; tail -n 3 "$build/ds_mask.log"; fi
+# render --cameras: a dataset's own cameras give its images again, byte for
+# byte, and the same transforms.json (its numbers to 1e-12); a non-square dataset with an off-centre
+# principal point gives images of its size and keeps the point; --cameras
+# with --views is refused; the upper-hemisphere placement stays above y = -1/4
+rm -rf "$ds.again" "$ds.wide" "$ds.hemi"
+if "$ls" render fixtures/meshes/bunny.obj --cameras "$ds/transforms.json" --res 48 -o "$ds.again" > "$build/ds_again.log" 2>&1 &&
+        cmp -s "$ds/view_005.png" "$ds.again/view_005.png" &&
+        python3 - "$ds/transforms.json" "$ds.again/transforms.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+def same(x, y):  # numbers to 1e-12 (the poses are inverted twice), the rest equal
+    if isinstance(x, (int, float)) and isinstance(y, (int, float)): return abs(x - y) <= 1e-12 * max(1.0, abs(x))
+    if isinstance(x, list): return isinstance(y, list) and len(x) == len(y) and all(map(same, x, y))
+    if isinstance(x, dict): return isinstance(y, dict) and x.keys() == y.keys() and all(same(x[k], y[k]) for k in x)
+    return x == y
+sys.exit(0 if same(a, b) else 1)
+PY
+    then
+    ok "render_cameras_reproduces_the_dataset"
+else bad "render_cameras_reproduces_the_dataset"; tail -n 3 "$build/ds_again.log"; fi
+sed -n '/"largesteps_clip"/p' "$ds/transforms.json" > "$build/clip.txt"
+{
+    printf '{"fl_x": 60, "fl_y": 60, "cx": 36, "cy": 18.5, "w": 64, "h": 40,\n'
+    cat "$build/clip.txt"
+    printf '"frames": [{"file_path": "a", "transform_matrix": %s}]}\n' \
+        "$(sed -n 's/.*"view_002.png", "transform_matrix": \(.*\)},*$/\1/p' "$ds/transforms.json")"
+} > "$build/wide.json"
+if "$ls" render fixtures/meshes/bunny.obj --cameras "$build/wide.json" -o "$ds.wide" > "$build/ds_wide.log" 2>&1 &&
+        [ "$(od -An -tx1 -j16 -N8 "$ds.wide/view_000.png" | tr -d ' \n')" = 0000004000000028 ] &&
+        grep -q '"cx": 36,' "$ds.wide/transforms.json" && grep -q '"cy": 18.5,' "$ds.wide/transforms.json"; then
+    ok "render_cameras_non_square_off_centre (64 x 40, cx 36, cy 18.5)"
+else bad "render_cameras_non_square_off_centre"; cat "$build/ds_wide.log"; fi
+expect render_cameras_conflict 2 "--cameras gives the views: not with --views" \
+    "$ls" render fixtures/meshes/bunny.obj --cameras "$ds/transforms.json" --views 3 -o "$out/x"
+expect render_cameras_malformed 1 "bad_cameras.json:1:" \
+    sh -c "printf '{\"frames\": [}' > '$build/bad_cameras.json'; exec '$ls' render fixtures/meshes/bunny.obj --cameras '$build/bad_cameras.json' -o '$out/x'"
+if "$ls" render fixtures/meshes/bunny.obj --placement hemisphere --views 24 --res 16 -o "$ds.hemi" > /dev/null 2>&1 &&
+        python3 - "$ds.hemi/transforms.json" fixtures/meshes/bunny.obj <<'PY'
+import json, sys, math
+f = json.load(open(sys.argv[1]))["frames"]
+v = [[float(t) for t in l.split()[1:4]] for l in open(sys.argv[2]) if l.startswith("v ")]
+c = [(min(p[k] for p in v) + max(p[k] for p in v)) / 2 for k in range(3)]  # the framing's centre
+ys = []
+for fr in f:
+    d = [fr["transform_matrix"][k][3] - c[k] for k in range(3)]
+    ys.append(d[1] / math.sqrt(sum(x * x for x in d)))  # the view direction's height
+sys.exit(0 if len(f) == 24 and min(ys) >= -0.25 - 1e-9 and min(ys) < 0 and max(ys) > 0.95 else 1)
+PY
+then ok "render_hemisphere_placement (24 views)"; else bad "render_hemisphere_placement"; fi
+
 printf '{"camera_angle_x": 0.7,\n "frames": [{"file_path": "a", "fl_x": 3}]}\n' > "$build/bad_transforms.json"
 if "$ls" fit "$build/bad_transforms.json" -o "$out/fit_bad_ds" > "$build/ds_bad.log" 2>&1; then
     bad "fit_dataset_malformed (exit 0)"

@@ -2,12 +2,13 @@
  * PNG files and a contact sheet.
  *
  *   largesteps render MESH [--views N] [--res W] [--ss S] [--shading mask|sh|lambert]
- *                     [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR
+ *                     [--placement fibonacci|rings|hemisphere] [--bits 8|16] [--fov DEG] -o DIR
+ *   largesteps render MESH --cameras transforms.json [--res W] [--ss S] [--shading S] [--bits B] -o DIR
  *
  * MESH is an OBJ, PLY or OFF file (ls_mesh_read). The cameras look at the
  * mesh's bounding-box centre from N directions (a Fibonacci sphere, or rings
  * of constant latitude: the largest divisor r of N with r^2 <= N rings of N/r
- * views) at the distance where the bounding sphere fills the image with a 5%
+ * views, or the Fibonacci lattice over the cap above y = -1/4) at the distance where the bounding sphere fills the image with a 5%
  * margin (ls_camera_frame), with a horizontal field of view of DEG degrees
  * (default 40), square W x W images (default 256) with S x S samples per
  * pixel (default 2). Shading (default sh): `mask` white silhouette; `sh`
@@ -17,6 +18,10 @@
  * uniform-weight vertex normals; `lambert` two directional lights (key from
  * upper front right, dim blue fill from below behind) plus ambient 0.05.
  * Background black; alpha is coverage.
+ *
+ * With --cameras, the views are a camera dataset's (ls_scene_parse_transforms:
+ * poses, field of view, principal point, clip planes, and its image size when
+ * it gives one, else W x W), so targets can be rendered for given cameras.
  *
  * Writes DIR/view_000.png ... (RGBA, 16 bits per sample unless --bits 8) and
  * DIR/contact.png (every view on a near-square grid, 1-pixel grey lines
@@ -40,20 +45,28 @@
 
 typedef struct render_args {
     const char *mesh_path, *out_dir;
+    const char *cameras; /* --cameras: a camera dataset whose cameras are used */
     uint32_t views, res, ss, mode, rings, bits;
     double fov_deg;
+    int placed;          /* --views, --placement or --fov given (not with --cameras) */
 } render_args;
 
 static int usage(FILE *f)
 {
     fprintf(f, "usage: largesteps render MESH [--views N] [--res W] [--ss 1|2|4] [--shading " SHADE_NAMES "]\n"
-               "                         [--placement fibonacci|rings] [--bits 8|16] [--fov DEG] -o DIR\n"
+               "                         [--placement fibonacci|rings|hemisphere] [--bits 8|16] [--fov DEG] -o DIR\n"
+               "       largesteps render MESH --cameras transforms.json [--res W] [--ss S] [--shading S]\n"
+               "                         [--bits B] -o DIR\n"
                "  MESH          an OBJ, PLY or OFF file (gzip-compressed too)\n"
                "  --views N     views (1..4000; default 8)\n"
+               "  --cameras F   the cameras of a camera dataset (transforms.json: its frames' poses, field\n"
+               "                of view, principal point, clip planes, and its w x h if given, else\n"
+               "                --res), instead of views placed around the mesh\n"
                "  --res W       image size W x W (1..%u; default 256)\n"
                "  --ss S        supersampling: 1, 2 or 4 (default 2)\n"
                "  --shading S   " SHADE_NAMES " (default sh)\n"
-               "  --placement P fibonacci (default) | rings\n"
+               "  --placement P fibonacci (default: the whole sphere) | rings | hemisphere (the Fibonacci\n"
+               "                lattice above y = -1/4: the upper half and a little below)\n"
                "  --bits B      8 or 16 bits per sample (default 16)\n"
                "  --fov DEG     field of view in degrees, 0 < DEG < 180 (default 40)\n"
                "  -o DIR        output directory (required; created if missing): view_000.png ... and\n"
@@ -84,12 +97,15 @@ static int parse_args(int argc, char **argv, render_args *a)
         }
         if (strcmp(o, "-o") != 0 && strcmp(o, "--views") != 0 && strcmp(o, "--res") != 0 && strcmp(o, "--ss") != 0 &&
             strcmp(o, "--bits") != 0 && strcmp(o, "--fov") != 0 && strcmp(o, "--shading") != 0 &&
-            strcmp(o, "--placement") != 0)
+            strcmp(o, "--placement") != 0 && strcmp(o, "--cameras") != 0)
             return fprintf(stderr, "largesteps render: unknown option '%s'\n", o), 0;
         if (v == NULL) return fprintf(stderr, "largesteps render: %s needs a value\n", o), 0;
         i++;
+        if (strcmp(o, "--views") == 0 || strcmp(o, "--placement") == 0 || strcmp(o, "--fov") == 0) a->placed = 1;
         if (strcmp(o, "-o") == 0) {
             a->out_dir = v;
+        } else if (strcmp(o, "--cameras") == 0) {
+            a->cameras = v;
         } else if (strcmp(o, "--views") == 0) {
             ok = ls_arg_u32("render", o, v, 1, 4000, &a->views);
         } else if (strcmp(o, "--res") == 0) {
@@ -110,12 +126,15 @@ static int parse_args(int argc, char **argv, render_args *a)
         } else {
             if (strcmp(v, "fibonacci") == 0) a->rings = 0;
             else if (strcmp(v, "rings") == 0) a->rings = 1;
-            else ok = 0, fprintf(stderr, "largesteps render: --placement: '%s' is not fibonacci or rings\n", v);
+            else if (strcmp(v, "hemisphere") == 0) a->rings = 2;
+            else ok = 0, fprintf(stderr, "largesteps render: --placement: '%s' is not fibonacci, rings or hemisphere\n", v);
         }
         if (!ok) return 0;
     }
     if (a->mesh_path == NULL) return fprintf(stderr, "largesteps render: no mesh\n"), 0;
     if (a->out_dir == NULL) return fprintf(stderr, "largesteps render: -o DIR is required\n"), 0;
+    if (a->cameras != NULL && a->placed)
+        return fprintf(stderr, "largesteps render: --cameras gives the views: not with --views, --placement or --fov\n"), 0;
     return 1;
 }
 
@@ -172,6 +191,13 @@ typedef struct render_run {
     size_t vis_bytes, rgba_bytes;
     int with_sheet; /* 0 when the sheet would pass the image size limits */
     double *c2w;    /* [16 views] camera-to-world of each view (transforms.json) */
+    uint32_t w, h;  /* image size */
+    ls_real *w2v;   /* [16 views] world -> view of each view */
+    ls_real *mvp;   /* [16 views] clip transform of each view */
+    ls_real fov, near_plane, far_plane, center[2]; /* the intrinsics written to transforms.json */
+    uint32_t fov_axis;
+    ls_scene scene; /* --cameras: the dataset (its memory: scene_mem) */
+    void *scene_mem;
 } render_run;
 
 /* The run's mesh seen through mvp, as ls_raster and ls_shade read it. */
@@ -198,6 +224,96 @@ static int fail(const char *what, ls_status st, const ls_diag *d)
     return 1;
 }
 
+/* --cameras: the dataset's cameras (r->scene), its view count and image
+ * size (--res where it gives none). */
+static int load_cameras(render_run *r)
+{
+    unsigned char *text = NULL;
+    size_t bytes = 0, need = 0;
+    ls_arena arena;
+    ls_diag d;
+    ls_status st;
+    ls_diag_clear(&d);
+    st = ls_posix_read_file(r->a.cameras, &text, &bytes);
+    if (st != LS_OK) {
+        fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.cameras, ls_posix_read_error());
+        return 1;
+    }
+    st = ls_scene_parse_transforms_bytes((const char *)text, bytes, &need, &d);
+    r->scene_mem = st == LS_OK ? malloc(need + 8) : NULL;
+    if (st == LS_OK && (r->scene_mem == NULL || ls_arena_init(&arena, r->scene_mem, need + 8) != LS_OK)) st = LS_ERR_NOMEM;
+    if (st == LS_OK) st = ls_scene_parse_transforms((const char *)text, bytes, &arena, &r->scene, &d);
+    free(text);
+    if (st == LS_ERR_NOMEM) return fail("memory", st, NULL);
+    if (st != LS_OK) {
+        fprintf(stderr, "largesteps: %s:%u:%u: %s\n", r->a.cameras, (unsigned)d.line, (unsigned)d.column, d.what);
+        return 1;
+    }
+    if (r->scene.camera_count > 4000u) {
+        fprintf(stderr, "largesteps: %s: %u frames, more than render's 4000\n", r->a.cameras, (unsigned)r->scene.camera_count);
+        return 1;
+    }
+    if (r->scene.width == 0) r->scene.width = r->scene.height = r->a.res;
+    if (r->scene.width > LS_RASTER_MAX_DIM || r->scene.height > LS_RASTER_MAX_DIM) {
+        fprintf(stderr, "largesteps: %s: images of %u x %u, larger than %u on a side\n", r->a.cameras,
+                (unsigned)r->scene.width, (unsigned)r->scene.height, (unsigned)LS_RASTER_MAX_DIM);
+        return 1;
+    }
+    r->a.views = r->scene.camera_count;
+    r->w = r->scene.width;
+    r->h = r->scene.height;
+    return 0;
+}
+
+/* Each view's transforms: the dataset's cameras, or directions around the
+ * framed mesh; and the intrinsics transforms.json records. */
+static ls_status place_views(render_run *r)
+{
+    uint32_t v;
+    ls_status st = LS_OK;
+    if (r->a.cameras != NULL) {
+        const ls_scene_camera *c = &r->scene.cameras[0];
+        for (v = 0; v < r->a.views && st == LS_OK; v++) {
+            ls_real proj[16];
+            st = ls_scene_projection(&r->scene, v, proj);
+            memcpy(r->w2v + 16u * v, r->scene.cameras[v].view, 16u * sizeof(ls_real));
+            if (st == LS_OK) ls_mat4_mul(proj, r->scene.cameras[v].view, r->mvp + 16u * v);
+        }
+        r->fov = c->fov;
+        r->fov_axis = c->fov_axis;
+        r->near_plane = c->near_plane;
+        r->far_plane = c->far_plane;
+        r->center[0] = c->center[0];
+        r->center[1] = c->center[1];
+        return st;
+    }
+    if (r->a.rings == 2) {
+        /* the Fibonacci lattice over the cap above y = -1/4: the upper hemisphere and a little
+           below it, as a capture from around an object on a table sees it */
+        for (v = 0; v < r->a.views; v++) {
+            const double y = 1.0 - 1.25 * ((double)v + 0.5) / (double)r->a.views, rr = sqrt(1.0 - y * y);
+            const double az = (double)v * 3.14159265358979323846 * (3.0 - sqrt(5.0));
+            r->dirs[3u * v] = (ls_real)(rr * ls_cos(az));
+            r->dirs[3u * v + 1u] = (ls_real)y;
+            r->dirs[3u * v + 2u] = (ls_real)(rr * ls_sin(az));
+        }
+    } else if (r->a.rings) {
+        uint32_t rings = 1, k;
+        for (k = 1; (uint64_t)k * k <= r->a.views; k++)
+            if (r->a.views % k == 0) rings = k;
+        st = ls_camera_ring_dirs(rings, r->a.views / rings, r->dirs);
+    } else {
+        st = ls_camera_fibonacci_dirs(r->a.views, r->dirs);
+    }
+    for (v = 0; v < r->a.views && st == LS_OK; v++)
+        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, r->w2v + 16u * v, r->mvp + 16u * v);
+    r->fov = (ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0);
+    r->fov_axis = LS_FOV_X;
+    r->near_plane = r->fr.near_plane;
+    r->far_plane = r->fr.far_plane;
+    return st;
+}
+
 /* Reads the mesh, frames it, places the views and sizes the work arena. */
 static int setup(render_run *r)
 {
@@ -208,9 +324,10 @@ static int setup(render_run *r)
     ls_size s;
     ls_status st;
     uint32_t v, cols;
-    ls_real mvp[16];
     ls_view view;
     ls_diag_clear(&d);
+    r->w = r->h = r->a.res;
+    if (r->a.cameras != NULL && load_cameras(r) != 0) return 1;
     st = ls_posix_read_data(r->a.mesh_path, &data, &bytes);
     if (st != LS_OK) {
         fprintf(stderr, "largesteps: cannot read %s: %s\n", r->a.mesh_path, ls_posix_read_error());
@@ -218,7 +335,7 @@ static int setup(render_run *r)
     }
     st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &info, &d);
     if (st == LS_OK) st = ls_mesh_read_bytes(&info, &mesh_bytes);
-    if (st == LS_OK) st = ls_vis_bytes(r->a.res, r->a.res, r->a.ss, info.vertex_count, &r->vis_bytes);
+    if (st == LS_OK) st = ls_vis_bytes(r->w, r->h, r->a.ss, info.vertex_count, &r->vis_bytes);
     if (st != LS_OK) {
         free(data);
         return fail(r->a.mesh_path, st, &d);
@@ -227,6 +344,7 @@ static int setup(render_run *r)
     ls_size_add(&s, mesh_bytes, 1);
     ls_size_add(&s, info.vertex_count, 3 * sizeof(ls_real));
     ls_size_add(&s, r->a.views, 3 * sizeof(ls_real));
+    ls_size_add(&s, r->a.views, 32 * sizeof(ls_real));
     ls_size_add(&s, r->vis_bytes, 1);
     st = ls_size_get(&s, &geo_bytes);
     r->geo_mem = st == LS_OK ? malloc(geo_bytes + 8) : NULL;
@@ -239,39 +357,32 @@ static int setup(render_run *r)
     if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
     r->normals = (ls_real *)ls_arena_alloc(&r->geo, r->mesh.vertex_count, 3 * sizeof(ls_real));
     r->dirs = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 3 * sizeof(ls_real));
-    if (r->normals == NULL || r->dirs == NULL) return fail("memory", LS_ERR_NOMEM, NULL);
+    r->w2v = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 16 * sizeof(ls_real));
+    r->mvp = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 16 * sizeof(ls_real));
+    if (r->normals == NULL || r->dirs == NULL || r->mvp == NULL) return fail("memory", LS_ERR_NOMEM, NULL);
     st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);
-    if (st == LS_OK) {
+    if (st == LS_OK && r->a.cameras == NULL) {
         st = ls_camera_frame(r->mesh.positions, r->mesh.vertex_count, (ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0),
                              LS_FOV_X, 1, (ls_real)1.05, &r->fr, &d);
         if (st == LS_ERR_INVALID) d.what = "cannot frame the mesh: no vertices, or all at one point";
     }
-    if (st == LS_OK && r->a.rings) {
-        uint32_t rings = 1, k;
-        for (k = 1; (uint64_t)k * k <= r->a.views; k++)
-            if (r->a.views % k == 0) rings = k;
-        st = ls_camera_ring_dirs(rings, r->a.views / rings, r->dirs);
-    } else if (st == LS_OK) {
-        st = ls_camera_fibonacci_dirs(r->a.views, r->dirs);
-    }
-    if (st == LS_OK) st = ls_vis_init(&r->vis, &r->geo, r->a.res, r->a.res, r->a.ss, r->mesh.vertex_count);
+    if (st == LS_OK) st = place_views(r);
+    if (st == LS_OK) st = ls_vis_init(&r->vis, &r->geo, r->w, r->h, r->a.ss, r->mesh.vertex_count);
     if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
     /* the work arena: shaded output, the view image, the sheet, and the
      * largest scratch of any call (each view's exact raster scratch) */
     for (v = 0; v < r->a.views && st == LS_OK; v++) {
-        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, NULL, mvp);
-        if (st == LS_OK)
-            st = ls_raster_scratch_bytes(&r->vis, run_view(r, mvp, &view), &sz);
+        st = ls_raster_scratch_bytes(&r->vis, run_view(r, r->mvp + 16u * v, &view), &sz);
         if (st == LS_OK && sz > scratch) scratch = sz;
     }
-    if (st == LS_OK) st = ls_shade_image_bytes(r->a.res, r->a.res, &r->rgba_bytes);
+    if (st == LS_OK) st = ls_shade_image_bytes(r->w, r->h, &r->rgba_bytes);
     ls_size_init(&s);
     ls_size_add(&s, r->rgba_bytes, 1);
-    if (st == LS_OK) st = ls_image_bytes(r->a.res, r->a.res, &sz);
+    if (st == LS_OK) st = ls_image_bytes(r->w, r->h, &sz);
     ls_size_add(&s, sz, 1);
     if (st == LS_OK) {
         /* a sheet beyond the image size limits is left out (with a note) */
-        ls_status cs = ls_contact_bytes(r->a.views, r->a.res, r->a.res, 0, 1, &sz);
+        ls_status cs = ls_contact_bytes(r->a.views, r->w, r->h, 0, 1, &sz);
         r->with_sheet = cs == LS_OK;
         if (cs == LS_ERR_TOO_LARGE) fprintf(stderr, "largesteps: note: the contact sheet would be too large; not written\n");
         else if (cs != LS_OK) st = cs;
@@ -279,7 +390,7 @@ static int setup(render_run *r)
     }
     if (st == LS_OK) {
         ls_image_format fmt = {LS_IMAGE_PNG, 4, 16, 0};
-        st = ls_image_encode_bytes(r->a.res, r->a.res, &fmt, &sz); /* the same for the sheet */
+        st = ls_image_encode_bytes(r->w, r->h, &fmt, &sz); /* the same for the sheet */
         if (sz > scratch) scratch = sz;
     }
     ls_size_add(&s, scratch, 1);
@@ -289,18 +400,23 @@ static int setup(render_run *r)
     if (r->work_mem == NULL || ls_arena_init(&r->work, r->work_mem, work_bytes) != LS_OK)
         return fail("memory", LS_ERR_NOMEM, NULL);
     r->rgba = (ls_real *)ls_arena_alloc(&r->work, r->rgba_bytes, 1);
-    st = r->rgba == NULL ? LS_ERR_NOMEM : ls_image_create(&r->view, r->a.res, r->a.res, &r->work);
+    st = r->rgba == NULL ? LS_ERR_NOMEM : ls_image_create(&r->view, r->w, r->h, &r->work);
     if (st == LS_OK && r->with_sheet) {
         const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
-        st = ls_contact_init(&r->sheet, &r->work, r->a.views, r->a.res, r->a.res, 0, 1, grey);
+        st = ls_contact_init(&r->sheet, &r->work, r->a.views, r->w, r->h, 0, 1, grey);
     }
     if (st != LS_OK) return fail("memory", st, NULL);
     cols = r->with_sheet ? r->sheet.columns : 0;
     printf("mesh      %s: %u vertices, %u triangles\n", r->a.mesh_path, (unsigned)r->mesh.vertex_count,
            (unsigned)r->mesh.face_count);
-    printf("views     %u (%s), %ux%u pixels, %ux%u samples each, fov %.6g deg, distance %.6g (radius %.6g)\n",
-           (unsigned)r->a.views, r->a.rings ? "rings" : "fibonacci", (unsigned)r->a.res, (unsigned)r->a.res,
-           (unsigned)r->a.ss, (unsigned)r->a.ss, r->a.fov_deg, (double)r->fr.distance, (double)r->fr.radius);
+    if (r->a.cameras != NULL)
+        printf("views     %u (the cameras of %s), %ux%u pixels, %ux%u samples each\n", (unsigned)r->a.views,
+               r->a.cameras, (unsigned)r->w, (unsigned)r->h, (unsigned)r->a.ss, (unsigned)r->a.ss);
+    else
+        printf("views     %u (%s), %ux%u pixels, %ux%u samples each, fov %.6g deg, distance %.6g (radius %.6g)\n",
+               (unsigned)r->a.views, r->a.rings == 2 ? "hemisphere" : r->a.rings ? "rings" : "fibonacci",
+               (unsigned)r->w, (unsigned)r->h,
+               (unsigned)r->a.ss, (unsigned)r->a.ss, r->a.fov_deg, (double)r->fr.distance, (double)r->fr.radius);
     printf("memory    geometry %lu bytes (visibility buffer %lu), work %lu bytes (largest scratch %lu)",
            (unsigned long)geo_bytes, (unsigned long)r->vis_bytes, (unsigned long)work_bytes, (unsigned long)scratch);
     if (r->with_sheet)
@@ -344,10 +460,13 @@ static int dataset_body(FILE *f, void *ctx)
 {
     const render_run *r = (const render_run *)ctx;
     uint32_t v, i, k;
-    fprintf(f, "{\n  \"camera_angle_x\": %.17g,\n  \"w\": %u,\n  \"h\": %u,\n",
-            (double)(ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0), (unsigned)r->a.res, (unsigned)r->a.res);
+    fprintf(f, "{\n  \"camera_angle_%s\": %.17g,\n  \"w\": %u,\n  \"h\": %u,\n", r->fov_axis == LS_FOV_Y ? "y" : "x",
+            (double)r->fov, (unsigned)r->w, (unsigned)r->h);
+    if (r->center[0] != 0 || r->center[1] != 0) /* the principal point in pixels (scene.h) */
+        fprintf(f, "  \"cx\": %.17g,\n  \"cy\": %.17g,\n", ((double)r->center[0] + 1.0) * r->w / 2.0,
+                (1.0 - (double)r->center[1]) * r->h / 2.0);
     fprintf(f, "  \"largesteps_clip\": [%.17g, %.17g],\n  \"largesteps_background\": [0, 0, 0],\n",
-            (double)r->fr.near_plane, (double)r->fr.far_plane);
+            (double)r->near_plane, (double)r->far_plane);
     if (r->opts.mode == LS_SHADE_MASK) {
         fprintf(f, "  \"largesteps_lighting\": \"mask\",\n");
     } else if (r->opts.mode == LS_SHADE_SH) {
@@ -415,17 +534,16 @@ static int render_views_into(render_run *r, ls_posix_outset *set)
     size_t files = 0;
     ls_diag d;
     for (v = 0; v < r->a.views; v++) {
-        ls_real mvp[16], world_to_view[16];
+        const ls_real *mvp = r->mvp + 16u * v;
         ls_view view;
         uint64_t t0, t1, t2, t3;
-        size_t i, n = 4 * (size_t)r->a.res * r->a.res, fsize, used;
+        size_t i, n = 4 * (size_t)r->w * r->h, fsize, used;
         char name[64];
         ls_status st;
         ls_diag_clear(&d);
-        st = ls_camera_framed_view(&r->fr, r->dirs + 3 * (size_t)v, world_to_view, mvp);
-        invert_view(world_to_view, r->c2w + 16u * v);
+        invert_view(r->w2v + 16u * v, r->c2w + 16u * v);
         t0 = ls_posix_clock_ns(NULL);
-        if (st == LS_OK) st = ls_raster(&r->vis, run_view(r, mvp, &view), &r->work, &d);
+        st = ls_raster(&r->vis, run_view(r, mvp, &view), &r->work, &d);
         t1 = ls_posix_clock_ns(NULL);
         if (st == LS_OK) st = ls_shade(&view, r->rgba, &d);
         t2 = ls_posix_clock_ns(NULL);
@@ -485,5 +603,6 @@ int ls_cmd_render(int argc, char **argv)
     }
     free(r.geo_mem);
     free(r.work_mem);
+    free(r.scene_mem);
     return rc;
 }
