@@ -393,6 +393,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_refine.sh
 	BUILD=$(BUILD) sh tests/bench/run_distance.sh
 	BUILD=$(BUILD) sh tests/bench/run_fan.sh
+	BUILD=$(BUILD) sh tests/bench/run_dataset.sh
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 	BUILD=$(BUILD) sh tests/bench/run_fit.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/bench/fast_paths.sh
