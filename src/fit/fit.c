@@ -482,30 +482,29 @@ static uint32_t gcd_u32(uint32_t a, uint32_t b)
     return a;
 }
 
-/* The batch's views (fit.h): the golden-angle stride spreads consecutive
+/* The stride coprime to count (>= 2) nearest count (3 - sqrt 5) / 2, below
+ * first: 0.381966011250105 with integers only. */
+static uint32_t coprime_stride(uint32_t count)
+{
+    uint32_t s = (uint32_t)(((uint64_t)count * 381966011u + 500000000u) / 1000000000u), d;
+    if (s == 0u) s = 1u;
+    for (d = 0u; d < count; d++) {
+        if (s > d && gcd_u32(s - d, count) == 1u) return s - d;
+        if (s + d < count && gcd_u32(s + d, count) == 1u) return s + d;
+    }
+    return 1u; /* not reached: 1 is coprime to every count */
+}
+
+/* The batch's views (fit.h): the golden-ratio stride spreads consecutive
  * positions over the pool (a Fibonacci sphere's views are in height order). */
 uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t iteration, uint32_t k)
 {
-    uint32_t batch, s, d;
+    const uint32_t batch = config != NULL ? config->view_batch : 0u;
     uint64_t pos;
     if (count == 0u) return 0u;
-    batch = config != NULL ? config->view_batch : 0u;
     if (batch == 0u || batch >= count) return k % count;
-    /* count (3 - sqrt 5) / 2 rounded, with integers only: 0.381966011250105 */
-    s = (uint32_t)(((uint64_t)count * 381966011u + 500000000u) / 1000000000u);
-    if (s == 0u) s = 1u;
-    for (d = 0u; d < count; d++) { /* the nearest coprime stride, below first */
-        if (s > d && gcd_u32(s - d, count) == 1u) {
-            s -= d;
-            break;
-        }
-        if (s + d < count && gcd_u32(s + d, count) == 1u) {
-            s += d;
-            break;
-        }
-    }
-    pos = (uint64_t)iteration * batch + k;
-    return (uint32_t)((pos % count) * s % count);
+    pos = ((uint64_t)iteration * batch + k) % count;
+    return (uint32_t)(pos * coprime_stride(count) % count);
 }
 
 /* Renders every view and accumulates the loss and dL/d(rendered positions)
@@ -517,7 +516,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     ls_loss_acc acc;
     ls_view view;
-    uint32_t v, k, batch;
+    uint32_t k, batch;
     uint64_t t0;
     ls_status st;
     memset(&view, 0, sizeof view);
@@ -542,7 +541,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     if (st != LS_OK) return st;
     for (k = 0; k < batch; k++) {
         uint64_t t1, t2, t3;
-        v = ls_fit_view_of(c, fit->views.count, fit->iteration, k);
+        const uint32_t v = ls_fit_view_of(c, fit->views.count, fit->iteration, k);
         view.mvp = fit->mvp + 16u * (size_t)v;
         st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);

@@ -74,7 +74,8 @@ static ls_status check_mesh(const ls_mesh *mesh)
 
 static ls_status invalid_arg(ls_diag *diag, const char *what)
 {
-    return ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
+    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
 }
 
 /* The first face with an index out of range, or LS_MESH_NONE. */
