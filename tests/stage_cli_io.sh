@@ -30,25 +30,19 @@ mkdir -p "$out"
 mesh=fixtures/meshes/bunny.obj
 
 # expect NAME STATUS MESSAGE command...: the exit status and one stderr line
-# exactly MESSAGE (no pattern: the whole line).
-expect() {
-    name=$1 want=$2 msg=$3
-    shift 3
+# exactly MESSAGE (no pattern: the whole line). expect_pattern: the line
+# matching an extended REGEX instead (for messages naming whichever file the
+# system refused first).
+expect_line() { # grep mode (-F or -E), then expect's arguments
+    mode=$1 name=$2 want=$3 msg=$4
+    shift 4
     "$@" > "$out/$name.out" 2> "$out/$name.err"
     got=$?
-    if [ "$got" = "$want" ] && grep -q -x -F -e "$msg" "$out/$name.err"; then ok "$name"
-    else bad "$name (status $got, wanted $want; wanted the line: $msg)"; head -n 3 "$out/$name.err"; fi
+    if [ "$got" = "$want" ] && grep -q -x "$mode" -e "$msg" "$out/$name.err"; then ok "$name"
+    else bad "$name (status $got, wanted $want; wanted the line ($mode): $msg)"; head -n 3 "$out/$name.err"; fi
 }
-# expect_pattern NAME STATUS REGEX command...: as expect, the line matching an
-# extended REGEX (for messages naming whichever file the system refused first).
-expect_pattern() {
-    name=$1 want=$2 msg=$3
-    shift 3
-    "$@" > "$out/$name.out" 2> "$out/$name.err"
-    got=$?
-    if [ "$got" = "$want" ] && grep -q -x -E -e "$msg" "$out/$name.err"; then ok "$name"
-    else bad "$name (status $got, wanted $want; wanted a line matching: $msg)"; head -n 3 "$out/$name.err"; fi
-}
+expect() { expect_line -F "$@"; }
+expect_pattern() { expect_line -E "$@"; }
 # time-capped: fails if the command does not end within SECONDS
 capped() { secs=$1; shift; timeout "$secs" "$@"; }
 
