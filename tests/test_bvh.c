@@ -83,8 +83,13 @@ static uint32_t compare_brute(const ls_mesh *m, const ls_bvh *b, uint32_t count,
                 p[a] = (ls_real)((1 - u - v) * (double)m->positions[3 * t[0] + a] + u * (double)m->positions[3 * t[1] + a] +
                                  v * (double)m->positions[3 * t[2] + a]);
         }
-        CHECK_STATUS(ls_bvh_closest(b, p, (ls_real)INFINITY, &h1), LS_OK);
+        /* a guess changes nothing: none, a random face, the answer's face */
+        if (i % 3 == 0) CHECK_STATUS(ls_bvh_closest(b, p, (ls_real)INFINITY, &h1), LS_OK);
+        else if (i % 3 == 1)
+            CHECK_STATUS(ls_bvh_closest_near(b, p, (ls_real)INFINITY, (uint32_t)(geo_rand(&g) * m->face_count), &h1),
+                         LS_OK);
         geo_brute_closest(m, p, &h2);
+        if (i % 3 == 2) CHECK_STATUS(ls_bvh_closest_near(b, p, (ls_real)INFINITY, h2.face, &h1), LS_OK);
         if (h1.face == h2.face && h1.dist2 == h2.dist2 && memcmp(h1.point, h2.point, sizeof h1.point) == 0 &&
             memcmp(h1.bary, h2.bary, sizeof h1.bary) == 0)
             agree++;
@@ -98,8 +103,214 @@ static uint32_t compare_brute(const ls_mesh *m, const ls_bvh *b, uint32_t count,
         }
         CHECK_STATUS(ls_bvh_closest(b, p, h2.dist2 * (ls_real)1.5 + (ls_real)1e-30, &h1), LS_OK);
         CHECK_EQ(h1.face, h2.face);
+        /* a guess at the answer, in a search bounded at its distance: the
+         * bound is strict, so nothing is found */
+        if (h2.dist2 > 0) {
+            CHECK_STATUS(ls_bvh_closest_near(b, p, h2.dist2, h2.face, &h1), LS_OK);
+            CHECK_EQ(h1.face, UINT32_MAX);
+        }
     }
     return agree;
+}
+
+/* Checks the oriented boxes: orthonormal rows, and every corner of a node
+ * inside its box, its projections computed in long double (the ranges must
+ * hold the exact values, not only the rounded ones). */
+static void check_frames(const ls_mesh *m, const ls_bvh *b)
+{
+    uint32_t i, k, c, a, j, bad = 0, rows = 0;
+    REQUIRE(b->frames != NULL && b->frame_used != NULL);
+    for (i = 0; i < b->node_count; i++) {
+        const ls_bvh_frame *fr = &b->frames[i];
+        uint32_t first = i, last = i;
+        if (!(fr->lo[0] <= fr->hi[0])) {
+            CHECK_EQ(b->frame_used[i / 32] >> (i % 32) & 1u, 0);
+            continue;
+        }
+        for (a = 0; a < 3; a++)
+            for (j = 0; j < 3; j++) {
+                long double d = 0;
+                for (c = 0; c < 3; c++) d += (long double)fr->axis[a][c] * (long double)fr->axis[j][c];
+                if (fabsl(d - (a == j ? 1.0L : 0.0L)) > 16.0L * LS_REAL_EPSILON) rows++;
+            }
+        while (b->nodes[first].count == 0) first++;
+        while (b->nodes[last].count == 0) last = b->nodes[last].first;
+        for (k = b->nodes[first].first; k < b->nodes[last].first + b->nodes[last].count; k++) {
+            const uint32_t *t = m->triangles + 3 * b->order[k];
+            for (c = 0; c < 3; c++)
+                for (a = 0; a < 3; a++) {
+                    long double x = 0;
+                    for (j = 0; j < 3; j++) x += (long double)fr->axis[a][j] * (long double)m->positions[3 * t[c] + j];
+                    if (x < (long double)fr->lo[a] || x > (long double)fr->hi[a]) bad++;
+                }
+        }
+    }
+    CHECK_EQ(rows, 0);
+    CHECK_EQ(bad, 0);
+}
+
+/* A fan of n - 1 triangles around a centre, with rim points on a circle of
+ * radius r; `lift` raises the centre (0: planar; else a cone); then rotated by
+ * the angles (ax, ay) and moved by `off`, so that no triangle lies along an
+ * axis. */
+static int fan_mesh(ls_arena *a, ls_mesh *m, uint32_t n, double r, double lift, double ax, double ay, double off)
+{
+    double *p = (double *)malloc(3 * sizeof(double) * n);
+    uint32_t *t = (uint32_t *)malloc(3 * sizeof(uint32_t) * (n - 1)), i;
+    int ok;
+    if (p == NULL || t == NULL) {
+        free(p);
+        free(t);
+        return 0;
+    }
+    for (i = 0; i < n; i++) {
+        double th = 6.283185307179586 * (double)(i == 0 ? 0 : i - 1) / (double)(n - 1);
+        double x = i == 0 ? 0 : r * cos(th), y = i == 0 ? 0 : r * sin(th), z = i == 0 ? lift : 0, y2, z2;
+        y2 = y * cos(ax) - z * sin(ax); /* about x, then about y */
+        z2 = y * sin(ax) + z * cos(ax);
+        p[3 * i + 0] = x * cos(ay) + z2 * sin(ay) + off;
+        p[3 * i + 1] = y2 + off;
+        p[3 * i + 2] = -x * sin(ay) + z2 * cos(ay) + off;
+    }
+    for (i = 0; i + 1 < n; i++) {
+        t[3 * i] = 0;
+        t[3 * i + 1] = 1 + i;
+        t[3 * i + 2] = 1 + (i + 1) % (n - 1);
+    }
+    ok = geo_mesh(a, m, p, n, t, n - 1);
+    free(p);
+    free(t);
+    return ok;
+}
+
+/* With oriented boxes the answers are the same, bit for bit, on every mesh:
+ * cube, sphere, degenerate faces, fans planar and conical at several
+ * scales and offsets; near the largest finite coordinates the boxes still
+ * hold their corners. */
+static void frames_match_brute_force(void)
+{
+    static const double degen_p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 0.5, 0.5, 1, 1, 1, 0};
+    static const uint32_t degen_t[] = {0, 1, 2, 1, 5, 2, 0, 4, 1, 0, 1, 3, 2, 2, 4, 5, 5, 5, 0, 1, 2};
+    const double ctr[3] = {0.25, -0.5, 2};
+    ls_arena a;
+    ls_mesh m;
+    ls_bvh b;
+    ls_arena_mark mk;
+    int i;
+    REQUIRE(geo_arena(&a, 1 << 24) != NULL);
+    mk = ls_arena_save(&a);
+    for (i = 0; i < 9; i++) {
+        uint32_t n = geo_scaled(500);
+        size_t bytes, before;
+        ls_arena_restore(&a, mk);
+        if (i == 0) REQUIRE(geo_mesh(&a, &m, cube_p, 8, cube_t, 12));
+        else if (i == 1) REQUIRE(geo_sphere(&a, &m, 1.5, ctr, 12, 16));
+        else if (i == 2) REQUIRE(geo_mesh(&a, &m, degen_p, 6, degen_t, 7));
+        else if (i == 3) REQUIRE(fan_mesh(&a, &m, 1000, 1, 0, 0, 0, 0));
+        else if (i == 4) REQUIRE(fan_mesh(&a, &m, 1000, 1, 0, 0.7, 0.3, 0));
+        else if (i == 5) REQUIRE(fan_mesh(&a, &m, 777, 2, 0.05, 1.1, -0.4, 0.5));
+        else if (i == 6) REQUIRE(fan_mesh(&a, &m, 600, 1e-3, 0, 0.2, 0.9, 1e3));
+        else if (i == 7) REQUIRE(fan_mesh(&a, &m, 300, 1e-3 * sqrt((double)LS_REAL_MAX), 1e-4 * sqrt((double)LS_REAL_MAX),
+                                          0.5, 0.5, 0));
+        else REQUIRE(fan_mesh(&a, &m, 300, 0.45 * (double)LS_REAL_MAX, 0, 0.5, 0.5, 0));
+        CHECK_STATUS(ls_bvh_build(&m, &a, &b, NULL), LS_OK);
+        CHECK_STATUS(ls_bvh_frames_bytes(m.face_count, &bytes), LS_OK);
+        before = ls_arena_used(&a);
+        a.peak = before;
+        CHECK_STATUS(ls_bvh_build_frames(&b, &a, NULL), LS_OK);
+        CHECK_EQ(a.peak - before, bytes);
+        check_structure(&m, &b);
+        check_frames(&m, &b);
+        if (i == 8) continue; /* the boxes hold (checked above); every squared distance would overflow */
+        CHECK_EQ(compare_brute(&m, &b, n, i == 7 ? 0.5 : 0.2, 40 + (uint64_t)i), n);
+    }
+    free(a.base);
+}
+
+/* The oriented boxes make a fan's closest-point search logarithmic: of the
+ * nodes whose axis-aligned box holds a point of the fan (every exact search
+ * visits them), a fixed share of the tree, the ones whose oriented box holds
+ * it too are a few per level. Counted in the test with its own evaluation
+ * of the boxes (long double, no margin). */
+static void frames_prune_fans(void)
+{
+    ls_arena a;
+    ls_mesh m;
+    ls_bvh b;
+    uint32_t n = 16385, q, i, k, in_box = 0, in_both = 0, queries = 64;
+    REQUIRE(geo_arena(&a, 1 << 25) != NULL);
+    REQUIRE(fan_mesh(&a, &m, n, 1, 0, 0.7, 0.3, 0));
+    REQUIRE(ls_bvh_build(&m, &a, &b, NULL) == LS_OK);
+    REQUIRE(ls_bvh_build_frames(&b, &a, NULL) == LS_OK);
+    for (q = 0; q < queries; q++) {
+        /* the centroid of face f, at radius about 2/3 */
+        uint32_t f = (uint32_t)(((uint64_t)q * 2654435761u) % m.face_count);
+        ls_real p[3];
+        for (k = 0; k < 3; k++)
+            p[k] = (m.positions[3 * m.triangles[3 * f] + k] + m.positions[3 * m.triangles[3 * f + 1] + k] +
+                    m.positions[3 * m.triangles[3 * f + 2] + k]) / 3;
+        for (i = 0; i < b.node_count; i++) {
+            const ls_bvh_node *nd = &b.nodes[i];
+            const ls_bvh_frame *fr = &b.frames[i];
+            int inside = 1;
+            for (k = 0; k < 3; k++) inside &= p[k] >= nd->lo[k] && p[k] <= nd->hi[k];
+            if (!inside) continue;
+            in_box++;
+            if (b.frame_used[i / 32] >> (i % 32) & 1u) {
+                for (k = 0; k < 3; k++) {
+                    long double t = (long double)fr->axis[k][0] * p[0] + (long double)fr->axis[k][1] * p[1] +
+                                    (long double)fr->axis[k][2] * p[2];
+                    inside &= t >= (long double)fr->lo[k] - 1e-9L && t <= (long double)fr->hi[k] + 1e-9L;
+                }
+            }
+            in_both += (uint32_t)inside;
+        }
+    }
+    printf("     fan of %u faces: per query %.1f nodes hold the point in their axis-aligned box, %.1f in both boxes\n",
+              m.face_count, (double)in_box / queries, (double)in_both / queries);
+    CHECK(in_box > 200 * queries);  /* the axis-aligned boxes alone: a share of the 8k nodes */
+    CHECK(in_both < 100 * queries); /* both: a few per level (15 levels) */
+    free(a.base);
+}
+
+static ls_status frames_run(void *ctx, ls_arena *a)
+{
+    return ls_bvh_build_frames((ls_bvh *)ctx, a, NULL);
+}
+
+static uint64_t frames_hash(void *ctx)
+{
+    return test_hash(ctx, sizeof(ls_bvh), TEST_HASH_SEED);
+}
+
+/* ls_bvh_frames_bytes is exact, and a short arena fails cleanly. */
+static void frames_arena_sweep(void)
+{
+    ls_arena a;
+    ls_mesh m;
+    ls_bvh b, keep;
+    sweep_job job;
+    const double ctr[3] = {0, 0, 0};
+    REQUIRE(geo_arena(&a, 1 << 20) != NULL);
+    REQUIRE(geo_sphere(&a, &m, 1.0, ctr, 10, 12));
+    REQUIRE(ls_bvh_build(&m, &a, &b, NULL) == LS_OK);
+    keep = b;
+    memset(&job, 0, sizeof job);
+    job.name = "bvh_build_frames sphere";
+    job.run = frames_run;
+    job.state_hash = frames_hash;
+    job.ctx = &b;
+    job.exact = 1;
+    REQUIRE(ls_bvh_frames_bytes(m.face_count, &job.answer) == LS_OK);
+    CHECK_EQ(sweep_arena(&job), 0);
+    b = keep;
+    CHECK_STATUS(ls_bvh_build_frames(NULL, &a, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_bvh_build_frames(&b, NULL, NULL), LS_ERR_INVALID);
+    memset(&keep, 0, sizeof keep);
+    CHECK_STATUS(ls_bvh_build_frames(&keep, &a, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_bvh_frames_bytes(0, &job.answer), LS_ERR_INVALID);
+    CHECK_STATUS(ls_bvh_frames_bytes(1, NULL), LS_ERR_INVALID);
+    free(a.base);
 }
 
 static void cube_matches_brute_force(void)
@@ -456,5 +667,8 @@ int main(void)
     TEST_RUN(node_counts);
     TEST_RUN(arena_sweep);
     TEST_RUN(deterministic);
+    TEST_RUN(frames_match_brute_force);
+    TEST_RUN(frames_prune_fans);
+    TEST_RUN(frames_arena_sweep);
     return TEST_END();
 }

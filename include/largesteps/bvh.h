@@ -21,6 +21,14 @@
  * triangle with ls_closest_point_triangle gives (smallest dist2, then lowest
  * index).
  *
+ * Oriented boxes (ls_bvh_build_frames, optional): axis-aligned boxes overlap
+ * badly when triangles are long, thin and not along an axis (a triangle fan:
+ * a query inside the fan lies in the box of a fixed share of its triangles,
+ * and every exact search evaluates them all). With frames, each node also has
+ * a box along the principal axes of its corners, and a closest-point query
+ * prunes with the larger of the two distances: about O(log F) per query on
+ * such meshes too. The answer is the same, bit for bit.
+ *
  * The tree borrows the mesh: it keeps pointers to positions and triangles,
  * which must stay alive and unchanged while the tree is used.
  */
@@ -47,6 +55,16 @@ typedef struct ls_bvh_node {
     uint32_t count; /* leaf: number of triangles (>= 1); inner node: 0 */
 } ls_bvh_node;
 
+/* A node's oriented box: the rows axis[k] are orthonormal up to a few ulps,
+ * and the exact projection axis[k] . v of each of the node's corners v lies
+ * in [lo[k], hi[k]] (the ranges are widened to cover their own rounding).
+ * lo[0] > hi[0] marks a node without one (a projection overflowed). */
+typedef struct ls_bvh_frame {
+    ls_real axis[3][3];
+    ls_real lo[3];
+    ls_real hi[3];
+} ls_bvh_frame;
+
 typedef struct ls_bvh {
     const ls_real *positions;  /* borrowed from the mesh */
     const uint32_t *triangles; /* borrowed from the mesh */
@@ -56,6 +74,10 @@ typedef struct ls_bvh {
     uint32_t depth;            /* levels of the tree */
     ls_bvh_node *nodes;        /* node 0 is the root */
     uint32_t *order;           /* face_count triangle indices, grouped by leaf */
+    ls_bvh_frame *frames;      /* NULL, or node_count oriented boxes (ls_bvh_build_frames) */
+    uint32_t *frame_used;      /* with frames: bit i % 32 of word i / 32 set when closest-point queries
+                                  test node i's oriented box (its surface is under a quarter of the
+                                  axis-aligned box's); the others keep the axis-aligned box alone */
 } ls_bvh;
 
 /* The closest point of the surface to a query point. */
@@ -96,6 +118,20 @@ ls_status ls_bvh_check_mesh(const ls_mesh *mesh, ls_diag *diag);
  * diag->index = the vertex), LS_ERR_NOMEM (arena and *bvh unchanged). */
 ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_diag *diag);
 
+/* ls_bvh_frames_bytes: exact arena bytes of ls_bvh_build_frames for a tree
+ * of face_count triangles (all of it stays allocated). O(log F). Errors as
+ * ls_bvh_bytes. */
+ls_status ls_bvh_frames_bytes(uint32_t face_count, size_t *bytes);
+
+/* ls_bvh_build_frames: gives every node of a built tree its oriented box
+ * (bvh->frames), for closest-point queries on meshes whose axis-aligned boxes
+ * overlap (see above): the principal axes of each node's corners, its ranges
+ * from its corners (a leaf) or its children's boxes. Time O(F); memory from
+ * the arena's bottom, no scratch. Overlap queries do not use the frames.
+ * Errors: LS_ERR_INVALID (NULL, a tree not built), LS_ERR_NOMEM (arena and
+ * *bvh unchanged). */
+ls_status ls_bvh_build_frames(ls_bvh *bvh, ls_arena *arena, ls_diag *diag);
+
 /* ls_bvh_closest: the closest point of the tree's surface to p. Only points
  * closer than sqrt(max_dist2) are searched (pass an infinite or huge value for
  * an unbounded search); when none is, hit->face is UINT32_MAX and the
@@ -104,6 +140,16 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
  * max_dist2), LS_ERR_NONFINITE (p not finite), LS_ERR_STATE (a tree deeper
  * than ls_bvh_build makes: not built by it). */
 ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, ls_bvh_hit *hit);
+
+/* ls_bvh_closest_near: ls_bvh_closest with a guess, a triangle likely to be
+ * close (the answer of a nearby query, say; UINT32_MAX or any index >=
+ * face_count for none). The guess is evaluated first, so the search prunes
+ * from the start: on a sequence of nearby queries (samples of a surface in
+ * order) it visits far fewer nodes. The answer is the same as
+ * ls_bvh_closest's, bit for bit, whatever the guess. Errors as
+ * ls_bvh_closest. */
+ls_status ls_bvh_closest_near(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, uint32_t guess,
+                              ls_bvh_hit *hit);
 
 /* Iterator over the triangles whose boxes overlap a query box (closed
  * intervals: touching boxes overlap), for triangle-pair tests such as

@@ -239,6 +239,8 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
     t.depth = depth;
     t.nodes = (ls_bvh_node *)ls_arena_alloc(arena, nodes, sizeof(ls_bvh_node));
     t.order = (uint32_t *)ls_arena_alloc(arena, mesh->face_count, sizeof(uint32_t));
+    t.frames = NULL;
+    t.frame_used = NULL;
     cent = (ls_real *)ls_arena_scratch(arena, (size_t)mesh->face_count * 3u, sizeof(ls_real));
     stack = (work_item *)ls_arena_scratch(arena, STACK_CAP, sizeof(work_item));
     if (t.nodes == NULL || t.order == NULL || cent == NULL || stack == NULL) {
@@ -268,8 +270,8 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
         work_item w = stack[--sp];
         ls_bvh_node *node = &t.nodes[next];
         if (w.parent != NONE) t.nodes[w.parent].first = next;
-        box_of(&t, w.start, w.count, node);
         if (w.count <= LS_BVH_LEAF) {
+            box_of(&t, w.start, w.count, node);
             node->first = w.start;
             node->count = w.count;
         } else {
@@ -291,6 +293,20 @@ ls_status ls_bvh_build(const ls_mesh *mesh, ls_arena *arena, ls_bvh *bvh, ls_dia
             sp++;
         }
         next++;
+    }
+    /* An inner node's box is the union of its children's (they follow it):
+     * one pass from the last node up, O(F) where boxing each node's corners
+     * took O(F log F); min and max are exact, so the boxes are the same. */
+    for (f = nodes; f-- > 0;) {
+        ls_bvh_node *node = &t.nodes[f];
+        if (node->count == 0) {
+            const ls_bvh_node *c1 = &t.nodes[f + 1u], *c2 = &t.nodes[node->first];
+            uint32_t a;
+            for (a = 0; a < 3u; a++) {
+                node->lo[a] = c1->lo[a] < c2->lo[a] ? c1->lo[a] : c2->lo[a];
+                node->hi[a] = c1->hi[a] > c2->hi[a] ? c1->hi[a] : c2->hi[a];
+            }
+        }
     }
     ls_arena_restore(arena, (ls_arena_mark){arena->bottom, mark.top});
     *bvh = t;
@@ -498,6 +514,40 @@ static ls_real slack_of(const ls_bvh *bvh, const ls_real *p)
     return (ls_real)256 * LS_REAL_EPSILON * m;
 }
 
+/* Squared distance from p to a node's oriented box, never above the true
+ * squared distance to the node's triangles: each axis's gap is shortened by
+ * `margin` (slack / 8, above the rounding of p's projection; the box's ranges
+ * hold the exact projections) and the sum by 32 eps (above the frame's
+ * departure from orthonormal). The caller uses it only for p within
+ * LS_REAL_MAX / 4 on each axis, so that p's projections are finite, and for
+ * nodes whose box is in use (finite and tight). */
+static ls_real frame_dist2(const ls_bvh_frame *fr, const ls_real *p, ls_real margin)
+{
+    ls_real s = 0;
+    uint32_t a;
+    for (a = 0; a < 3u; a++) {
+        ls_real t = (fr->axis[a][0] * p[0] + fr->axis[a][1] * p[1]) + fr->axis[a][2] * p[2], g = 0;
+        if (t < fr->lo[a]) g = (fr->lo[a] - t) - margin;
+        else if (t > fr->hi[a]) g = (t - fr->hi[a]) - margin;
+        if (g > 0) s += g * g;
+    }
+    return s * ((ls_real)1 - (ls_real)32 * LS_REAL_EPSILON);
+}
+
+/* The larger of the two boxes' distances (the oriented one only when
+ * margin >= 0, that is when the tree has frames and p is not huge, when the
+ * axis-aligned one does not prune already, and when the node's box is in
+ * use). */
+static ls_real node_dist2(const ls_bvh *bvh, uint32_t i, const ls_real *p, ls_real margin, ls_real limit)
+{
+    ls_real d = box_dist2(&bvh->nodes[i], p);
+    if (margin >= 0 && d <= limit && (bvh->frame_used[i / 32u] >> (i % 32u) & 1u)) {
+        ls_real o = frame_dist2(&bvh->frames[i], p, margin);
+        if (o > d) d = o;
+    }
+    return d;
+}
+
 static ls_real prune_limit(ls_real best2, ls_real slack)
 {
     ls_real r;
@@ -511,20 +561,51 @@ static ls_real prune_limit(ls_real best2, ls_real slack)
  * most one entry per level plus one. */
 #define QUERY_CAP 40u
 
+/* The triangle f's closest point to p, as the search evaluates it. */
+static void closest_on_face(const ls_bvh *bvh, uint32_t f, const ls_real *p, ls_bvh_hit *h)
+{
+    const uint32_t *tri = bvh->triangles + 3u * (size_t)f;
+    const ls_real *v[3];
+    v[0] = bvh->positions + 3u * (size_t)tri[0];
+    v[1] = bvh->positions + 3u * (size_t)tri[1];
+    v[2] = bvh->positions + 3u * (size_t)tri[2];
+    closest_on_triangle(p, v, h->point, h->bary, &h->dist2);
+    h->face = f;
+}
+
 ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, ls_bvh_hit *hit)
+{
+    return ls_bvh_closest_near(bvh, p, max_dist2, NONE, hit);
+}
+
+ls_status ls_bvh_closest_near(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist2, uint32_t guess,
+                              ls_bvh_hit *hit)
 {
     uint32_t stack[QUERY_CAP];
     ls_real near[QUERY_CAP]; /* each entry's box distance */
-    uint32_t sp = 0, best_face = NONE;
-    ls_real best2 = max_dist2, limit, slack;
+    uint32_t sp = 0, best_face = NONE, done = NONE;
+    ls_real best2 = max_dist2, limit, slack, margin = -1;
     if (bvh == NULL || p == NULL || hit == NULL || bvh->nodes == NULL || LS_RISNAN(max_dist2))
         return LS_ERR_INVALID;
     if (!LS_RISFINITE(p[0]) || !LS_RISFINITE(p[1]) || !LS_RISFINITE(p[2])) return LS_ERR_NONFINITE;
     hit->face = NONE;
+    if (guess < bvh->face_count) { /* evaluated first: the search starts with its distance */
+        done = guess;
+        ls_bvh_hit h;
+        closest_on_face(bvh, guess, p, &h);
+        if (h.dist2 < best2) {
+            *hit = h;
+            best2 = h.dist2;
+            best_face = guess;
+        }
+    }
     slack = slack_of(bvh, p);
     limit = prune_limit(best2, slack);
+    if (bvh->frames != NULL && LS_RFABS(p[0]) < LS_REAL_MAX / 4 && LS_RFABS(p[1]) < LS_REAL_MAX / 4 &&
+        LS_RFABS(p[2]) < LS_REAL_MAX / 4)
+        margin = slack / 8;
     stack[0] = 0;
-    near[0] = box_dist2(&bvh->nodes[0], p);
+    near[0] = node_dist2(bvh, 0, p, margin, limit);
     sp = 1;
     while (sp > 0) {
         const ls_bvh_node *node;
@@ -535,14 +616,11 @@ ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist
             uint32_t i;
             for (i = node->first; i < node->first + node->count; i++) {
                 uint32_t f = bvh->order[i];
-                const uint32_t *tri = bvh->triangles + 3u * (size_t)f;
-                const ls_real *v[3];
                 ls_bvh_hit h;
                 ls_real d2;
-                v[0] = bvh->positions + 3u * (size_t)tri[0];
-                v[1] = bvh->positions + 3u * (size_t)tri[1];
-                v[2] = bvh->positions + 3u * (size_t)tri[2];
-                closest_on_triangle(p, v, h.point, h.bary, &d2);
+                if (f == done) continue; /* the guess, already evaluated */
+                closest_on_face(bvh, f, p, &h);
+                d2 = h.dist2;
                 if (best_face == NONE ? d2 < best2 : (d2 < best2 || (d2 == best2 && f < best_face))) {
                     best2 = d2;
                     best_face = f;
@@ -553,7 +631,7 @@ ls_status ls_bvh_closest(const ls_bvh *bvh, const ls_real p[3], ls_real max_dist
             }
         } else {
             uint32_t c1 = stack[sp] + 1u, c2 = node->first;
-            ls_real d1 = box_dist2(&bvh->nodes[c1], p), d2 = box_dist2(&bvh->nodes[c2], p);
+            ls_real d1 = node_dist2(bvh, c1, p, margin, limit), d2 = node_dist2(bvh, c2, p, margin, limit);
             if (sp + 2u > QUERY_CAP) return LS_ERR_STATE; /* not a tree built by ls_bvh_build */
             /* the nearer child on top; children beyond the limit are not pushed */
             if (d1 > d2) {

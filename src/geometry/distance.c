@@ -193,7 +193,7 @@ static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samp
 {
     acc av, af, an;
     sampler sm;
-    uint32_t v, f, k = 0;
+    uint32_t v, f, k = 0, guess = UINT32_MAX; /* the last answer: consecutive samples are close */
     ls_bvh_hit hit;
     ls_status st;
     const ls_real inf = LS_REAL_MAX;
@@ -201,8 +201,9 @@ static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samp
     acc_init(&af);
     acc_init(&an);
     for (v = 0; v < src->vertex_count; v++) {
-        st = ls_bvh_closest(target, src->positions + 3u * (size_t)v, inf, &hit);
+        st = ls_bvh_closest_near(target, src->positions + 3u * (size_t)v, inf, guess, &hit);
         if (st != LS_OK) return st;
+        guess = hit.face;
         acc_add(&av, LS_RSQRT(hit.dist2), v);
     }
     memset(&sm, 0, sizeof sm);
@@ -217,8 +218,9 @@ static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samp
         for (; c > 0; c--, k++) {
             ls_real p[3], n2[3], ang;
             sample_in_face(src, f, k, p);
-            st = ls_bvh_closest(target, p, inf, &hit);
+            st = ls_bvh_closest_near(target, p, inf, guess, &hit);
             if (st != LS_OK) return st;
+            guess = hit.face;
             acc_add(&af, LS_RSQRT(hit.dist2), k);
             tri_cross(target->positions, target->triangles, hit.face, n2);
             ang = normal_angle(n1, n2);
@@ -262,7 +264,7 @@ ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t
 
 ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *bytes)
 {
-    size_t ta, tb, ba, bb, x;
+    size_t ta, tb, ba, bb, fa, fb, keep_b, a_peak, x;
     ls_status st;
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
@@ -270,9 +272,14 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
     if ((st = ls_bvh_bytes(faces_b, &bb)) != LS_OK) return st;
     if ((st = ls_bvh_tree_bytes(faces_a, &ta)) != LS_OK) return st;
     if ((st = ls_bvh_tree_bytes(faces_b, &tb)) != LS_OK) return st;
-    (void)ta;
-    /* B's tree is built first and kept while A's is built */
-    if ((st = ls_size_sum(tb, ba, &x)) != LS_OK) return st;
+    if ((st = ls_bvh_frames_bytes(faces_a, &fa)) != LS_OK) return st;
+    if ((st = ls_bvh_frames_bytes(faces_b, &fb)) != LS_OK) return st;
+    /* B's tree and frames are built first and kept while A's are built (its
+     * build's scratch, then its frames beside its tree) */
+    if ((st = ls_size_sum(tb, fb, &keep_b)) != LS_OK) return st;
+    if ((st = ls_size_sum(ta, fa, &a_peak)) != LS_OK) return st;
+    if (ba > a_peak) a_peak = ba;
+    if ((st = ls_size_sum(keep_b, a_peak, &x)) != LS_OK) return st;
     *bytes = x > bb ? x : bb;
     return LS_OK;
 }
@@ -307,8 +314,12 @@ ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_
     if (st == LS_OK) st = check_mesh(b, "mesh B: face index out of range", "mesh B: vertex coordinate not finite", diag);
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);
+    /* oriented boxes too: samples of a fan or of slivers lie in the
+     * axis-aligned boxes of a fixed share of the faces */
     st = ls_bvh_build(b, arena, &tb, NULL);
+    if (st == LS_OK) st = ls_bvh_build_frames(&tb, arena, NULL);
     if (st == LS_OK) st = ls_bvh_build(a, arena, &ta, NULL);
+    if (st == LS_OK) st = ls_bvh_build_frames(&ta, arena, NULL);
     if (st != LS_OK) {
         ls_arena_restore(arena, mark);
         diag_set(diag, st, st == LS_ERR_NOMEM ? "arena too small for the two BVHs" : "BVH build failed", 0, 0);

@@ -3,10 +3,12 @@
 # boxes (the cases where a box-pruned search slows down): `largesteps metrics` on a planar triangle
 # fan against itself (N vertices: a centre and N - 1 rim points on a circle)
 # and on one vertex with F degenerate faces, at growing sizes; for the fans
-# also the number of triangle boxes within the rounding slack of a query
-# (tests/bench/fan_bound.c: what every exact box-pruned search evaluates).
-# Writes $BUILD/bench/fan.md and prints it. Environment: BUILD (default build),
-# FAN_SIZES (default "2500 5000 10000"), DEGEN_SIZES (default "5000 10000 20000").
+# also the number of triangles whose axis-aligned box holds a query within
+# the rounding slack (what a search pruned by those boxes alone evaluates)
+# and the query time with the oriented boxes and without
+# (tests/bench/fan_bound.c). Writes $BUILD/bench/fan.md and prints it.
+# Environment: BUILD (default build), FAN_SIZES (default "5000 20000
+# 100000"), DEGEN_SIZES (default "10000 100000 1000000").
 set -e
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
@@ -27,20 +29,20 @@ ms() { sed -n 's/^time: distances \([0-9.]*\) ms, tangle \([0-9.]*\) ms.*/\1 \2/
     echo "\`largesteps metrics A A\` wall time (ms) split as the program prints it; one thread; $(date -u +%Y-%m-%d)."
     echo "Command: sh tests/bench/run_fan.sh"
     echo
-    echo "| input | faces | distances (ms) | tangle (ms) | boxes within slack per query | us per query |"
-    echo "|---|---|---|---|---|---|"
-    for n in ${FAN_SIZES:-2500 5000 10000}; do
+    echo "| input | faces | distances (ms) | tangle (ms) | axis-aligned boxes holding a query | us per query | us per query, axis-aligned boxes alone |"
+    echo "|---|---|---|---|---|---|---|"
+    for n in ${FAN_SIZES:-5000 20000 100000}; do
         fan "$n" > "$OUT/fan_$n.obj"
         "$BUILD/largesteps" metrics "$OUT/fan_$n.obj" "$OUT/fan_$n.obj" > "$OUT/fan_$n.txt"
         "$OUT/fan_bound" "$OUT/fan_$n.obj" 5000 > "$OUT/fan_$n.bound"
         set -- $(ms "$OUT/fan_$n.txt")
-        echo "| fan, $n vertices | $((n - 1)) | $1 | $2 | $(sed -n 's/^boxes_within_slack_per_query //p' "$OUT/fan_$n.bound") | $(sed -n 's/^us_per_query //p' "$OUT/fan_$n.bound") |"
+        echo "| fan, $n vertices | $((n - 1)) | $1 | $2 | $(sed -n 's/^boxes_within_slack_per_query //p' "$OUT/fan_$n.bound") | $(sed -n 's/^us_per_query //p' "$OUT/fan_$n.bound") | $(sed -n 's/^us_per_query_axis_aligned //p' "$OUT/fan_$n.bound") |"
     done
-    for f in ${DEGEN_SIZES:-5000 10000 20000}; do
+    for f in ${DEGEN_SIZES:-10000 100000 1000000}; do
         awk -v f="$f" 'BEGIN { print "v 0 0 0"; for (i = 0; i < f; i++) print "f 1 1 1" }' > "$OUT/degen_$f.obj"
         "$BUILD/largesteps" metrics "$OUT/degen_$f.obj" "$OUT/degen_$f.obj" > "$OUT/degen_$f.txt"
         set -- $(ms "$OUT/degen_$f.txt")
-        echo "| one vertex, degenerate faces | $f | $1 | $2 | - | - |"
+        echo "| one vertex, degenerate faces | $f | $1 | $2 | - | - | - |"
     done
 } > "$OUT/fan.md"
 cat "$OUT/fan.md"
