@@ -324,7 +324,7 @@ static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views 
 {
     ls_real scale, radius;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
+    if (bytes == NULL || scratch == NULL) return ls_invalid_arg(diag, "bytes or scratch is NULL");
     st = check_config(config, views, initial, diag);
     if (st != LS_OK) return st;
     ls_fit_impl_measure_frame(initial, &scale, &radius);
@@ -450,7 +450,7 @@ static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const l
 {
     ls_real scale, radius;
     ls_status st;
-    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
+    if (fit == NULL || arena == NULL) return ls_invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = ls_fit_impl_init_args_ok(config, views, initial, diag);
     if (st != LS_OK) return st;
@@ -709,7 +709,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_real loss, reg_loss, *xs, *warm = NULL;
     size_t nn;
     ls_status st = LS_OK;
-    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
+    if (fit == NULL || fit->x == NULL) return ls_invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
     nn = 3u * (size_t)fit->vertex_count;
     /* what a failure restores: the scalars here, the CG warm starts copied
      * to scratch; x is written only once the step has succeeded */

@@ -11,6 +11,7 @@
 #include <largesteps/loss.h>
 #include <largesteps/render_backward.h>
 #include <largesteps/remesh.h>
+#include "../base/diag_internal.h"
 
 static inline void diag_set(ls_diag *diag, ls_status st, const char *what, uint64_t index)
 {
@@ -23,13 +24,6 @@ static inline void diag_set(ls_diag *diag, ls_status st, const char *what, uint6
 }
 
 static inline int finite_r(ls_real x) { return x - x == x - x; }
-
-/* LS_ERR_INVALID naming the argument that is wrong (diag may be NULL). */
-static inline ls_status invalid_arg(ls_diag *diag, const char *what)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
-}
 
 /* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
  * the Laplacian (with its build scratch), M and its solver, the optimizer,

@@ -172,7 +172,7 @@ static ls_status fit_job_bytes_call(const ls_fit_config *config, const ls_fit_vi
     ls_real scale, radius;
     size_t region = 0, job = 0, fit_bytes = 0;
     ls_status st;
-    if (bytes == NULL || scratch == NULL) return invalid_arg(diag, "bytes or scratch is NULL");
+    if (bytes == NULL || scratch == NULL) return ls_invalid_arg(diag, "bytes or scratch is NULL");
     *bytes = 0;
     st = ls_fit_impl_init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, scratch, &lim, &region, &job, diag);
@@ -194,7 +194,7 @@ static ls_status fit_init_job_call(ls_fit *fit, const ls_fit_config *config, con
     size_t region_bytes = 0, bytes = 0;
     void *mem;
     ls_status st;
-    if (fit == NULL || arena == NULL) return invalid_arg(diag, "fit or arena is NULL");
+    if (fit == NULL || arena == NULL) return ls_invalid_arg(diag, "fit or arena is NULL");
     memset(fit, 0, sizeof *fit);
     st = ls_fit_impl_init_args_ok(config, views, initial, diag);
     if (st == LS_OK) st = job_plan(config, views, initial, capacity, arena, &lim, &region_bytes, &bytes, diag);

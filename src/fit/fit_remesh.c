@@ -45,8 +45,8 @@ static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *di
     ls_real *pos;
     ls_mesh m;
     ls_status st;
-    if (fit == NULL || out == NULL || fit->x == NULL) return invalid_arg(diag, "fit or out is NULL, or fit not initialised");
-    if (!fit->config.guard) return invalid_arg(diag, "fit->config.guard: 0; ls_fit_tangle needs a fit made with guard = 1");
+    if (fit == NULL || out == NULL || fit->x == NULL) return ls_invalid_arg(diag, "fit or out is NULL, or fit not initialised");
+    if (!fit->config.guard) return ls_invalid_arg(diag, "fit->config.guard: 0; ls_fit_tangle needs a fit made with guard = 1");
     mark = ls_arena_save(&fit->block);
     pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
@@ -181,16 +181,16 @@ static ls_status fit_remesh_call(ls_fit *fit, ls_arena *arena, ls_real h_factor,
     ls_mesh out, copy;
     size_t start, new_bytes, copy_bytes;
     ls_status st;
-    if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
+    if (fit == NULL || fit->x == NULL) return ls_invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
     if (!(h_factor > (ls_real)0) || !(h_factor <= (ls_real)2))
-        return invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
+        return ls_invalid_arg(diag, "h_factor: the target edge over the mean edge, allowed (0, 2] (the method: 0.5)");
     if (!(lr_factor > (ls_real)0) || !finite_r(lr_factor) || !finite_r(fit->config.optim.lr * lr_factor))
-        return invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
+        return ls_invalid_arg(diag, "lr_factor: allowed finite and > 0 (the method: 0.8)");
     if (fit->job.base != NULL) return remesh_in_job(fit, h_factor, lr_factor, info, diag);
-    if (arena == NULL) return invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL (a fit from ls_fit_init remeshes in its arena)");
     start = (size_t)(fit->block.base - arena->base);
     if (fit->block.base < arena->base || start + LS_ARENA_ROUND(fit->block.capacity) != arena->bottom)
-        return invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
+        return ls_invalid_arg(diag, "arena: the fit must be the last allocation at its bottom");
     mark = ls_arena_save(arena);
     st = remesh_current(fit, arena, h_factor, 0, &out, info, diag);
     /* the sizes do not depend on the learning rate */

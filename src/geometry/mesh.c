@@ -3,6 +3,7 @@
 #include <largesteps/mesh.h>
 #include <largesteps/sort.h>
 #include <largesteps/math.h>
+#include "../base/diag_internal.h"
 #include <string.h>
 #include <math.h>
 
@@ -70,12 +71,6 @@ static const char *mesh_problem(const ls_mesh *mesh)
 static ls_status check_mesh(const ls_mesh *mesh)
 {
     return mesh_problem(mesh) == NULL ? LS_OK : LS_ERR_INVALID;
-}
-
-static ls_status invalid_arg(ls_diag *diag, const char *what)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
 }
 
 /* The first face with an index out of range, or LS_MESH_NONE. */
@@ -371,7 +366,7 @@ ls_status ls_mesh_validate(const ls_mesh *mesh, ls_arena *arena, ls_mesh_report 
 ls_status ls_mesh_require(const ls_mesh_report *r, uint32_t flags, ls_diag *diag)
 {
     ls_diag_clear(diag);
-    if (r == NULL) return invalid_arg(diag, "r is NULL");
+    if (r == NULL) return ls_invalid_arg(diag, "r is NULL");
     if ((flags & LS_MESH_REQ_INDICES) && r->bad_index_faces > 0) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", r->first_bad_index_face);
         return LS_ERR_MESH;
@@ -625,9 +620,9 @@ ls_status ls_mesh_edges_build(const ls_mesh *mesh, ls_arena *arena, ls_mesh_edge
     uint64_t *keys;
     uint32_t *idx, *tmp, *out, bad, count = 0;
     size_t h, nh, i;
-    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
-    if (arena == NULL) return invalid_arg(diag, "arena is NULL");
-    if (edges == NULL) return invalid_arg(diag, "edges is NULL");
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (edges == NULL) return ls_invalid_arg(diag, "edges is NULL");
     if (mesh->face_count > MAX_VALIDATE_FACES) return LS_ERR_TOO_LARGE;
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
@@ -786,8 +781,8 @@ ls_status ls_mesh_face_normals(const ls_mesh *mesh, ls_real *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     uint32_t f, bad;
-    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
-    if (out == NULL && mesh->face_count > 0) return invalid_arg(diag, "out is NULL with face_count > 0");
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (out == NULL && mesh->face_count > 0) return ls_invalid_arg(diag, "out is NULL with face_count > 0");
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
@@ -819,9 +814,9 @@ ls_status ls_mesh_vertex_normals(const ls_mesh *mesh, uint32_t weighting, ls_rea
     ls_diag_clear(diag);
     uint32_t f, v, k, bad;
     const ls_real *p;
-    if (check_mesh(mesh) != LS_OK) return invalid_arg(diag, mesh_problem(mesh));
-    if (out == NULL && mesh->vertex_count > 0) return invalid_arg(diag, "out is NULL with vertex_count > 0");
-    if (weighting > LS_NORMALS_ANGLE) return invalid_arg(diag, "weighting: allowed LS_NORMALS_UNIFORM .. LS_NORMALS_ANGLE");
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (out == NULL && mesh->vertex_count > 0) return ls_invalid_arg(diag, "out is NULL with vertex_count > 0");
+    if (weighting > LS_NORMALS_ANGLE) return ls_invalid_arg(diag, "weighting: allowed LS_NORMALS_UNIFORM .. LS_NORMALS_ANGLE");
     bad = first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);

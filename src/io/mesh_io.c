@@ -1,6 +1,7 @@
 /* mesh_io.c - mesh files from memory (OBJ, OFF; PLY in mesh_ply.c), the
  * format dispatch and the writers (include/largesteps/mesh_io.h) */
 #include "mesh_io_internal.h"
+#include "../base/diag_internal.h"
 
 /* Own byte comparisons: the library calls no libc function but memcpy,
  * memset, memmove and sqrt. */
@@ -405,19 +406,13 @@ uint32_t ls_mesh_format_guess(const void *data, size_t bytes)
     return LS_MESH_FORMAT_OBJ;
 }
 
-static ls_status mio_invalid(ls_diag *diag, const char *what)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
-}
-
 static ls_status read_any(const void *data, size_t bytes, uint32_t format, sink *k, ls_mesh_file_info *info, ls_diag *diag)
 {
     const unsigned char *d = (const unsigned char *)data;
     size_t start = 0;
     ls_status st;
-    if (data == NULL && bytes > 0) return mio_invalid(diag, "data is NULL with bytes > 0");
-    if (format > LS_MESH_FORMAT_OFF) return mio_invalid(diag, "format: allowed LS_MESH_FORMAT_AUTO .. LS_MESH_FORMAT_OFF");
+    if (data == NULL && bytes > 0) return ls_invalid_arg(diag, "data is NULL with bytes > 0");
+    if (format > LS_MESH_FORMAT_OFF) return ls_invalid_arg(diag, "format: allowed LS_MESH_FORMAT_AUTO .. LS_MESH_FORMAT_OFF");
     if (bytes == 0) return ls_mio_offset_error(diag, 0, LS_ERR_PARSE, "empty file");
     if (format == LS_MESH_FORMAT_AUTO) format = ls_mesh_format_guess(data, bytes);
     k->nv = k->nt = k->np = 0;
@@ -449,7 +444,7 @@ ls_status ls_mesh_read_info(const void *data, size_t bytes, uint32_t format, ls_
     sink k;
     ls_mesh_file_info i;
     ls_status st;
-    if (info == NULL) return mio_invalid(diag, "info is NULL");
+    if (info == NULL) return ls_invalid_arg(diag, "info is NULL");
     k.p = NULL;
     k.t = NULL;
     st = read_any(data, bytes, format, &k, &i, diag);
@@ -473,8 +468,8 @@ ls_status ls_mesh_read(const void *data, size_t bytes, uint32_t format, ls_arena
     ls_arena_mark mark;
     sink k;
     ls_status st;
-    if (arena == NULL) return mio_invalid(diag, "arena is NULL");
-    if (mesh == NULL) return mio_invalid(diag, "mesh is NULL");
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (mesh == NULL) return ls_invalid_arg(diag, "mesh is NULL");
     st = ls_mesh_read_info(data, bytes, format, &info, diag);
     if (st != LS_OK) return st;
     mark = ls_arena_save(arena);

@@ -3,6 +3,7 @@
 #include <largesteps/camera.h>
 #include <largesteps/status.h>
 #include <largesteps/math.h>
+#include "../base/diag_internal.h"
 #include <string.h>
 #include <math.h>
 
@@ -246,12 +247,6 @@ ls_status ls_camera_orbit(const ls_real center[3], ls_real distance, const ls_re
                              view);
 }
 
-static ls_status frame_invalid(const char *what, ls_diag *diag)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
-}
-
 static ls_status frame_nonfinite(uint32_t i, ls_diag *diag)
 {
     return ls_diag_set(diag, LS_ERR_NONFINITE, "vertex with a non-finite coordinate", i);
@@ -266,18 +261,17 @@ ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_re
     uint32_t i;
     int k;
     ls_status st;
-    if (positions == NULL) return frame_invalid("positions is NULL", diag);
-    if (out == NULL) return frame_invalid("out is NULL", diag);
-    if (vertex_count == 0) return frame_invalid("vertex_count: 0; at least one point", diag);
+    if (positions == NULL) return ls_invalid_arg(diag, "positions is NULL");
+    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
+    if (vertex_count == 0) return ls_invalid_arg(diag, "vertex_count: 0; at least one point");
     if (!finite_r(margin) || !finite_r(fov) || !finite_r(aspect)) return LS_ERR_NONFINITE;
-    if (!(margin >= (ls_real)1)) return frame_invalid("margin: allowed >= 1", diag);
+    if (!(margin >= (ls_real)1)) return ls_invalid_arg(diag, "margin: allowed >= 1");
     /* a projection with a unit near plane gives the half-angle tangents */
     st = ls_camera_perspective(fov, fov_axis, aspect, (ls_real)1, (ls_real)2, proj);
     if (st == LS_ERR_INVALID) {
-        return frame_invalid(fov_axis > LS_FOV_Y        ? "fov_axis: allowed LS_FOV_X or LS_FOV_Y"
-                             : !(aspect > (ls_real)0) ? "aspect: allowed > 0"
-                                                      : "fov: allowed in (0, pi) radians",
-                             diag);
+        return ls_invalid_arg(diag, fov_axis > LS_FOV_Y        ? "fov_axis: allowed LS_FOV_X or LS_FOV_Y"
+                                    : !(aspect > (ls_real)0) ? "aspect: allowed > 0"
+                                                             : "fov: allowed in (0, pi) radians");
     }
     if (st != LS_OK) return st;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = positions[k];
@@ -300,7 +294,7 @@ ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_re
         if (q > r2) r2 = q;
     }
     if (!(r2 > (ls_real)0) || !finite_r(r2))
-        return frame_invalid("positions: all points equal, or too far apart for ls_real", diag);
+        return ls_invalid_arg(diag, "positions: all points equal, or too far apart for ls_real");
     r = R_SQRT(r2);
     /* the smaller half-angle: the larger of proj[0] = 1 / tan(hx), proj[5] = 1 / tan(hy) */
     t = (ls_real)1 / (proj[0] > proj[5] ? proj[0] : proj[5]);
@@ -308,9 +302,9 @@ ls_status ls_camera_frame(const ls_real *positions, uint32_t vertex_count, ls_re
     near_plane = (dist - r) * (ls_real)0.5;
     far_plane = (dist + r) * (ls_real)2;
     if (!finite_r(dist) || !(near_plane > (ls_real)0))
-        return frame_invalid("margin or fov: the camera distance is not finite", diag);
+        return ls_invalid_arg(diag, "margin or fov: the camera distance is not finite");
     st = ls_camera_perspective(fov, fov_axis, aspect, near_plane, far_plane, out->proj);
-    if (st == LS_ERR_INVALID) return frame_invalid("margin or fov: no valid projection at this distance", diag);
+    if (st == LS_ERR_INVALID) return ls_invalid_arg(diag, "margin or fov: no valid projection at this distance");
     if (st != LS_OK) return st;
     for (k = 0; k < 3; k++) out->center[k] = c[k];
     out->radius = r;

@@ -1,5 +1,6 @@
 /* loss.c - L1 / L2 image losses over RGBA views (largesteps/loss.h). */
 #include <largesteps/loss.h>
+#include "../base/diag_internal.h"
 
 /* Pixels per block of the sum: four plain lane sums of at most this many
  * terms each, so that their rounding error (at most (LOSS_BLOCK + 1) u
@@ -185,12 +186,6 @@ static void add_view(ls_loss_acc *acc, ls_real s)
     acc->views_done++;
 }
 
-static ls_status loss_invalid(const char *what, ls_diag *diag)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
-}
-
 static int acc_ok(const ls_loss_acc *acc)
 {
     return acc->views_done < acc->view_count && (acc->kind == LS_LOSS_L1 || acc->kind == LS_LOSS_L2);
@@ -218,10 +213,10 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
     ls_diag_clear(diag);
     ls_real s = (ls_real)0;
     ls_status st;
-    if (acc == NULL) return loss_invalid("acc is NULL", diag);
-    if (rendered == NULL) return loss_invalid("rendered is NULL", diag);
-    if (target == NULL) return loss_invalid("target is NULL", diag);
-    if (!acc_ok(acc)) return loss_invalid("acc: not begun, or all acc->view_count views already added", diag);
+    if (acc == NULL) return ls_invalid_arg(diag, "acc is NULL");
+    if (rendered == NULL) return ls_invalid_arg(diag, "rendered is NULL");
+    if (target == NULL) return ls_invalid_arg(diag, "target is NULL");
+    if (!acc_ok(acc)) return ls_invalid_arg(diag, "acc: not begun, or all acc->view_count views already added");
     /* the sum first (it reads only): nothing is written on failure */
     st = checked_sum(acc, rendered, target, &s, diag);
     if (st != LS_OK) return st;
@@ -245,24 +240,23 @@ ls_status ls_loss_views(const ls_loss_shape *shape, const ls_real *const *render
     ls_loss_acc acc;
     uint32_t v, view_count;
     ls_status st;
-    if (shape == NULL) return loss_invalid("shape is NULL", diag);
-    if (rendered == NULL) return loss_invalid("rendered is NULL", diag);
-    if (target == NULL) return loss_invalid("target is NULL", diag);
-    if (loss == NULL) return loss_invalid("loss is NULL", diag);
+    if (shape == NULL) return ls_invalid_arg(diag, "shape is NULL");
+    if (rendered == NULL) return ls_invalid_arg(diag, "rendered is NULL");
+    if (target == NULL) return ls_invalid_arg(diag, "target is NULL");
+    if (loss == NULL) return ls_invalid_arg(diag, "loss is NULL");
     view_count = shape->view_count;
     st = ls_loss_begin(&acc, shape->kind, shape->width, shape->height, view_count);
     if (st == LS_ERR_INVALID) {
         int kind_ok = shape->kind == LS_LOSS_L1 || shape->kind == LS_LOSS_L2;
-        return loss_invalid(!kind_ok          ? "shape->kind: allowed LS_LOSS_L1 or LS_LOSS_L2"
-                            : view_count == 0 ? "shape->view_count: 0; at least one view"
-                                              : "shape->width, shape->height: allowed >= 1",
-                            diag);
+        return ls_invalid_arg(diag, !kind_ok          ? "shape->kind: allowed LS_LOSS_L1 or LS_LOSS_L2"
+                                    : view_count == 0 ? "shape->view_count: 0; at least one view"
+                                                      : "shape->width, shape->height: allowed >= 1");
     }
     if (st != LS_OK) return st;
     /* Check every view before writing any gradient. */
     for (v = 0; v < view_count; v++) {
         if (rendered[v] == NULL || target[v] == NULL) {
-            (void)loss_invalid("rendered[v] or target[v] is NULL (v: diag->offset)", diag);
+            (void)ls_invalid_arg(diag, "rendered[v] or target[v] is NULL (v: diag->offset)");
             if (diag != NULL) {
                 diag->has_offset = 1;
                 diag->offset = v;

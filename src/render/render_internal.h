@@ -19,19 +19,13 @@
 #include <largesteps/raster.h>
 #include <largesteps/shade.h>
 #include <largesteps/render_backward.h>
+#include "../base/diag_internal.h"
 
 /* ls_check_triangle_indices: LS_OK when every index of the triangle_count
  * triangles is below vertex_count, else LS_ERR_MESH with diag naming the
  * first bad triangle. O(T). (raster.c) */
 ls_status ls_check_triangle_indices(const uint32_t *indices, uint32_t triangle_count, uint32_t vertex_count,
                                     ls_diag *diag);
-
-/* LS_ERR_INVALID with diag naming the argument (what: static text). */
-static inline ls_status ls_invalid_arg(ls_diag *diag, const char *what)
-{
-    (void)ls_diag_set(diag, LS_ERR_INVALID, what, LS_DIAG_NO_INDEX);
-    return LS_ERR_INVALID; /* spelled out: the analyzer does not see ls_diag_set return it */
-}
 
 /* ls_clip_barycentric: perspective-correct barycentrics b of the NDC point
  * (px, py) in triangle f from the clip coordinates (4 per vertex): with
