@@ -606,6 +606,56 @@ static void open_mesh_keeps_boundary(void)
     free_mesh(&in);
 }
 
+/* A planar disk given as one polygon triangulated from a corner: slivers
+ * down to 3.6 degrees' spread. Splitting them along their length leaves
+ * vertices whose ring is not star-shaped from its centroid; the tangential
+ * relaxation must not fold faces over each other there (before, it left 162
+ * self-intersecting pairs on the 100-gon, 1,106 on the 1000-gon). Every face
+ * of the result faces +z; no pair intersects. */
+static void polygon_fan_stays_flat(void)
+{
+    uint32_t sizes[2] = {100, 1000}, s;
+    for (s = 0; s < (emulated() ? 1u : 2u); s++) {
+        uint32_t n = sizes[s], i, folded = 0;
+        size_t need = 0;
+        heap_mesh in;
+        ls_arena a;
+        ls_remesh_params p;
+        run_result r;
+        ls_mesh_bytes(n, n - 2u, &need);
+        in.buf = (unsigned char *)malloc(need + 8u);
+        REQUIRE(in.buf != NULL);
+        ls_arena_init(&a, in.buf, need);
+        REQUIRE(ls_mesh_alloc(&in.m, n, n - 2u, &a) == LS_OK);
+        for (i = 0; i < n; i++) {
+            in.m.positions[3u * i] = (ls_real)cos(6.283185307179586 * i / n);
+            in.m.positions[3u * i + 1u] = (ls_real)sin(6.283185307179586 * i / n);
+            in.m.positions[3u * i + 2u] = 0;
+        }
+        for (i = 0; i + 2u < n; i++) {
+            in.m.triangles[3u * i] = 0;
+            in.m.triangles[3u * i + 1u] = i + 1u;
+            in.m.triangles[3u * i + 2u] = i + 2u;
+        }
+        ls_remesh_params_default(&p, (ls_real)(0.5 * mean_edge_ref(&in.m)));
+        r = run_remesh(&in.m, &p);
+        REQUIRE(r.st == LS_OK);
+        for (i = 0; i < r.out.face_count; i++) {
+            const ls_real *q0 = r.out.positions + 3u * r.out.triangles[3u * i],
+                          *q1 = r.out.positions + 3u * r.out.triangles[3u * i + 1u],
+                          *q2 = r.out.positions + 3u * r.out.triangles[3u * i + 2u];
+            double nz = ((double)q1[0] - q0[0]) * ((double)q2[1] - q0[1]) - ((double)q1[1] - q0[1]) * ((double)q2[0] - q0[0]);
+            folded += !(nz > 0);
+        }
+        printf("     %u-gon: %u faces, %u not facing +z, %ld self-intersecting pairs\n", n, r.out.face_count, folded,
+               tangle_count(&r.out));
+        CHECK_EQ(folded, 0);
+        CHECK_EQ(tangle_count(&r.out), 0);
+        free(r.buf);
+        free_mesh(&in);
+    }
+}
+
 /* A sphere whose vertices are pushed around until faces fold over: the
  * result is valid or a named error, never a crash or a hang. */
 /* Remeshes a tangled mesh to factor x its mean edge: a valid manifold
@@ -848,6 +898,7 @@ int main(void)
     TEST_RUN(armadillo_half);
     TEST_RUN(armadillo_double);
     TEST_RUN(open_mesh_keeps_boundary);
+    TEST_RUN(polygon_fan_stays_flat);
     TEST_RUN(tangled_input);
     TEST_RUN(fit_tangled_fixtures);
     TEST_RUN(capacity_exceeded);

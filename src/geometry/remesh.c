@@ -541,6 +541,54 @@ static void vertex_normals(rm_ctx *c)
     }
 }
 
+/* The centroid of a ring that is not star-shaped from it (slivers split
+ * along their length) lies outside the ring, and moving there folds a face
+ * over its neighbours; two neighbours moving at once can fold one too. So
+ * every face is checked with the moves applied: a face that faced the way
+ * its corners' normals (summed) do must still face that way and not become
+ * degenerate, else its corners stay where they are, until no face fails
+ * (each round only keeps more vertices in place). A face already turned
+ * against its corners (a spike through the surface) may turn back. Where no
+ * move folds, the moves are unchanged. */
+static void keep_unfolded(rm_ctx *c)
+{
+    ls_hemesh *he = c->he;
+    uint32_t v, f, k, changed = 1, rounds = 0;
+    for (v = 0; v < he->vertex_count; v++) {
+        uint32_t x = he->vout[v];
+        if (x == NONE || he->hface[x] == NONE || c->locked[v])
+            for (k = 0; k < 3u; k++) c->newpos[3u * (size_t)v + k] = pos(he, v)[k];
+    }
+    while (changed && rounds++ < he->vertex_count + 1u) {
+        changed = 0;
+        for (f = 0; f < he->face_count; f++) {
+            uint32_t h = he->fedge[f], t[3], j;
+            const ls_real *q[3];
+            ls_real n0[3], n1[3], r[3];
+            int moved = 0;
+            if (h == NONE) continue;
+            t[0] = he->hto[h ^ 1u];
+            t[1] = he->hto[h];
+            t[2] = he->hto[he->hnext[h]];
+            for (j = 0; j < 3u; j++) {
+                q[j] = c->newpos + 3u * (size_t)t[j];
+                moved |= memcmp(q[j], pos(he, t[j]), 3u * sizeof(ls_real)) != 0;
+            }
+            if (!moved) continue;
+            tri_normal(pos(he, t[0]), pos(he, t[1]), pos(he, t[2]), n0);
+            tri_normal(q[0], q[1], q[2], n1);
+            for (k = 0; k < 3u; k++)
+                r[k] = (c->normals[3u * (size_t)t[0] + k] + c->normals[3u * (size_t)t[1] + k]) +
+                       c->normals[3u * (size_t)t[2] + k];
+            if (!(dot3(n0, r) > 0) || (dot3(n1, r) > 0 && dot3(n1, n1) > LS_REAL_EPSILON * dist2(q[0], q[1]) * dist2(q[0], q[2])))
+                continue;
+            for (j = 0; j < 3u; j++)
+                for (k = 0; k < 3u; k++) c->newpos[3u * (size_t)t[j] + k] = pos(he, t[j])[k];
+            changed = 1;
+        }
+    }
+}
+
 static void relax(rm_ctx *c)
 {
     ls_hemesh *he = c->he;
@@ -564,6 +612,7 @@ static void relax(rm_ctx *c)
         t = l2 > 0 ? dot3(d, nv) / l2 : 0;
         for (k = 0; k < 3u; k++) c->newpos[3u * (size_t)v + k] = p[k] + (d[k] - t * nv[k]);
     }
+    keep_unfolded(c);
     for (v = 0; v < he->vertex_count; v++) {
         uint32_t x = he->vout[v];
         if (x == NONE || he->hface[x] == NONE || c->locked[v]) continue;
