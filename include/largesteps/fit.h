@@ -108,6 +108,23 @@ extern "C" {
 #define LS_FIT_MEAN_PROJECT 1u /* its per-axis mean taken out of dL/du: the translation block
                                   (use_translation, required) alone moves the mesh as a whole */
 
+/* The lighting (config.light). LS_FIT_LIGHT_ESTIMATE is for targets whose
+ * lighting is not known: the 27 SH coefficients (shade.h; with a uniform
+ * albedo, which scales each channel's 9, they are the albedo too) are
+ * estimated from the targets on the current geometry, in closed form
+ * (ls_sh_accumulate, ls_sh_solve: linear least squares over the pixels
+ * covered in both the render and the target's mask), and the geometry is
+ * fitted under them: the two alternate. Iteration i shades with the
+ * estimate made from iteration i - 1's renders (its batch of views, its
+ * vertex normals), and accumulates the sums of the next one while it
+ * renders (no second raster pass); the first iteration estimates from its
+ * own views first, in a pass of rasters of its own. A step whose estimate
+ * cannot be solved (no pixel in common) keeps the previous one (zeros at
+ * first). The estimate is fit->sh; it is kept across remeshes and saved
+ * with the checkpoint. LS_FIT_LIGHT_GIVEN costs nothing of this. */
+#define LS_FIT_LIGHT_GIVEN    0u /* config.shading as given */
+#define LS_FIT_LIGHT_ESTIMATE 1u /* SH estimated from the targets (shading.mode LS_SHADE_SH; shading.sh unused) */
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
@@ -138,6 +155,7 @@ typedef struct ls_fit_config {
                                * (ls_fit_view_of), so that a batch spreads over the pool and every
                                * view comes back every count / B iterations. More views at the
                                * cost of fewer: coverage without the time. The loss is the batch's. */
+    uint32_t light;           /* LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE (above) */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -220,6 +238,11 @@ typedef struct ls_fit {
     uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */
     uint32_t saved_iteration;
     ls_real saved_last_scale[LS_OPTIM_MAX_BLOCKS];
+    ls_real sh[27];           /* LS_FIT_LIGHT_ESTIMATE: the lighting in use (zeros before the first estimate) */
+    uint32_t sh_valid;        /* LS_FIT_LIGHT_ESTIMATE: 1 once an estimate has been made */
+    ls_sh_normal sh_sums;     /* LS_FIT_LIGHT_ESTIMATE: the sums of the next estimate (working) */
+    ls_real saved_sh[27];     /* guard: the checkpoint's lighting and its sh_valid */
+    uint32_t saved_sh_valid;
 } ls_fit;
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
@@ -338,7 +361,8 @@ ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
 
 /* ls_fit_save: the checkpoint takes what ls_fit_step changes: x, the
  * parameters (u or x, and the translation), the optimizer's moments and step
- * count, and the iteration count. ls_fit_rollback puts them back, so the
+ * count, the iteration count and the estimated lighting (sh, sh_valid).
+ * ls_fit_rollback puts them back, so the
  * steps after it repeat the ones after the save bit for bit (the learning
  * rate, config.optim.lr of fit->optim, is the caller's to change). A remesh
  * empties the checkpoint. Needs config.guard. O(n). Errors: LS_ERR_INVALID

@@ -119,6 +119,9 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
     if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
+    if (c->light > LS_FIT_LIGHT_ESTIMATE) return "config->light: allowed LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE";
+    if (c->light == LS_FIT_LIGHT_ESTIMATE && c->shading.mode != LS_SHADE_SH)
+        return "config->light: LS_FIT_LIGHT_ESTIMATE estimates SH lighting: it needs shading.mode LS_SHADE_SH";
     if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
     if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
     return NULL;
@@ -507,6 +510,26 @@ uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t it
     return (uint32_t)(pos * coprime_stride(count) % count);
 }
 
+/* LS_FIT_LIGHT_ESTIMATE before its first estimate: the iteration's views
+ * rasterized once more to make it (view: set up by views_pass, the vertex
+ * normals computed). A step that fails restores sh_valid (fit_step_call). */
+static ls_status first_estimate(ls_fit *fit, ls_view *view, uint32_t batch, ls_diag *diag)
+{
+    uint32_t k;
+    ls_status st = LS_OK;
+    if (fit->sh_valid) return LS_OK;
+    ls_sh_normal_clear(&fit->sh_sums);
+    for (k = 0; k < batch && st == LS_OK; k++) {
+        const uint32_t v = ls_fit_view_of(&fit->config, fit->views.count, fit->iteration, k);
+        view->mvp = fit->mvp + 16u * (size_t)v;
+        st = ls_raster(&fit->vis, view, &fit->block, diag);
+        if (st == LS_OK) st = ls_sh_accumulate(&fit->sh_sums, view, fit->views.targets[v], diag);
+    }
+    if (st != LS_OK) return st;
+    if (ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK) fit->sh_valid = 1;
+    return LS_OK;
+}
+
 /* Renders every view and accumulates the loss and dL/d(rendered positions)
  * into fit->gx. */
 static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -514,6 +537,8 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const ls_fit_config *c = &fit->config;
     const uint32_t n = fit->vertex_count, nf = fit->face_count;
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
+    const int estimate = c->light == LS_FIT_LIGHT_ESTIMATE;
+    ls_shade_opts lit;
     ls_loss_acc acc;
     ls_view view;
     uint32_t k, batch;
@@ -527,6 +552,11 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     view.vertex_count = n;
     view.normals = fit->normals;
     view.opts = &c->shading;
+    if (estimate) { /* the fit's own coefficients */
+        lit = c->shading;
+        lit.sh = fit->sh;
+        view.opts = &lit;
+    }
     view.table = &fit->edges;
     view.boost = c->boost;
     memset(fit->gx, 0, 3u * (size_t)n * sizeof(ls_real));
@@ -537,6 +567,11 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         if (st != LS_OK) return st;
     }
     batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
+    if (estimate) {
+        st = first_estimate(fit, &view, batch, diag);
+        if (st != LS_OK) return st;
+        ls_sh_normal_clear(&fit->sh_sums);
+    }
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
     for (k = 0; k < batch; k++) {
@@ -545,6 +580,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         view.mvp = fit->mvp + 16u * (size_t)v;
         st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
+        if (st == LS_OK && estimate) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
         if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
         if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
@@ -707,6 +743,8 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_fit_timing timing;
     ls_cg_info cg;
     ls_real loss, reg_loss, *xs, *warm = NULL;
+    ls_real sh[27];
+    uint32_t sh_valid;
     size_t nn;
     ls_status st = LS_OK;
     if (fit == NULL || fit->x == NULL) return invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
@@ -717,6 +755,8 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     loss = fit->loss;
     reg_loss = fit->reg_loss;
     cg = fit->param.cg;
+    memcpy(sh, fit->sh, sizeof sh);
+    sh_valid = fit->sh_valid;
     mark = ls_arena_save(&fit->block);
     xs = fit->x;
     if (ls_fit_impl_optimizes_u(&fit->config)) {
@@ -736,7 +776,12 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
         if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
         fit->iteration++;
+        /* the lighting of the geometry just rendered, for the next step (kept when it cannot be solved) */
+        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK)
+            fit->sh_valid = 1;
     } else {
+        memcpy(fit->sh, sh, sizeof sh);
+        fit->sh_valid = sh_valid;
         fit->timing = timing;
         fit->loss = loss;
         fit->reg_loss = reg_loss;
@@ -788,7 +833,10 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     const size_t job_fit_bytes = fit->job_fit_bytes;
     const ls_real scale = fit->scale, radius = fit->radius;
     const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
+    const uint32_t sh_valid = fit->sh_valid;
+    ls_real sh[27];
     ls_status st;
+    memcpy(sh, fit->sh, sizeof sh);
     cfg.optim.lr = cfg.optim.lr * lr_factor;
     memset(fit, 0, sizeof *fit);
     st = ls_fit_impl_fit_init_frame(fit, &cfg, &views, mesh, scale, radius, NULL, arena, diag);
@@ -800,5 +848,7 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     fit->max_edges = max_edges;
     fit->job = job;
     fit->job_fit_bytes = job_fit_bytes;
+    memcpy(fit->sh, sh, sizeof sh); /* the lighting carries over */
+    fit->sh_valid = sh_valid;
     return LS_OK;
 }

@@ -47,6 +47,8 @@ typedef struct ls_job_problem {
     int32_t target_genus;    /* mesh targets: the genus (-1: not an oriented 2-manifold) */
     uint32_t target_components;
     int auto_coarse;         /* the coarse start was chosen for the target's genus */
+    uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
+                                fit (sh then zeros until the fit's estimate is copied in) */
 } ls_job_problem;
 
 typedef struct ls_job_run {
@@ -73,6 +75,7 @@ typedef struct ls_job_run {
     ls_real *track_h_rel;    /* dense symmetric Hausdorff / target diagonal */
     ls_real *track_rms_rel;  /* dense RMS / target diagonal */
     double track_total_ms;   /* time spent measuring (excluded from ms and total_ms) */
+    ls_real sh[27];          /* the fit's estimated lighting (LS_FIT_LIGHT_ESTIMATE; else zeros) */
 } ls_job_run;
 
 /* Loads the problem into the arena (everything stays allocated). */
