@@ -1,8 +1,9 @@
 /* test_sh_estimate.c - SH lighting estimated from images (shade.h:
  * ls_sh_basis, ls_sh_accumulate, ls_sh_solve) and the fit that estimates it
- * (fit.h: LS_FIT_LIGHT_ESTIMATE). A mesh rendered by ls_shade with known
- * coefficients gives them back from its own images; the fit recovers the
- * lighting of its targets and runs the same bits twice; the errors. */
+ * (fit.h: LS_FIT_LIGHT_ESTIMATE, config.grad_limit). A mesh rendered by
+ * ls_shade with known coefficients gives them back from its own images; the
+ * fit recovers the lighting of its targets and runs the same bits twice; a
+ * limited gradient stays within its bound; the errors. */
 #include "test.h"
 #include <stdlib.h>
 #include "fit_targets.h"
@@ -292,6 +293,56 @@ static void fit_checkpoint_and_remesh_keep_the_lighting(void)
     for (i = 0; i < FIT_VIEWS; i++) free(fit_targets[i]);
 }
 
+/* config.grad_limit: a block's gradient is scaled down to K x its last
+ * scale when it exceeds it (here K = 0.5: every step after the first), and a
+ * limit no gradient reaches gives the same bits as none. */
+static void fit_grad_limit(void)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views v;
+    ls_fit fit;
+    ls_mesh init;
+    ls_real x_off[3 * 200];
+    uint32_t i, b, run, n_off = 0;
+    fit_test_targets(3, FIT_VIEWS, FIT_RES, buf, BUF_BYTES / 2u, fit_mvps, fit_targets, fit_sh);
+    v.count = FIT_VIEWS;
+    v.mvp = &fit_mvps[0][0];
+    v.targets = (const ls_real *const *)fit_targets;
+    for (run = 0; run < 3; run++) {
+        REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2u, BUF_BYTES / 2u) == LS_OK);
+        fit_config(&c, 0);
+        c.grad_limit = run == 0 ? (ls_real)0 : run == 1 ? (ls_real)1e30 : (ls_real)0.5;
+        REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
+        for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
+        REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+        REQUIRE(3u * fit.vertex_count <= 3u * 200u);
+        for (i = 0; i < 12; i++) {
+            ls_real scale[LS_OPTIM_MAX_BLOCKS];
+            size_t at = 0, j;
+            memcpy(scale, fit.optim.last_scale, sizeof scale);
+            REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+            if (run != 2 || i == 0) continue;
+            for (b = 0; b < fit.optim.block_count; b++) { /* fit.grad: what the optimizer was given */
+                double mx = 0;
+                for (j = at; j < at + fit.optim.block_size[b]; j++) mx = fmax(mx, fabs((double)fit.grad[j]));
+                CHECK_MSG(mx <= 0.5 * (double)scale[b] * (1 + 1e-6), "step %u block %u: %g > %g", (unsigned)i,
+                          (unsigned)b, mx, 0.5 * (double)scale[b]);
+                at += fit.optim.block_size[b];
+            }
+        }
+        if (run == 0) {
+            n_off = fit.vertex_count;
+            memcpy(x_off, fit.x, 3u * n_off * sizeof(ls_real));
+        } else if (run == 1) {
+            CHECK(fit.vertex_count == n_off && memcmp(x_off, fit.x, 3u * n_off * sizeof(ls_real)) == 0);
+        } else {
+            CHECK(memcmp(x_off, fit.x, 3u * n_off * sizeof(ls_real)) != 0); /* the limit changed the steps */
+        }
+    }
+    for (i = 0; i < FIT_VIEWS; i++) free(fit_targets[i]);
+}
+
 static void fit_light_config_errors(void)
 {
     ls_arena arena;
@@ -319,6 +370,10 @@ static void fit_light_config_errors(void)
     CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, &d), LS_ERR_INVALID);
     CHECK(d.what != NULL && strstr(d.what, "config->light") != NULL);
     c.light = LS_FIT_LIGHT_ESTIMATE;
+    c.grad_limit = (ls_real)-1;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, &d), LS_ERR_INVALID);
+    CHECK(d.what != NULL && strstr(d.what, "config->grad_limit") != NULL);
+    c.grad_limit = (ls_real)3;
     CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, &d), LS_OK);
 }
 
@@ -332,6 +387,7 @@ int main(void)
     TEST_RUN(estimate_errors);
     TEST_RUN(fit_estimates_the_lighting);
     TEST_RUN(fit_checkpoint_and_remesh_keep_the_lighting);
+    TEST_RUN(fit_grad_limit);
     TEST_RUN(fit_light_config_errors);
     free(buf);
     return TEST_END();

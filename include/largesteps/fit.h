@@ -114,16 +114,21 @@ extern "C" {
  * estimated from the targets on the current geometry, in closed form
  * (ls_sh_accumulate, ls_sh_solve: linear least squares over the pixels
  * covered in both the render and the target's mask), and the geometry is
- * fitted under them: the two alternate. Iteration i shades with the
- * estimate made from iteration i - 1's renders (its batch of views, its
- * vertex normals), and accumulates the sums of the next one while it
- * renders (no second raster pass); the first iteration estimates from its
- * own views first, in a pass of rasters of its own. A step whose estimate
- * cannot be solved (no pixel in common) keeps the previous one (zeros at
- * first). The estimate is fit->sh; it is kept across remeshes and saved
- * with the checkpoint. LS_FIT_LIGHT_GIVEN costs nothing of this. */
+ * fitted under them: the two alternate. The iterations i with
+ * i mod LS_FIT_LIGHT_EVERY = LS_FIT_LIGHT_EVERY - 1 accumulate the sums while
+ * they render (their batch of views and vertex normals; no second raster
+ * pass) and solve them once their step has succeeded: the iterations after
+ * shade with that estimate. The first iteration estimates from its own
+ * views first, in a pass of rasters of its own. An estimate that cannot be
+ * solved (no pixel in common) keeps the previous one (zeros at first). The
+ * estimate is fit->sh; remeshes keep it and the checkpoint saves it.
+ * LS_FIT_LIGHT_GIVEN costs nothing of this. */
 #define LS_FIT_LIGHT_GIVEN    0u /* config.shading as given */
 #define LS_FIT_LIGHT_ESTIMATE 1u /* SH estimated from the targets (shading.mode LS_SHADE_SH; shading.sh unused) */
+/* The estimate's period in iterations: its sums cost about a sixth of an
+ * iteration at 128 x 128 (the armadillo's dataset), a fit's lighting settles in
+ * far fewer iterations than its geometry. */
+#define LS_FIT_LIGHT_EVERY 8u
 
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
@@ -156,6 +161,15 @@ typedef struct ls_fit_config {
                                * view comes back every count / B iterations. More views at the
                                * cost of fewer: coverage without the time. The loss is the batch's. */
     uint32_t light;           /* LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE (above) */
+    ls_real grad_limit;       /* UniformAdam: K > 0 scales a block's gradient (u or x, the translation)
+                               * down, direction kept, when its largest element exceeds K times the
+                               * block's scale of the last step (optim.h's last_scale, the largest
+                               * running RMS): one outlier iteration cannot inflate the second moments
+                               * and stall or throw the block for hundreds of steps; 0 (default): off.
+                               * The interior shading gradient has such outliers: a sample of a
+                               * triangle seen almost edge-on divides by its tiny screen area
+                               * (render_backward.h). `largesteps fit` uses 3 with estimated lighting,
+                               * whose shading varies more with the normal than its default SH */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,

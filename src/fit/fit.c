@@ -119,6 +119,8 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
     if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
+    if (!finite_r(c->grad_limit) || c->grad_limit < (ls_real)0)
+        return "config->grad_limit: allowed finite and >= 0 (0: off; e.g. 10)";
     if (c->light > LS_FIT_LIGHT_ESTIMATE) return "config->light: allowed LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE";
     if (c->light == LS_FIT_LIGHT_ESTIMATE && c->shading.mode != LS_SHADE_SH)
         return "config->light: LS_FIT_LIGHT_ESTIMATE estimates SH lighting: it needs shading.mode LS_SHADE_SH";
@@ -510,6 +512,13 @@ uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t it
     return (uint32_t)(pos * coprime_stride(count) % count);
 }
 
+/* LS_FIT_LIGHT_ESTIMATE: whether the step about to run (or running:
+ * fit->iteration is counted up after the solve) makes a new estimate. */
+static int light_iteration(const ls_fit *fit)
+{
+    return fit->iteration % LS_FIT_LIGHT_EVERY == LS_FIT_LIGHT_EVERY - 1u;
+}
+
 /* LS_FIT_LIGHT_ESTIMATE before its first estimate: the iteration's views
  * rasterized once more to make it (view: set up by views_pass, the vertex
  * normals computed). A step that fails restores sh_valid (fit_step_call). */
@@ -538,6 +547,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const uint32_t n = fit->vertex_count, nf = fit->face_count;
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     const int estimate = c->light == LS_FIT_LIGHT_ESTIMATE;
+    const int sums = estimate && light_iteration(fit);
     ls_shade_opts lit;
     ls_loss_acc acc;
     ls_view view;
@@ -570,8 +580,8 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     if (estimate) {
         st = first_estimate(fit, &view, batch, diag);
         if (st != LS_OK) return st;
-        ls_sh_normal_clear(&fit->sh_sums);
     }
+    if (sums) ls_sh_normal_clear(&fit->sh_sums);
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
     for (k = 0; k < batch; k++) {
@@ -580,7 +590,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         view.mvp = fit->mvp + 16u * (size_t)v;
         st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
-        if (st == LS_OK && estimate) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
+        if (st == LS_OK && sums) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
         if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
         if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
@@ -698,6 +708,31 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     return st;
 }
 
+/* config.grad_limit: a block's gradient whose largest element exceeds K x
+ * the block's last UniformAdam scale is scaled down to it, its direction
+ * kept (none before the first step, or with another method). */
+static void limit_gradient(ls_fit *fit)
+{
+    const ls_optim *o = &fit->optim;
+    const ls_real k = fit->config.grad_limit;
+    size_t at = 0, i;
+    uint32_t b;
+    if (!(k > (ls_real)0) || o->config.method != LS_OPTIM_UNIFORM_ADAM || o->step == 0u) return;
+    for (b = 0; b < o->block_count; b++) {
+        const ls_real bound = k * o->last_scale[b];
+        ls_real mx = (ls_real)0;
+        for (i = at; i < at + o->block_size[b]; i++) {
+            const ls_real a = fit->grad[i] < (ls_real)0 ? -fit->grad[i] : fit->grad[i];
+            if (a > mx) mx = a;
+        }
+        if (bound > (ls_real)0 && mx > bound) {
+            const ls_real f = bound / mx;
+            for (i = at; i < at + o->block_size[b]; i++) fit->grad[i] *= f;
+        }
+        at += o->block_size[b];
+    }
+}
+
 /* The optimizer step, undone when a parameter overflows (its snapshot in
  * the block's scratch, released on return). */
 static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -721,6 +756,7 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     memcpy(m2, o->m2, count * sizeof(ls_real));
     memcpy(last, o->last_scale, sizeof last);
     t0 = now(monitor);
+    limit_gradient(fit);
     st = ls_optim_step(o, fit->params, fit->grad, diag);
     fit->timing.optimizer_ns += now(monitor) - t0;
     if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
@@ -775,10 +811,11 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     if (st == LS_OK) {
         if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
-        fit->iteration++;
-        /* the lighting of the geometry just rendered, for the next step (kept when it cannot be solved) */
-        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK)
+        /* the lighting of the geometry just rendered, for the next steps (kept when it cannot be solved) */
+        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && light_iteration(fit) &&
+            ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK)
             fit->sh_valid = 1;
+        fit->iteration++;
     } else {
         memcpy(fit->sh, sh, sizeof sh);
         fit->sh_valid = sh_valid;
