@@ -252,9 +252,11 @@ typedef struct ls_fit {
     uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */
     uint32_t saved_iteration;
     ls_real saved_last_scale[LS_OPTIM_MAX_BLOCKS];
-    ls_real sh[27];           /* LS_FIT_LIGHT_ESTIMATE: the lighting in use (zeros before the first estimate) */
-    uint32_t sh_valid;        /* LS_FIT_LIGHT_ESTIMATE: 1 once an estimate has been made */
-    ls_sh_normal sh_sums;     /* LS_FIT_LIGHT_ESTIMATE: the sums of the next estimate (working) */
+    /* LS_FIT_LIGHT_ESTIMATE; the last fields: a remesh's rebuild keeps them */
+    ls_real sh[27];           /* the lighting in use (zeros before the first estimate) */
+    uint32_t sh_valid;        /* 1 once an estimate has been made */
+    ls_sh_normal sh_sums;     /* the sums of the next estimate (working) */
+    ls_shade_opts lit;        /* config.shading with sh (working) */
     ls_real saved_sh[27];     /* guard: the checkpoint's lighting and its sh_valid */
     uint32_t saved_sh_valid;
 } ls_fit;
@@ -262,7 +264,8 @@ typedef struct ls_fit {
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
  * LDL^T, UniformAdam lr 1e-2, L1, boost 3, translation on, 128 x 128 with
  * S = 1, exact silhouettes, no adaptive supersampling (aa 0), p = 2, SH shading with the caller's coefficients to fill (mode
- * LS_SHADE_MASK until then). O(1). NULL is ignored. */
+ * LS_SHADE_MASK until then), the lighting given (LS_FIT_LIGHT_GIVEN), no
+ * gradient limit. O(1). NULL is ignored. */
 void ls_fit_config_default(ls_fit_config *config);
 
 /* ls_fit_bytes: exact arena bytes of ls_fit_init with these arguments (the
@@ -280,7 +283,8 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
  * a bad configuration: zero views or resolution, negative lambda, alpha
  * outside [0, 1), an unknown method, solver, loss, optimizer or silhouette
  * mode, the pair mode with S > 1 or with aa > S, aa above LS_REFINE_MAX, p outside {0, 1, 2}, a negative or
- * non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
+ * non-finite CG tolerance, vertex colours, LS_FIT_LIGHT_ESTIMATE without
+ * LS_SHADE_SH, a negative or non-finite grad_limit), LS_ERR_MESH / LS_ERR_NONFINITE
  * (the initial mesh; also a coordinate or a view transform that overflows in
  * the frame: a mesh tiny against its distance from the origin),
  * LS_ERR_NOT_SPD (M: lambda too large for the precision, see param.h),
@@ -376,8 +380,8 @@ ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
 /* ls_fit_save: the checkpoint takes what ls_fit_step changes: x, the
  * parameters (u or x, and the translation), the optimizer's moments and step
  * count, the iteration count and the estimated lighting (sh, sh_valid).
- * ls_fit_rollback puts them back, so the
- * steps after it repeat the ones after the save bit for bit (the learning
+ * ls_fit_rollback puts them back, so the steps after it repeat the ones
+ * after the save bit for bit (the learning
  * rate, config.optim.lr of fit->optim, is the caller's to change). A remesh
  * empties the checkpoint. Needs config.guard. O(n). Errors: LS_ERR_INVALID
  * (NULL, no guard; rollback: no checkpoint since init or the last remesh). */

@@ -1,6 +1,7 @@
 /* fit.c - the reconstruction loop: configuration, sizing, set-up and the
  * iteration (include/largesteps/fit.h) */
 #include "fit_internal.h"
+#include <stddef.h>
 
 /* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
  * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
@@ -120,7 +121,7 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
     if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
     if (!finite_r(c->grad_limit) || c->grad_limit < (ls_real)0)
-        return "config->grad_limit: allowed finite and >= 0 (0: off; e.g. 10)";
+        return "config->grad_limit: allowed finite and >= 0 (0: off; e.g. 3)";
     if (c->light > LS_FIT_LIGHT_ESTIMATE) return "config->light: allowed LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE";
     if (c->light == LS_FIT_LIGHT_ESTIMATE && c->shading.mode != LS_SHADE_SH)
         return "config->light: LS_FIT_LIGHT_ESTIMATE estimates SH lighting: it needs shading.mode LS_SHADE_SH";
@@ -548,7 +549,6 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
     const int estimate = c->light == LS_FIT_LIGHT_ESTIMATE;
     const int sums = estimate && light_iteration(fit);
-    ls_shade_opts lit;
     ls_loss_acc acc;
     ls_view view;
     uint32_t k, batch;
@@ -563,9 +563,9 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     view.normals = fit->normals;
     view.opts = &c->shading;
     if (estimate) { /* the fit's own coefficients */
-        lit = c->shading;
-        lit.sh = fit->sh;
-        view.opts = &lit;
+        fit->lit = c->shading;
+        fit->lit.sh = fit->sh;
+        view.opts = &fit->lit;
     }
     view.table = &fit->edges;
     view.boost = c->boost;
@@ -779,7 +779,6 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_fit_timing timing;
     ls_cg_info cg;
     ls_real loss, reg_loss, *xs, *warm = NULL;
-    ls_real sh[27];
     uint32_t sh_valid;
     size_t nn;
     ls_status st = LS_OK;
@@ -791,8 +790,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     loss = fit->loss;
     reg_loss = fit->reg_loss;
     cg = fit->param.cg;
-    memcpy(sh, fit->sh, sizeof sh);
-    sh_valid = fit->sh_valid;
+    sh_valid = fit->sh_valid; /* only the first estimate can change sh before the step succeeds */
     mark = ls_arena_save(&fit->block);
     xs = fit->x;
     if (ls_fit_impl_optimizes_u(&fit->config)) {
@@ -817,8 +815,10 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
             fit->sh_valid = 1;
         fit->iteration++;
     } else {
-        memcpy(fit->sh, sh, sizeof sh);
-        fit->sh_valid = sh_valid;
+        if (!sh_valid && fit->sh_valid) { /* sh was zeros before its first estimate */
+            memset(fit->sh, 0, sizeof fit->sh);
+            fit->sh_valid = 0;
+        }
         fit->timing = timing;
         fit->loss = loss;
         fit->reg_loss = reg_loss;
@@ -870,12 +870,9 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     const size_t job_fit_bytes = fit->job_fit_bytes;
     const ls_real scale = fit->scale, radius = fit->radius;
     const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
-    const uint32_t sh_valid = fit->sh_valid;
-    ls_real sh[27];
     ls_status st;
-    memcpy(sh, fit->sh, sizeof sh);
     cfg.optim.lr = cfg.optim.lr * lr_factor;
-    memset(fit, 0, sizeof *fit);
+    memset(fit, 0, offsetof(ls_fit, sh)); /* the estimated lighting (the last fields) carries over */
     st = ls_fit_impl_fit_init_frame(fit, &cfg, &views, mesh, scale, radius, NULL, arena, diag);
     if (st != LS_OK) return st;
     fit->timing = timing;
@@ -885,7 +882,5 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     fit->max_edges = max_edges;
     fit->job = job;
     fit->job_fit_bytes = job_fit_bytes;
-    memcpy(fit->sh, sh, sizeof sh); /* the lighting carries over */
-    fit->sh_valid = sh_valid;
     return LS_OK;
 }
