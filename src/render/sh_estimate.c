@@ -160,7 +160,7 @@ ls_status ls_sh_solve(const ls_sh_normal *ne, ls_real sh[27], ls_diag *diag)
         }
     }
     for (c = 0; c < 3; c++) {
-        ls_real *x = out + 9 * c;
+        ls_real *x = out + 9 * (size_t)c;
         for (i = 0; i < 9; i++) { /* L y = b */
             ls_real s = ne->atb[9 * c + i];
             for (k = 0; k < i; k++) s -= l[lower(i, k)] * x[k];
