@@ -180,11 +180,12 @@ void ls_sh_normal_clear(ls_sh_normal *ne);
 /* ls_sh_accumulate: adds the pixels of one view (above) to *ne. Reads
  * view->vis (rasterized), indices, triangle_count, vertex_count, normals
  * and opts->renormalize (opts may be NULL: no renormalisation); target:
- * [4 width height] RGBA of the view's size. The view's sums are formed
- * apart in pixel order, then added to *ne: the same bits for the same
- * inputs. Errors: LS_ERR_INVALID (NULL arrays, vertex_count differing from
- * the rasterized one), LS_ERR_STATE (vis not rasterized), LS_ERR_MESH (an
- * index out of range). O(samples); no memory. */
+ * [4 width height] RGBA of the view's size. Pixels are added in image
+ * order, a pixel's samples in row order: the same bits for the same inputs
+ * and the same order of calls. Errors: LS_ERR_INVALID (NULL arrays, counts
+ * differing from the rasterized ones), LS_ERR_STATE (vis not set up),
+ * LS_ERR_MESH (an index out of range); *ne is then unchanged.
+ * O(samples); no memory. */
 ls_status ls_sh_accumulate(ls_sh_normal *ne, const ls_view *view, const ls_real *target, ls_diag *diag);
 
 /* ls_sh_solve: the least-squares coefficients of the sums into sh[27]:
