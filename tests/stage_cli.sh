@@ -279,8 +279,9 @@ else bad "outputs_eta_counts_remeshes"; cat "$build/eta_test.log" "$build/eta_te
 # Camera datasets: `render` writes DIR/transforms.json with its cameras and
 # lighting; `fit DIR/transforms.json` fits the images alone (it never sees the
 # mesh) about as well as the mesh-target fit with the same views; a dataset
-# without its lighting fits the alpha masks, and says so; a malformed dataset
-# names the line, column and problem.
+# without its lighting has it estimated with the geometry, and says so
+# (--shading mask: the alpha masks alone); a malformed dataset names the
+# line, column and problem.
 ds=$out/dataset
 rm -rf "$ds" "$out/fit_ds" "$out/fit_mesh"
 if "$ls" render fixtures/meshes/bunny.obj --views 8 --res 48 -o "$ds" > "$build/ds_render.log" 2>&1 &&
@@ -297,12 +298,22 @@ if "$ls" fit "$ds/transforms.json" --iters 120 --remesh 40 -o "$out/fit_ds" > "$
         ok "fit_dataset_round_trip (H/diag $h1 from the images, $h2 from the mesh)"
     else bad "fit_dataset_round_trip (H/diag $h1 from the images, $h2 from the mesh)"; fi
 else bad "fit_dataset_round_trip"; tail -n 3 "$build/ds_fit.log"; fi
-rm -rf "$ds.lambert" "$out/fit_ds_mask"
-if "$ls" render fixtures/meshes/bunny.obj --views 4 --res 32 --shading lambert -o "$ds.lambert" > /dev/null 2>&1 &&
-        "$ls" fit "$ds.lambert/transforms.json" --iters 5 -o "$out/fit_ds_mask" > "$build/ds_mask.log" 2>&1 &&
-        grep -q "does not record its lighting: fitting the images' alpha masks" "$build/ds_mask.log"; then
-    ok "fit_dataset_unknown_lighting_fits_masks"
-else bad "fit_dataset_unknown_lighting_fits_masks"; tail -n 3 "$build/ds_mask.log"; fi
+rm -rf "$ds.lambert" "$out/fit_ds_light" "$out/fit_ds_mask"
+if "$ls" render fixtures/meshes/bunny.obj --views 8 --res 48 --shading lambert -o "$ds.lambert" > /dev/null 2>&1 &&
+        "$ls" fit "$ds.lambert/transforms.json" --iters 40 --remesh 20 -o "$out/fit_ds_light" > "$build/ds_light.log" 2>&1 &&
+        grep -q "does not record its lighting: estimating it (9 RGB spherical-harmonics coefficients, uniform albedo)" \
+            "$build/ds_light.log" &&
+        [ -s "$out/fit_ds_light/result.obj" ]; then
+    # the estimate in metrics.json: 27 numbers, a positive constant term in each channel
+    l00=$(sed -n 's/.*"estimated_sh": \[\([^]]*\)\].*/\1/p' "$out/fit_ds_light/metrics.json" |
+          awk -F', ' 'NF == 27 && $1 > 0 && $10 > 0 && $19 > 0 { print $1 " " $10 " " $19 }')
+    if [ -n "$l00" ]; then ok "fit_dataset_unknown_lighting_estimated (L00 $l00)"
+    else bad "fit_dataset_unknown_lighting_estimated"; grep estimated_sh "$out/fit_ds_light/metrics.json"; fi
+else bad "fit_dataset_unknown_lighting_estimated"; tail -n 3 "$build/ds_light.log"; fi
+if "$ls" fit "$ds.lambert/transforms.json" --shading mask --iters 5 -o "$out/fit_ds_mask" > "$build/ds_mask.log" 2>&1 &&
+        ! grep -q "estimating it" "$build/ds_mask.log" && ! grep -q estimated_sh "$out/fit_ds_mask/metrics.json"; then
+    ok "fit_dataset_unknown_lighting_shading_mask_fits_masks"
+else bad "fit_dataset_unknown_lighting_shading_mask_fits_masks"; tail -n 3 "$build/ds_mask.log"; fi
 # render --cameras: a dataset's own cameras give its images again, byte for
 # byte, and the same transforms.json (its numbers to 1e-12); a non-square dataset with an off-centre
 # principal point gives images of its size and keeps the point; --cameras

@@ -108,6 +108,28 @@ extern "C" {
 #define LS_FIT_MEAN_PROJECT 1u /* its per-axis mean taken out of dL/du: the translation block
                                   (use_translation, required) alone moves the mesh as a whole */
 
+/* The lighting (config.light). LS_FIT_LIGHT_ESTIMATE is for targets whose
+ * lighting is not known: the 27 SH coefficients (shade.h; with a uniform
+ * albedo, which scales each channel's 9, they are the albedo too) are
+ * estimated from the targets on the current geometry, in closed form
+ * (ls_sh_accumulate, ls_sh_solve: linear least squares over the pixels
+ * covered in both the render and the target's mask), and the geometry is
+ * fitted under them: the two alternate. The iterations i with
+ * i mod LS_FIT_LIGHT_EVERY = LS_FIT_LIGHT_EVERY - 1 accumulate the sums while
+ * they render (their batch of views and vertex normals; no second raster
+ * pass) and solve them once their step has succeeded: the iterations after
+ * shade with that estimate. The first iteration estimates from its own
+ * views first, in a pass of rasters of its own. An estimate that cannot be
+ * solved (no pixel in common) keeps the previous one (zeros at first). The
+ * estimate is fit->sh; remeshes keep it and the checkpoint saves it.
+ * LS_FIT_LIGHT_GIVEN costs nothing of this. */
+#define LS_FIT_LIGHT_GIVEN    0u /* config.shading as given */
+#define LS_FIT_LIGHT_ESTIMATE 1u /* SH estimated from the targets (shading.mode LS_SHADE_SH; shading.sh unused) */
+/* The estimate's period in iterations: its sums cost about a sixth of an
+ * iteration at 128 x 128 (the armadillo's dataset), a fit's lighting settles in
+ * far fewer iterations than its geometry. */
+#define LS_FIT_LIGHT_EVERY 8u
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
@@ -138,6 +160,16 @@ typedef struct ls_fit_config {
                                * (ls_fit_view_of), so that a batch spreads over the pool and every
                                * view comes back every count / B iterations. More views at the
                                * cost of fewer: coverage without the time. The loss is the batch's. */
+    uint32_t light;           /* LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE (above) */
+    ls_real grad_limit;       /* UniformAdam: K > 0 scales a block's gradient (u or x, the translation)
+                               * down, direction kept, when its largest element exceeds K times the
+                               * block's scale of the last step (optim.h's last_scale, the largest
+                               * running RMS): one outlier iteration cannot inflate the second moments
+                               * and stall or throw the block for hundreds of steps; 0 (default): off.
+                               * The interior shading gradient has such outliers: a sample of a
+                               * triangle seen almost edge-on divides by its tiny screen area
+                               * (render_backward.h). `largesteps fit` uses 3 with estimated lighting,
+                               * whose shading varies more with the normal than its default SH */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -220,12 +252,20 @@ typedef struct ls_fit {
     uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */
     uint32_t saved_iteration;
     ls_real saved_last_scale[LS_OPTIM_MAX_BLOCKS];
+    /* LS_FIT_LIGHT_ESTIMATE; the last fields: a remesh's rebuild keeps them */
+    ls_real sh[27];           /* the lighting in use (zeros before the first estimate) */
+    uint32_t sh_valid;        /* 1 once an estimate has been made */
+    ls_sh_normal sh_sums;     /* the sums of the next estimate (working) */
+    ls_shade_opts lit;        /* config.shading with sh (working) */
+    ls_real saved_sh[27];     /* guard: the checkpoint's lighting and its sh_valid */
+    uint32_t saved_sh_valid;
 } ls_fit;
 
 /* ls_fit_config_default: the paper's large-steps settings: lambda = 19,
  * LDL^T, UniformAdam lr 1e-2, L1, boost 3, translation on, 128 x 128 with
  * S = 1, exact silhouettes, no adaptive supersampling (aa 0), p = 2, SH shading with the caller's coefficients to fill (mode
- * LS_SHADE_MASK until then). O(1). NULL is ignored. */
+ * LS_SHADE_MASK until then), the lighting given (LS_FIT_LIGHT_GIVEN), no
+ * gradient limit. O(1). NULL is ignored. */
 void ls_fit_config_default(ls_fit_config *config);
 
 /* ls_fit_bytes: exact arena bytes of ls_fit_init with these arguments (the
@@ -243,7 +283,8 @@ ls_status ls_fit_bytes(const ls_fit_config *config, const ls_fit_views *views, c
  * a bad configuration: zero views or resolution, negative lambda, alpha
  * outside [0, 1), an unknown method, solver, loss, optimizer or silhouette
  * mode, the pair mode with S > 1 or with aa > S, aa above LS_REFINE_MAX, p outside {0, 1, 2}, a negative or
- * non-finite CG tolerance, vertex colours), LS_ERR_MESH / LS_ERR_NONFINITE
+ * non-finite CG tolerance, vertex colours, LS_FIT_LIGHT_ESTIMATE without
+ * LS_SHADE_SH, a negative or non-finite grad_limit), LS_ERR_MESH / LS_ERR_NONFINITE
  * (the initial mesh; also a coordinate or a view transform that overflows in
  * the frame: a mesh tiny against its distance from the origin),
  * LS_ERR_NOT_SPD (M: lambda too large for the precision, see param.h),
@@ -338,8 +379,9 @@ ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
 
 /* ls_fit_save: the checkpoint takes what ls_fit_step changes: x, the
  * parameters (u or x, and the translation), the optimizer's moments and step
- * count, and the iteration count. ls_fit_rollback puts them back, so the
- * steps after it repeat the ones after the save bit for bit (the learning
+ * count, the iteration count and the estimated lighting (sh, sh_valid).
+ * ls_fit_rollback puts them back, so the steps after it repeat the ones
+ * after the save bit for bit (the learning
  * rate, config.optim.lr of fit->optim, is the caller's to change). A remesh
  * empties the checkpoint. Needs config.guard. O(n). Errors: LS_ERR_INVALID
  * (NULL, no guard; rollback: no checkpoint since init or the last remesh). */

@@ -147,6 +147,57 @@ ls_status ls_shade_env_background(const ls_real *env, uint32_t env_width, uint32
                                   const ls_real view[16], const ls_real proj[16], uint32_t width,
                                   uint32_t height, ls_real *out);
 
+/* Estimating SH lighting from images (a dataset that does not record its
+ * lighting). The SH colour of a covered sample is linear in the 27
+ * coefficients: colour_c = sum_k sh[9 c + k] b_k(n), with the basis of
+ * ls_sh_basis. A uniform albedo scales each channel's 9 coefficients, so
+ * the 27 coefficients are the lighting and the albedo together. Given a
+ * rasterized view and its target image, ls_sh_accumulate adds the least-
+ * squares normal equations of the pixels that the view covers entirely (all
+ * S x S samples) and the target covers (alpha >= LS_SH_TARGET_ALPHA):
+ * A^T A += r r^T and A^T t_c += r t_c, r the mean of b(n) over the pixel's
+ * samples (the ls_shade box average), t the target's RGB. The matrix is the
+ * same for the three channels. ls_sh_solve solves them: the coefficients
+ * that best reproduce the targets' colours on the current geometry. */
+#define LS_SH_TARGET_ALPHA 0.999
+
+typedef struct ls_sh_normal {
+    ls_real ata[45]; /* upper triangle of A^T A, rows in turn: (0,0) .. (0,8), (1,1) .. (8,8) */
+    ls_real atb[27]; /* A^T t per channel: atb[9 c + k] */
+    uint32_t pixels; /* pixels accumulated */
+} ls_sh_normal;
+
+/* ls_sh_basis: b[9] with E_c(n) / pi = sum_k sh[9 c + k] b[k] (the
+ * operations of ls_shade_sh_eval, factored): b0 = c4 / pi, b1 = 2 c2 y / pi,
+ * b2 = 2 c2 z / pi, b3 = 2 c2 x / pi, b4 = 2 c1 x y / pi,
+ * b5 = 2 c1 y z / pi, b6 = (c3 z^2 - c5) / pi, b7 = 2 c1 x z / pi,
+ * b8 = c1 (x^2 - y^2) / pi. n as given (not normalised). O(1). */
+void ls_sh_basis(const ls_real n[3], ls_real b[9]);
+
+/* ls_sh_normal_clear: zero sums. NULL is ignored. O(1). */
+void ls_sh_normal_clear(ls_sh_normal *ne);
+
+/* ls_sh_accumulate: adds the pixels of one view (above) to *ne. Reads
+ * view->vis (rasterized), indices, triangle_count, vertex_count, normals
+ * and opts->renormalize (opts may be NULL: no renormalisation); target:
+ * [4 width height] RGBA of the view's size. Pixels are added in image
+ * order, a pixel's samples in row order: the same bits for the same inputs
+ * and the same order of calls. Errors: LS_ERR_INVALID (NULL arrays, counts
+ * differing from the rasterized ones), LS_ERR_STATE (vis not set up),
+ * LS_ERR_MESH (an index out of range); *ne is then unchanged.
+ * O(samples); no memory. */
+ls_status ls_sh_accumulate(ls_sh_normal *ne, const ls_view *view, const ls_real *target, ls_diag *diag);
+
+/* ls_sh_solve: the least-squares coefficients of the sums into sh[27]:
+ * (A^T A + r I) L_c = A^T t_c per channel, r = LS_SH_RIDGE x the mean of
+ * A^T A's diagonal (a tie-break for directions the pixels barely see), by
+ * an LDL^T factorisation in a fixed order. Errors: LS_ERR_INVALID (NULL),
+ * LS_ERR_STATE (no pixel accumulated), LS_ERR_NOT_SPD (the pixels' normals
+ * do not determine the coefficients: too few or all alike), sh then
+ * unchanged. O(1). */
+#define LS_SH_RIDGE 1e-6
+ls_status ls_sh_solve(const ls_sh_normal *ne, ls_real sh[27], ls_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

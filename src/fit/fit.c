@@ -1,6 +1,7 @@
 /* fit.c - the reconstruction loop: configuration, sizing, set-up and the
  * iteration (include/largesteps/fit.h) */
 #include "fit_internal.h"
+#include <stddef.h>
 
 /* The fit's frame (fit.h): R = half the largest side of the mesh's bounding
  * box, S = the largest power of two <= R (1 when R = 0). Both scale exactly
@@ -119,6 +120,11 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
     if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
+    if (!finite_r(c->grad_limit) || c->grad_limit < (ls_real)0)
+        return "config->grad_limit: allowed finite and >= 0 (0: off; e.g. 3)";
+    if (c->light > LS_FIT_LIGHT_ESTIMATE) return "config->light: allowed LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE";
+    if (c->light == LS_FIT_LIGHT_ESTIMATE && c->shading.mode != LS_SHADE_SH)
+        return "config->light: LS_FIT_LIGHT_ESTIMATE estimates SH lighting: it needs shading.mode LS_SHADE_SH";
     if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
     if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
     return NULL;
@@ -507,6 +513,33 @@ uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t it
     return (uint32_t)(pos * coprime_stride(count) % count);
 }
 
+/* LS_FIT_LIGHT_ESTIMATE: whether the step about to run (or running:
+ * fit->iteration is counted up after the solve) makes a new estimate. */
+static int light_iteration(const ls_fit *fit)
+{
+    return fit->iteration % LS_FIT_LIGHT_EVERY == LS_FIT_LIGHT_EVERY - 1u;
+}
+
+/* LS_FIT_LIGHT_ESTIMATE before its first estimate: the iteration's views
+ * rasterized once more to make it (view: set up by views_pass, the vertex
+ * normals computed). A step that fails restores sh_valid (fit_step_call). */
+static ls_status first_estimate(ls_fit *fit, ls_view *view, uint32_t batch, ls_diag *diag)
+{
+    uint32_t k;
+    ls_status st = LS_OK;
+    if (fit->sh_valid) return LS_OK;
+    ls_sh_normal_clear(&fit->sh_sums);
+    for (k = 0; k < batch && st == LS_OK; k++) {
+        const uint32_t v = ls_fit_view_of(&fit->config, fit->views.count, fit->iteration, k);
+        view->mvp = fit->mvp + 16u * (size_t)v;
+        st = ls_raster(&fit->vis, view, &fit->block, diag);
+        if (st == LS_OK) st = ls_sh_accumulate(&fit->sh_sums, view, fit->views.targets[v], diag);
+    }
+    if (st != LS_OK) return st;
+    if (ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK) fit->sh_valid = 1;
+    return LS_OK;
+}
+
 /* Renders every view and accumulates the loss and dL/d(rendered positions)
  * into fit->gx. */
 static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -514,6 +547,8 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const ls_fit_config *c = &fit->config;
     const uint32_t n = fit->vertex_count, nf = fit->face_count;
     const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
+    const int estimate = c->light == LS_FIT_LIGHT_ESTIMATE;
+    const int sums = estimate && light_iteration(fit);
     ls_loss_acc acc;
     ls_view view;
     uint32_t k, batch;
@@ -527,6 +562,11 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     view.vertex_count = n;
     view.normals = fit->normals;
     view.opts = &c->shading;
+    if (estimate) { /* the fit's own coefficients */
+        fit->lit = c->shading;
+        fit->lit.sh = fit->sh;
+        view.opts = &fit->lit;
+    }
     view.table = &fit->edges;
     view.boost = c->boost;
     memset(fit->gx, 0, 3u * (size_t)n * sizeof(ls_real));
@@ -537,6 +577,11 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         if (st != LS_OK) return st;
     }
     batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
+    if (estimate) {
+        st = first_estimate(fit, &view, batch, diag);
+        if (st != LS_OK) return st;
+    }
+    if (sums) ls_sh_normal_clear(&fit->sh_sums);
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
     for (k = 0; k < batch; k++) {
@@ -545,6 +590,7 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         view.mvp = fit->mvp + 16u * (size_t)v;
         st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
+        if (st == LS_OK && sums) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
         if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
         if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
@@ -662,6 +708,31 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     return st;
 }
 
+/* config.grad_limit: a block's gradient whose largest element exceeds K x
+ * the block's last UniformAdam scale is scaled down to it, its direction
+ * kept (none before the first step, or with another method). */
+static void limit_gradient(ls_fit *fit)
+{
+    const ls_optim *o = &fit->optim;
+    const ls_real k = fit->config.grad_limit;
+    size_t at = 0, i;
+    uint32_t b;
+    if (!(k > (ls_real)0) || o->config.method != LS_OPTIM_UNIFORM_ADAM || o->step == 0u) return;
+    for (b = 0; b < o->block_count; b++) {
+        const ls_real bound = k * o->last_scale[b];
+        ls_real mx = (ls_real)0;
+        for (i = at; i < at + o->block_size[b]; i++) {
+            const ls_real a = fit->grad[i] < (ls_real)0 ? -fit->grad[i] : fit->grad[i];
+            if (a > mx) mx = a;
+        }
+        if (bound > (ls_real)0 && mx > bound) {
+            const ls_real f = bound / mx;
+            for (i = at; i < at + o->block_size[b]; i++) fit->grad[i] *= f;
+        }
+        at += o->block_size[b];
+    }
+}
+
 /* The optimizer step, undone when a parameter overflows (its snapshot in
  * the block's scratch, released on return). */
 static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -685,6 +756,7 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     memcpy(m2, o->m2, count * sizeof(ls_real));
     memcpy(last, o->last_scale, sizeof last);
     t0 = now(monitor);
+    limit_gradient(fit);
     st = ls_optim_step(o, fit->params, fit->grad, diag);
     fit->timing.optimizer_ns += now(monitor) - t0;
     if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
@@ -707,6 +779,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_fit_timing timing;
     ls_cg_info cg;
     ls_real loss, reg_loss, *xs, *warm = NULL;
+    uint32_t sh_valid;
     size_t nn;
     ls_status st = LS_OK;
     if (fit == NULL || fit->x == NULL) return ls_invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
@@ -717,6 +790,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     loss = fit->loss;
     reg_loss = fit->reg_loss;
     cg = fit->param.cg;
+    sh_valid = fit->sh_valid; /* only the first estimate can change sh before the step succeeds */
     mark = ls_arena_save(&fit->block);
     xs = fit->x;
     if (ls_fit_impl_optimizes_u(&fit->config)) {
@@ -735,8 +809,16 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     if (st == LS_OK) {
         if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
+        /* the lighting of the geometry just rendered, for the next steps (kept when it cannot be solved) */
+        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && light_iteration(fit) &&
+            ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK)
+            fit->sh_valid = 1;
         fit->iteration++;
     } else {
+        if (!sh_valid && fit->sh_valid) { /* sh was zeros before its first estimate */
+            memset(fit->sh, 0, sizeof fit->sh);
+            fit->sh_valid = 0;
+        }
         fit->timing = timing;
         fit->loss = loss;
         fit->reg_loss = reg_loss;
@@ -790,7 +872,7 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     const uint32_t iteration = fit->iteration, remeshes = fit->remeshes, max_edges = fit->max_edges;
     ls_status st;
     cfg.optim.lr = cfg.optim.lr * lr_factor;
-    memset(fit, 0, sizeof *fit);
+    memset(fit, 0, offsetof(ls_fit, sh)); /* the estimated lighting (the last fields) carries over */
     st = ls_fit_impl_fit_init_frame(fit, &cfg, &views, mesh, scale, radius, NULL, arena, diag);
     if (st != LS_OK) return st;
     fit->timing = timing;

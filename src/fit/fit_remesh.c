@@ -85,6 +85,8 @@ ls_status ls_fit_save(ls_fit *fit)
     memcpy(fit->saved_last_scale, fit->optim.last_scale, sizeof fit->saved_last_scale);
     fit->saved_step = fit->optim.step;
     fit->saved_iteration = fit->iteration;
+    memcpy(fit->saved_sh, fit->sh, sizeof fit->saved_sh);
+    fit->saved_sh_valid = fit->sh_valid;
     fit->saved_valid = 1;
     return LS_OK;
 }
@@ -103,6 +105,8 @@ ls_status ls_fit_rollback(ls_fit *fit)
     memcpy(fit->optim.last_scale, fit->saved_last_scale, sizeof fit->saved_last_scale);
     fit->optim.step = fit->saved_step;
     fit->iteration = fit->saved_iteration;
+    memcpy(fit->sh, fit->saved_sh, sizeof fit->sh);
+    fit->sh_valid = fit->saved_sh_valid;
     return LS_OK;
 }
 

@@ -5,7 +5,7 @@
 # away), Mesa's OpenGL renders the mesh through those cameras with a Lambert
 # light and ambient term that the dataset does not record
 # (tests/tools/osmesa_dataset.c), then `largesteps fit DIR/transforms.json`
-# with its defaults fits the images alone (unknown lighting: the alpha masks)
+# with its defaults fits the images alone (unknown lighting: estimated with the geometry)
 # and `largesteps metrics` measures the result against the mesh, which the
 # fit never saw. Writes $BUILD/bench/dataset.md and prints it. Environment:
 # BUILD (default build), SHARED (../shared/meshes), DATASET_MESHES (default
@@ -27,7 +27,7 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
     echo
     echo "$VIEWS cameras over the upper hemisphere and a little below, ${RES}², rendered by Mesa (OSMesa, Lambert +"
     echo "ambient, transparent background; the lighting not recorded), fitted by \`largesteps fit DIR/transforms.json\`"
-    echo "with its defaults (unknown lighting: the alpha masks), measured against the mesh the fit never saw."
+    echo "with its defaults (unknown lighting: estimated with the geometry), measured against the mesh the fit never saw."
     echo "Measured $(date -u +%Y-%m-%d). Command: \`sh tests/bench/run_dataset.sh\`"
     echo
     echo "| mesh | H % of diagonal | RMS % | self-intersecting pairs | vertices | time s |"

@@ -82,7 +82,8 @@ static int usage(FILE *f)
             "  --no-guard         no checks (the paper's loop)\n"
             "  --perturb K        learning rate x (1 + K 1e-6): a robustness check, is the result stable\n"
             "                     under a change in the 6th digit? (default 0)\n"
-            "  --shading S        sh (default) | mask\n"
+            "  --shading S        sh (default; a camera dataset that does not record its lighting has it\n"
+            "                     estimated with the geometry) | mask (the alpha masks alone)\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
             "                     default 200,500; 'none' for no remeshing)\n"
             "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5)\n"
@@ -475,6 +476,14 @@ static int write_json(FILE *f, void *ctx)
                "\"silhouettes\": %.4f, \"solves\": %.4f, \"optimizer\": %.4f},\n",
             j->r->total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
             (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
+    if (j->p->light == LS_FIT_LIGHT_ESTIMATE) { /* the lighting the fit estimated (shade.h's order) */
+        uint32_t k;
+        fprintf(f, "  \"estimated_sh\": [");
+        for (k = 0; k < 27; k++) {
+            ls_report_json_number(f, (double)j->r->sh[k]);
+            fprintf(f, "%s", k + 1 < 27 ? ", " : "],\n");
+        }
+    }
     if (j->d != NULL) ls_report_json_distance(f, j->d);
     fprintf(f, "  \"self_intersecting\": %s,\n", j->t->intersecting_pairs > 0 ? "true" : "false");
     ls_report_json_tangle(f, "tangle", j->t, 1);
@@ -562,6 +571,11 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                "optimizer %.2f\n",
                run.total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,
                (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
+    }
+    if (p.light == LS_FIT_LIGHT_ESTIMATE) { /* the contact sheet's renders under the estimated lighting */
+        memcpy(p.sh, run.sh, sizeof p.sh);
+        st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
+        if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     }
     st = ls_job_render(&p, &run.result, 1, renders + p.views, &arena, &d);
     if (st != LS_OK) return ls_job_fail("rendering the result", st, &d), 1;

@@ -98,10 +98,14 @@ static int apply_scene(ls_job_problem *p, const ls_scene *sc, const char *scene_
     }
     if (st != LS_OK) return ls_job_fail("scene camera", st, NULL);
     for (k = 0; k < 3; k++) p->shading.background[k] = sc->background[k];
-    if (sc->lighting == LS_SCENE_LIGHT_MASK || sc->lighting == LS_SCENE_LIGHT_UNKNOWN) {
-        if (sc->lighting == LS_SCENE_LIGHT_UNKNOWN)
-            fprintf(stderr, "largesteps: %s does not record its lighting: fitting the images' alpha masks "
-                            "(a dataset written by `largesteps render` records it)\n", scene_path);
+    if (sc->lighting == LS_SCENE_LIGHT_UNKNOWN && p->shading.mode != LS_SHADE_MASK) {
+        fprintf(stderr, "largesteps: %s does not record its lighting: estimating it (9 RGB spherical-harmonics "
+                        "coefficients, uniform albedo) from the images with the geometry (--shading mask fits the "
+                        "alpha masks alone)\n", scene_path);
+        p->shading.mode = LS_SHADE_SH;
+        p->light = LS_FIT_LIGHT_ESTIMATE;
+        memset(p->sh, 0, sizeof p->sh);
+    } else if (sc->lighting == LS_SCENE_LIGHT_MASK || sc->lighting == LS_SCENE_LIGHT_UNKNOWN) {
         p->shading.mode = LS_SHADE_MASK;
     } else if (sc->lighting == LS_SCENE_LIGHT_SH) {
         memcpy(p->sh, sc->sh, sizeof p->sh);
@@ -205,7 +209,7 @@ static int load_targets(ls_job_problem *p, const ls_scene *sc, const char *scene
 {
     char path[4096];
     ls_diag d;
-    uint32_t v, i;
+    uint32_t v, i, k;
     for (v = 0; v < p->views; v++) {
         ls_arena_mark mark = ls_arena_save(arena);
         ls_image img;
@@ -219,11 +223,15 @@ static int load_targets(ls_job_problem *p, const ls_scene *sc, const char *scene
                     (unsigned)img.height, (unsigned)sc->width, (unsigned)sc->height);
             return 0;
         }
-        if (dataset && p->shading.mode == LS_SHADE_MASK) {
+        if (dataset && (p->shading.mode == LS_SHADE_MASK || p->light == LS_FIT_LIGHT_ESTIMATE)) {
             int masked = 0;
             for (i = 0; i < img.width * img.height; i++) {
                 ls_real a = (ls_real)img.pixels[4u * i + 3u];
-                p->targets[v][4u * i] = p->targets[v][4u * i + 1u] = p->targets[v][4u * i + 2u] = a;
+                if (p->light == LS_FIT_LIGHT_ESTIMATE) { /* the colours, as the images give them */
+                    for (k = 0; k < 3; k++) p->targets[v][4u * i + k] = (ls_real)img.pixels[4u * i + k];
+                } else {
+                    p->targets[v][4u * i] = p->targets[v][4u * i + 1u] = p->targets[v][4u * i + 2u] = a;
+                }
                 p->targets[v][4u * i + 3u] = a;
                 masked |= a < (ls_real)1;
             }
@@ -593,6 +601,8 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     c.height = p->height;
     c.guard = s->guard_every > 0 ? 1u : 0u;
     c.shading = p->shading;
+    c.light = p->light;
+    if (p->light == LS_FIT_LIGHT_ESTIMATE && c.grad_limit == (ls_real)0) c.grad_limit = (ls_real)LS_JOB_GRAD_LIMIT;
     r->loss = (ls_real *)ls_arena_alloc(arena, iterations + 1u, sizeof(ls_real));
     r->ms = (double *)ls_arena_alloc(arena, iterations + 1u, sizeof(double));
     if (r->ms == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
@@ -735,6 +745,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     r->remeshes = fit.remeshes;
     r->fit_bytes_end = fit.block.capacity;
     r->factor_nnz = fit.param.f.lp != NULL ? fit.param.f.l_nnz : 0u;
+    memcpy(r->sh, fit.sh, sizeof r->sh);
     /* the result outlives the fit: copied above it */
     pos = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)fit.vertex_count, sizeof(ls_real));
     r->result.triangles = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)fit.face_count, sizeof(uint32_t));

@@ -29,6 +29,13 @@ typedef struct ls_job_options {
                                the target remeshed coarse (LS_JOB_AUTO_EDGE), as init_edge would */
 } ls_job_options;
 
+/* The fit's config.grad_limit with estimated lighting (fit.h): without it one
+ * iteration's outlier gradient (an almost edge-on sample of the interior
+ * shading gradient, 1e4 times the usual) threw the translation of a fit of
+ * the bunny's Mesa dataset 3 % of the diagonal away (one run of 18); with it
+ * scaled to 3 x the block's scale, the same run ends at 1.7 %. */
+#define LS_JOB_GRAD_LIMIT 3.0
+
 /* The coarse start's edge (x the target's bounding-box diagonal) when the
  * target's genus asks for it. */
 #define LS_JOB_AUTO_EDGE 0.03
@@ -47,6 +54,8 @@ typedef struct ls_job_problem {
     int32_t target_genus;    /* mesh targets: the genus (-1: not an oriented 2-manifold) */
     uint32_t target_components;
     int auto_coarse;         /* the coarse start was chosen for the target's genus */
+    uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
+                                fit (sh then zeros until the fit's estimate is copied in) */
 } ls_job_problem;
 
 typedef struct ls_job_run {
@@ -73,6 +82,7 @@ typedef struct ls_job_run {
     ls_real *track_h_rel;    /* dense symmetric Hausdorff / target diagonal */
     ls_real *track_rms_rel;  /* dense RMS / target diagonal */
     double track_total_ms;   /* time spent measuring (excluded from ms and total_ms) */
+    ls_real sh[27];          /* the fit's estimated lighting (LS_FIT_LIGHT_ESTIMATE; else zeros) */
 } ls_job_run;
 
 /* Loads the problem into the arena (everything stays allocated). */
