@@ -168,7 +168,7 @@ static void fit_on_target(ls_arena *arena, int whole_job)
     const ls_real dir[3] = {(ls_real)0.3, (ls_real)0.4, 1};
     ls_mesh target, init;
     ls_camera_framing fr;
-    ls_fit_config c;
+    static ls_fit_config c; /* as the fit: the caller's to place (it grows with the options) */
     ls_fit_views views;
     static ls_fit fit; /* not on the job's stack: the object is the caller's to place (about 1 KiB) */
     ls_vis vis;

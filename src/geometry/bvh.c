@@ -541,7 +541,8 @@ static ls_real frame_dist2(const ls_bvh_frame *fr, const ls_real *p, ls_real mar
 static ls_real node_dist2(const ls_bvh *bvh, uint32_t i, const ls_real *p, ls_real margin, ls_real limit)
 {
     ls_real d = box_dist2(&bvh->nodes[i], p);
-    if (margin >= 0 && d <= limit && (bvh->frame_used[i / 32u] >> (i % 32u) & 1u)) {
+    if (margin >= 0 && d <= limit && bvh->frames != NULL && bvh->frame_used != NULL &&
+        (bvh->frame_used[i / 32u] >> (i % 32u) & 1u)) {
         ls_real o = frame_dist2(&bvh->frames[i], p, margin);
         if (o > d) d = o;
     }
@@ -601,7 +602,7 @@ ls_status ls_bvh_closest_near(const ls_bvh *bvh, const ls_real p[3], ls_real max
     }
     slack = slack_of(bvh, p);
     limit = prune_limit(best2, slack);
-    if (bvh->frames != NULL && LS_RFABS(p[0]) < LS_REAL_MAX / 4 && LS_RFABS(p[1]) < LS_REAL_MAX / 4 &&
+    if (bvh->frames != NULL && bvh->frame_used != NULL && LS_RFABS(p[0]) < LS_REAL_MAX / 4 && LS_RFABS(p[1]) < LS_REAL_MAX / 4 &&
         LS_RFABS(p[2]) < LS_REAL_MAX / 4)
         margin = slack / 8;
     stack[0] = 0;

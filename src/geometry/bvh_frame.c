@@ -93,11 +93,10 @@ static int normalize(ls_real *v)
  * bound counts on it); the identity when the rows are not usable. */
 static void orthonormalize(ls_real r[3][3])
 {
-    ls_real d;
-    uint32_t a;
     int ok = normalize(r[0]);
     if (ok) {
-        d = dot3(r[1], r[0]);
+        ls_real d = dot3(r[1], r[0]);
+        uint32_t a;
         for (a = 0; a < 3u; a++) r[1][a] -= d * r[0][a];
         ok = normalize(r[1]);
     }

@@ -572,7 +572,7 @@ static void keep_unfolded(rm_ctx *c)
             t[2] = he->hto[he->hnext[h]];
             for (j = 0; j < 3u; j++) {
                 q[j] = c->newpos + 3u * (size_t)t[j];
-                moved |= memcmp(q[j], pos(he, t[j]), 3u * sizeof(ls_real)) != 0;
+                moved |= q[j][0] != pos(he, t[j])[0] || q[j][1] != pos(he, t[j])[1] || q[j][2] != pos(he, t[j])[2];
             }
             if (!moved) continue;
             tri_normal(pos(he, t[0]), pos(he, t[1]), pos(he, t[2]), n0);
