@@ -519,6 +519,17 @@ static void flip_pass(rm_ctx *c)
     }
 }
 
+/* A live face's corners in its winding order; 0 for a removed face. */
+static int face_corners(const ls_hemesh *he, uint32_t f, uint32_t t[3])
+{
+    uint32_t h = he->fedge[f];
+    if (h == NONE) return 0;
+    t[0] = he->hto[h ^ 1u];
+    t[1] = he->hto[h];
+    t[2] = he->hto[he->hnext[h]];
+    return 1;
+}
+
 /* Area-weighted vertex normals, accumulated in face order. */
 static void vertex_normals(rm_ctx *c)
 {
@@ -526,12 +537,9 @@ static void vertex_normals(rm_ctx *c)
     uint32_t v, f, j;
     for (v = 0; v < 3u * he->vertex_count; v++) c->normals[v] = 0;
     for (f = 0; f < he->face_count; f++) {
-        uint32_t h = he->fedge[f], t[3];
+        uint32_t t[3];
         ls_real n[3];
-        if (h == NONE) continue;
-        t[0] = he->hto[h ^ 1u];
-        t[1] = he->hto[h];
-        t[2] = he->hto[he->hnext[h]];
+        if (!face_corners(he, f, t)) continue;
         tri_normal(pos(he, t[0]), pos(he, t[1]), pos(he, t[2]), n);
         for (j = 0; j < 3u; j++) {
             c->normals[3u * (size_t)t[j]] += n[0];
@@ -562,14 +570,11 @@ static void keep_unfolded(rm_ctx *c)
     while (changed && rounds++ < he->vertex_count + 1u) {
         changed = 0;
         for (f = 0; f < he->face_count; f++) {
-            uint32_t h = he->fedge[f], t[3], j;
+            uint32_t t[3], j;
             const ls_real *q[3];
             ls_real n0[3], n1[3], r[3];
             int moved = 0;
-            if (h == NONE) continue;
-            t[0] = he->hto[h ^ 1u];
-            t[1] = he->hto[h];
-            t[2] = he->hto[he->hnext[h]];
+            if (!face_corners(he, f, t)) continue;
             for (j = 0; j < 3u; j++) {
                 q[j] = c->newpos + 3u * (size_t)t[j];
                 moved |= q[j][0] != pos(he, t[j])[0] || q[j][1] != pos(he, t[j])[1] || q[j][2] != pos(he, t[j])[2];
