@@ -3,14 +3,22 @@
  * with SH shading (coefficients written to sh), seen from nv Fibonacci
  * directions at distance 3.2 (45.8 degree horizontal fov), res x res with
  * S = 4. The view transforms go to mvps, the target images (malloc'ed,
- * RGBA) to targets. work: scratch of work_bytes. Static: include once. */
+ * RGBA) to targets. work: scratch of work_bytes. Static: include once.
+ * fit_test_targets_painted: the same with a per-vertex albedo that varies
+ * over the surface (fit_test_paint: bands with a phase per channel). */
 #ifndef LS_TEST_FIT_TARGETS_H
 #define LS_TEST_FIT_TARGETS_H
 
 #define FIT_TARGETS_MAX_VIEWS 16u
 
-static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned char *work, size_t work_bytes,
-                             ls_real (*mvps)[16], ls_real **targets, ls_real sh[27])
+/* The painted albedo at point p (channel c): 0.25 .. 0.95. */
+static ls_real fit_test_paint(const ls_real *p, uint32_t c)
+{
+    return (ls_real)(0.6 + 0.35 * sin(6.283185307179586 * (0.6 * (double)p[1] + 0.25 * (double)p[0]) + 2.0943951023931953 * c));
+}
+
+static void fit_test_targets_painted(uint32_t level, uint32_t nv, uint32_t res, unsigned char *work, size_t work_bytes,
+                                     ls_real (*mvps)[16], ls_real **targets, ls_real sh[27], int painted)
 {
     ls_arena arena;
     ls_mesh m;
@@ -34,6 +42,12 @@ static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned
     ls_shade_opts_init(&o);
     o.mode = LS_SHADE_SH;
     o.sh = sh;
+    if (painted) {
+        ls_real *colors = (ls_real *)ls_arena_alloc(&arena, 3u * m.vertex_count, sizeof(ls_real));
+        REQUIRE(colors != NULL);
+        for (i = 0; i < 3u * m.vertex_count; i++) colors[i] = fit_test_paint(m.positions + 3u * (i / 3u), i % 3u);
+        o.vertex_colors = colors;
+    }
     for (v = 0; v < nv; v++) {
         REQUIRE(ls_camera_orbit(center, (ls_real)3.2, dirs + 3 * v, view) == LS_OK);
         ls_mat4_mul(proj, view, mvps[v]);
@@ -45,6 +59,12 @@ static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned
         REQUIRE(ls_shade(&(ls_view){.vis = &vis, .indices = m.triangles, .triangle_count = m.face_count,
                 .vertex_count = m.vertex_count, .normals = normals, .opts = &o}, targets[v], NULL) == LS_OK);
     }
+}
+
+static void fit_test_targets(uint32_t level, uint32_t nv, uint32_t res, unsigned char *work, size_t work_bytes,
+                             ls_real (*mvps)[16], ls_real **targets, ls_real sh[27])
+{
+    fit_test_targets_painted(level, nv, res, work, work_bytes, mvps, targets, sh, 0);
 }
 
 #endif /* LS_TEST_FIT_TARGETS_H */

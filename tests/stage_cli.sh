@@ -301,7 +301,7 @@ else bad "fit_dataset_round_trip"; tail -n 3 "$build/ds_fit.log"; fi
 rm -rf "$ds.lambert" "$out/fit_ds_light" "$out/fit_ds_mask"
 if "$ls" render fixtures/meshes/bunny.obj --views 8 --res 48 --shading lambert -o "$ds.lambert" > /dev/null 2>&1 &&
         "$ls" fit "$ds.lambert/transforms.json" --iters 40 --remesh 20 -o "$out/fit_ds_light" > "$build/ds_light.log" 2>&1 &&
-        grep -q "does not record its lighting: estimating it (9 RGB spherical-harmonics coefficients, uniform albedo)" \
+        grep -q "does not record its lighting: estimating it (9 RGB spherical-harmonics coefficients; the albedo uniform, or per vertex with --albedo vertex)" \
             "$build/ds_light.log" &&
         [ -s "$out/fit_ds_light/result.obj" ]; then
     # the estimate in metrics.json: 27 numbers, a positive constant term in each channel
@@ -310,6 +310,28 @@ if "$ls" render fixtures/meshes/bunny.obj --views 8 --res 48 --shading lambert -
     if [ -n "$l00" ]; then ok "fit_dataset_unknown_lighting_estimated (L00 $l00)"
     else bad "fit_dataset_unknown_lighting_estimated"; grep estimated_sh "$out/fit_ds_light/metrics.json"; fi
 else bad "fit_dataset_unknown_lighting_estimated"; tail -n 3 "$build/ds_light.log"; fi
+# --albedo vertex: albedo.ply beside the result (its vertices, an RGB albedo of mean 1 per channel);
+# refused where the lighting is not estimated, before any work
+rm -rf "$out/fit_ds_albedo"
+if "$ls" fit "$ds.lambert/transforms.json" --albedo vertex --iters 24 --remesh 12 -o "$out/fit_ds_albedo" > "$build/ds_albedo.log" 2>&1 &&
+        grep -q '"albedo": "vertex"' "$out/fit_ds_albedo/metrics.json" &&
+        python3 - "$out/fit_ds_albedo/albedo.ply" "$out/fit_ds_albedo/result.obj" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+end = lines.index("end_header")
+nv = int([l for l in lines if l.startswith("element vertex")][0].split()[2])
+rows = [list(map(float, l.split())) for l in lines[end + 1:end + 1 + nv]]
+objv = [list(map(float, l.split()[1:4])) for l in open(sys.argv[2]) if l.startswith("v ")]
+assert len(objv) == nv and all(abs(a - b) < 1e-5 * (1 + abs(b)) for r, o in zip(rows, objv) for a, b in zip(r[:3], o))
+for c in range(3):
+    col = [r[3 + c] for r in rows]
+    assert min(col) >= 0 and 0.8 < sum(col) / nv < 1.25 and max(col) > min(col), (c, min(col), max(col))
+PY
+then ok "fit_dataset_vertex_albedo"
+else bad "fit_dataset_vertex_albedo"; tail -n 3 "$build/ds_albedo.log"; fi
+expect fit_vertex_albedo_needs_estimated_lighting 2 "--albedo vertex is estimated with the lighting" \
+    "$ls" fit fixtures/meshes/bunny.obj --albedo vertex --iters 1 -o "$out/x"
+expect fit_albedo_bad_value 2 "--albedo: bad value 'texture'" "$ls" fit --albedo texture -o "$out/x"
 if "$ls" fit "$ds.lambert/transforms.json" --shading mask --iters 5 -o "$out/fit_ds_mask" > "$build/ds_mask.log" 2>&1 &&
         ! grep -q "estimating it" "$build/ds_mask.log" && ! grep -q estimated_sh "$out/fit_ds_mask/metrics.json"; then
     ok "fit_dataset_unknown_lighting_shading_mask_fits_masks"

@@ -36,6 +36,8 @@ static void make_problem(void)
 
 /* 1: the runs below hold a checkpoint and check self-intersections. */
 static uint32_t guard_on;
+/* 1: the runs below estimate the lighting and a per-vertex albedo. */
+static uint32_t albedo_on;
 
 static void config(ls_fit_config *c, uint32_t method, uint32_t solver)
 {
@@ -47,6 +49,11 @@ static void config(ls_fit_config *c, uint32_t method, uint32_t solver)
     c->shading.mode = LS_SHADE_SH;
     c->shading.sh = sh;
     c->optim.lr = (ls_real)0.05;
+    if (albedo_on) {
+        c->shading.sh = NULL;
+        c->light = LS_FIT_LIGHT_ESTIMATE;
+        c->albedo = LS_FIT_ALBEDO_VERTEX;
+    }
     if (method != LS_FIT_LARGE_STEPS) {
         (void)ls_optim_config_default(LS_OPTIM_ADAM, &c->optim);
         c->optim.lr = (ls_real)0.01;
@@ -171,6 +178,14 @@ static void job_with_guard(void)
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_CG);
     guard_on = 0;
+}
+/* The per-vertex albedo and its sums inside the job's bytes, through the
+ * remeshes (each estimates it again) and a roll-back. */
+static void job_with_vertex_albedo(void)
+{
+    guard_on = albedo_on = 1;
+    job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
+    guard_on = albedo_on = 0;
 }
 static void job_cg_and_baseline(void)
 {
@@ -390,6 +405,7 @@ int main(void)
     TEST_RUN(job_large_steps);
     TEST_RUN(job_cg_and_baseline);
     TEST_RUN(job_with_guard);
+    TEST_RUN(job_with_vertex_albedo);
     TEST_RUN(job_one_byte_less_fails_at_init);
     TEST_RUN(remesh_beyond_capacity);
     TEST_RUN(bad_capacities);

@@ -130,6 +130,20 @@ extern "C" {
  * far fewer iterations than its geometry. */
 #define LS_FIT_LIGHT_EVERY 8u
 
+/* The albedo with estimated lighting (config.albedo). LS_FIT_ALBEDO_UNIFORM:
+ * one colour, carried by the 27 coefficients. LS_FIT_ALBEDO_VERTEX: an RGB
+ * albedo per vertex (fit->albedo, mean 1 per channel, the scale in the
+ * lighting), for objects whose colour varies; the estimate's iterations
+ * also add the albedo's sums (ls_albedo_accumulate, under the lighting in
+ * use) and, once the step has succeeded, solve both: the lighting given the
+ * albedo, the albedo given the lighting (ls_albedo_solve). The albedo
+ * starts at 1; a remesh starts it at 1 again (its vertices are new) and the
+ * next iteration estimates it; a roll-back keeps it. The renders, the
+ * shading gradient and the silhouettes then take the general (vertex
+ * colour) paths: slower than the uniform albedo's. */
+#define LS_FIT_ALBEDO_UNIFORM 0u
+#define LS_FIT_ALBEDO_VERTEX  1u
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
@@ -170,6 +184,8 @@ typedef struct ls_fit_config {
                                * triangle seen almost edge-on divides by its tiny screen area
                                * (render_backward.h). `largesteps fit` uses 3 with estimated lighting,
                                * whose shading varies more with the normal than its default SH */
+    uint32_t albedo;          /* LS_FIT_ALBEDO_UNIFORM (default) or LS_FIT_ALBEDO_VERTEX (with
+                               * LS_FIT_LIGHT_ESTIMATE; above) */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -247,6 +263,9 @@ typedef struct ls_fit {
     ls_arena job;             /* ls_fit_init_job: the reservation; its first job_fit_bytes hold the fit's
                                  block, the rest is the remesher's work (job.peak: its high-water mark) */
     size_t job_fit_bytes;
+    ls_real *albedo;          /* [3 n] LS_FIT_ALBEDO_VERTEX: the albedo in use (else NULL) */
+    ls_real *albedo_sums;     /* [6 n] LS_FIT_ALBEDO_VERTEX: the next estimate's num, den (working) */
+    uint32_t albedo_due;      /* LS_FIT_ALBEDO_VERTEX: 1 when the next iteration estimates it (a new mesh) */
     ls_real *saved;           /* guard: the checkpoint [params | m1 | m2 | x] (else NULL) */
     uint32_t saved_valid;     /* guard: 1 when the checkpoint holds a state of this mesh */
     uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */

@@ -125,6 +125,10 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->light > LS_FIT_LIGHT_ESTIMATE) return "config->light: allowed LS_FIT_LIGHT_GIVEN or LS_FIT_LIGHT_ESTIMATE";
     if (c->light == LS_FIT_LIGHT_ESTIMATE && c->shading.mode != LS_SHADE_SH)
         return "config->light: LS_FIT_LIGHT_ESTIMATE estimates SH lighting: it needs shading.mode LS_SHADE_SH";
+    if (c->albedo > LS_FIT_ALBEDO_VERTEX) return "config->albedo: allowed LS_FIT_ALBEDO_UNIFORM or LS_FIT_ALBEDO_VERTEX";
+    if (c->albedo == LS_FIT_ALBEDO_VERTEX && c->light != LS_FIT_LIGHT_ESTIMATE)
+        return "config->albedo: LS_FIT_ALBEDO_VERTEX is estimated with the lighting: it needs light = "
+               "LS_FIT_LIGHT_ESTIMATE";
     if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
     if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
     return NULL;
@@ -185,6 +189,10 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
     }
     ls_size_add(&s, 16u * (size_t)views, sizeof(ls_real)); /* mvp */
     if (c->guard) ls_size_add(&s, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real)); /* saved */
+    if (c->albedo == LS_FIT_ALBEDO_VERTEX) {
+        ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* albedo */
+        ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real)); /* albedo_sums */
+    }
     return ls_size_get(&s, bytes);
 }
 
@@ -363,6 +371,13 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
         fit->saved = (ls_real *)ls_arena_alloc(a, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real));
         if (fit->saved == NULL) return 0;
     }
+    if (fit->config.albedo == LS_FIT_ALBEDO_VERTEX) {
+        size_t i;
+        fit->albedo = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
+        fit->albedo_sums = (ls_real *)ls_arena_alloc(a, 6u * (size_t)n, sizeof(ls_real));
+        if (fit->albedo_sums == NULL) return 0;
+        for (i = 0; i < 3u * (size_t)n; i++) fit->albedo[i] = (ls_real)1;
+    }
     return fit->mvp != NULL;
 }
 
@@ -540,6 +555,29 @@ static ls_status first_estimate(ls_fit *fit, ls_view *view, uint32_t batch, ls_d
     return LS_OK;
 }
 
+/* LS_FIT_ALBEDO_VERTEX on a new mesh (albedo_due, the albedo all 1): the
+ * iteration's views rasterized once more to estimate it under the lighting
+ * in use. A step that fails sets it back to 1 (fit_step_call). */
+static ls_status first_albedo(ls_fit *fit, ls_view *view, uint32_t batch, ls_diag *diag)
+{
+    const size_t nn = 3u * (size_t)fit->vertex_count;
+    uint32_t k;
+    ls_status st = LS_OK;
+    if (!fit->albedo_due || !fit->sh_valid) return LS_OK;
+    memset(fit->albedo_sums, 0, 2u * nn * sizeof(ls_real));
+    for (k = 0; k < batch && st == LS_OK; k++) {
+        const uint32_t v = ls_fit_view_of(&fit->config, fit->views.count, fit->iteration, k);
+        view->mvp = fit->mvp + 16u * (size_t)v;
+        st = ls_raster(&fit->vis, view, &fit->block, diag);
+        if (st == LS_OK)
+            st = ls_albedo_accumulate(view, fit->views.targets[v], fit->albedo_sums, fit->albedo_sums + nn, diag);
+    }
+    if (st != LS_OK) return st;
+    (void)ls_albedo_solve(fit->albedo_sums, fit->albedo_sums + nn, fit->vertex_count, fit->albedo, NULL);
+    fit->albedo_due = 0;
+    return LS_OK;
+}
+
 /* Renders every view and accumulates the loss and dL/d(rendered positions)
  * into fit->gx. */
 static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
@@ -562,9 +600,10 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     view.vertex_count = n;
     view.normals = fit->normals;
     view.opts = &c->shading;
-    if (estimate) { /* the fit's own coefficients */
+    if (estimate) { /* the fit's own coefficients (and albedo) */
         fit->lit = c->shading;
         fit->lit.sh = fit->sh;
+        fit->lit.vertex_colors = fit->albedo; /* NULL: uniform */
         view.opts = &fit->lit;
     }
     view.table = &fit->edges;
@@ -579,9 +618,11 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
     if (estimate) {
         st = first_estimate(fit, &view, batch, diag);
+        if (st == LS_OK && fit->albedo != NULL) st = first_albedo(fit, &view, batch, diag);
         if (st != LS_OK) return st;
     }
     if (sums) ls_sh_normal_clear(&fit->sh_sums);
+    if (sums && fit->albedo != NULL) memset(fit->albedo_sums, 0, 6u * (size_t)n * sizeof(ls_real));
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
     for (k = 0; k < batch; k++) {
@@ -591,6 +632,9 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
         st = ls_monitor_report(monitor, "fit.view", k, batch);
         if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
         if (st == LS_OK && sums) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
+        if (st == LS_OK && sums && fit->albedo != NULL && fit->sh_valid)
+            st = ls_albedo_accumulate(&view, fit->views.targets[v], fit->albedo_sums, fit->albedo_sums + 3u * (size_t)n,
+                                      diag);
         if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
         if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
         if (st == LS_OK && pair_mode(c)) {
@@ -779,7 +823,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     ls_fit_timing timing;
     ls_cg_info cg;
     ls_real loss, reg_loss, *xs, *warm = NULL;
-    uint32_t sh_valid;
+    uint32_t sh_valid, albedo_due;
     size_t nn;
     ls_status st = LS_OK;
     if (fit == NULL || fit->x == NULL) return ls_invalid_arg(diag, "fit: NULL or not initialised (ls_fit_init)");
@@ -791,6 +835,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
     reg_loss = fit->reg_loss;
     cg = fit->param.cg;
     sh_valid = fit->sh_valid; /* only the first estimate can change sh before the step succeeds */
+    albedo_due = fit->albedo_due; /* and the albedo, from 1 */
     mark = ls_arena_save(&fit->block);
     xs = fit->x;
     if (ls_fit_impl_optimizes_u(&fit->config)) {
@@ -810,14 +855,24 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
         if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
         /* the lighting of the geometry just rendered, for the next steps (kept when it cannot be solved) */
-        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && light_iteration(fit) &&
-            ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK)
-            fit->sh_valid = 1;
+        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && light_iteration(fit)) {
+            /* each from sums taken under the other's previous value; the
+             * albedo's mean stays 1, so the two cannot trade scale back and forth */
+            const uint32_t had_light = fit->sh_valid;
+            if (ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK) fit->sh_valid = 1;
+            if (fit->albedo != NULL && had_light)
+                (void)ls_albedo_solve(fit->albedo_sums, fit->albedo_sums + nn, fit->vertex_count, fit->albedo, NULL);
+        }
         fit->iteration++;
     } else {
         if (!sh_valid && fit->sh_valid) { /* sh was zeros before its first estimate */
             memset(fit->sh, 0, sizeof fit->sh);
             fit->sh_valid = 0;
+        }
+        if (albedo_due && !fit->albedo_due) { /* the albedo was 1 before its estimate */
+            size_t i;
+            for (i = 0; i < nn; i++) fit->albedo[i] = (ls_real)1;
+            fit->albedo_due = 1;
         }
         fit->timing = timing;
         fit->loss = loss;
@@ -878,6 +933,7 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
     fit->timing = timing;
     fit->iteration = iteration;
     fit->remeshes = remeshes + 1u;
+    fit->albedo_due = fit->albedo != NULL; /* new vertices: estimated again at the next iteration */
     fit->capacity = capacity;
     fit->max_edges = max_edges;
     fit->job = job;

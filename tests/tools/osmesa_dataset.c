@@ -3,7 +3,7 @@
  * be tried on images it did not make. A test and benchmark tool
  * (tests/bench/run_dataset.sh).
  *
- *   osmesa_dataset MESH CAMERAS.json OUTDIR
+ *   osmesa_dataset MESH CAMERAS.json OUTDIR [painted]
  *
  * MESH: OBJ, PLY or OFF (gzip too). CAMERAS.json: a camera dataset
  * (transforms.json, scene.h) with its w and h; its cameras (poses, field of
@@ -15,7 +15,10 @@
  * normals computed here, one sample per pixel; the background is transparent
  * (alpha 0) and alpha is 1 on the object. The lighting is not recorded:
  * OUTDIR/transforms.json is the cameras' dataset without any largesteps_*
- * lighting member, so the fit treats it as unknown. Writes OUTDIR/view_NNN.png
+ * lighting member, so the fit treats it as unknown. `painted`: the material's
+ * colour varies over the surface (per-vertex colours, bands along the
+ * bounding box's height and depth with a phase per channel, 0.25 to 1 of
+ * the material), an object whose albedo is not uniform. Writes OUTDIR/view_NNN.png
  * (8-bit RGBA) and OUTDIR/transforms.json. */
 #define _POSIX_C_SOURCE 200809L
 #include <GL/osmesa.h>
@@ -94,8 +97,10 @@ int main(int argc, char **argv)
     char path[4096];
     uint32_t v, w, h, x, y, f, k;
     void *mem;
-    if (argc != 4) {
-        fprintf(stderr, "usage: osmesa_dataset MESH CAMERAS.json OUTDIR\n");
+    int painted = argc == 5 && strcmp(argv[4], "painted") == 0;
+    double lo[3], hi[3];
+    if (argc != 4 && !painted) {
+        fprintf(stderr, "usage: osmesa_dataset MESH CAMERAS.json OUTDIR [painted]\n");
         return 2;
     }
     mem = malloc(arena_bytes);
@@ -133,6 +138,17 @@ int main(int argc, char **argv)
     glLightfv(GL_LIGHT0, GL_SPECULAR, black);
     glMaterialfv(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE, material);
     glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, black);
+    if (painted) {
+        glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+        glEnable(GL_COLOR_MATERIAL);
+    }
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = (double)mesh.positions[k];
+    for (f = 0; f < mesh.vertex_count; f++)
+        for (k = 0; k < 3; k++) {
+            const double c = (double)mesh.positions[3 * (size_t)f + k];
+            if (c < lo[k]) lo[k] = c;
+            if (c > hi[k]) hi[k] = c;
+        }
     out = NULL;
     snprintf(path, sizeof path, "%s/transforms.json", argv[3]);
     out = fopen(path, "w");
@@ -170,6 +186,16 @@ int main(int argc, char **argv)
         for (f = 0; f < mesh.face_count; f++)
             for (k = 0; k < 3; k++) {
                 const uint32_t i = mesh.triangles[3 * (size_t)f + k];
+                if (painted) {
+                    const double ty = ((double)mesh.positions[3 * i + 1] - lo[1]) / (hi[1] - lo[1] + 1e-30);
+                    const double tz = ((double)mesh.positions[3 * i + 2] - lo[2]) / (hi[2] - lo[2] + 1e-30);
+                    double col[3];
+                    int c;
+                    for (c = 0; c < 3; c++)
+                        col[c] = (double)material[c] *
+                                 (0.625 + 0.375 * sin(6.283185307179586 * (2.0 * ty + 0.5 * tz) + 2.0943951023931953 * c));
+                    glColor3d(col[0], col[1], col[2]);
+                }
                 glNormal3d(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
                 glVertex3d((double)mesh.positions[3 * i], (double)mesh.positions[3 * i + 1],
                            (double)mesh.positions[3 * i + 2]);

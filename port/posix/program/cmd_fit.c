@@ -84,6 +84,8 @@ static int usage(FILE *f)
             "                     under a change in the 6th digit? (default 0)\n"
             "  --shading S        sh (default; a camera dataset that does not record its lighting has it\n"
             "                     estimated with the geometry) | mask (the alpha masks alone)\n"
+            "  --albedo A         with estimated lighting: uniform (default: one colour) | vertex (an RGB\n"
+            "                     albedo per vertex, estimated with the lighting: objects whose colour varies)\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
             "                     default 200,500; 'none' for no remeshing)\n"
             "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5)\n"
@@ -257,6 +259,11 @@ static int parse_args(int argc, char **argv, fit_args *a)
         } else if (strcmp(o, "--loss") == 0) {
             a->cfg.loss = strcmp(v, "l1") == 0 ? LS_LOSS_L1 : strcmp(v, "l2") == 0 ? LS_LOSS_L2 : 99u;
             ok = a->cfg.loss != 99u;
+        } else if (strcmp(o, "--albedo") == 0) {
+            a->cfg.albedo = strcmp(v, "uniform") == 0 ? LS_FIT_ALBEDO_UNIFORM
+                          : strcmp(v, "vertex") == 0  ? LS_FIT_ALBEDO_VERTEX
+                                                      : 99u;
+            ok = a->cfg.albedo != 99u;
         } else if (strcmp(o, "--shading") == 0) {
             a->cfg.shading.mode = strcmp(v, "sh") == 0 ? LS_SHADE_SH : strcmp(v, "mask") == 0 ? LS_SHADE_MASK : 99u;
             ok = a->cfg.shading.mode != 99u;
@@ -449,6 +456,29 @@ static int write_obj(FILE *f, void *ctx)
     return ls_mesh_write_obj((const ls_mesh *)ctx, ls_posix_write_file, f) == LS_OK;
 }
 
+/* albedo.ply: the result with its estimated per-vertex albedo as float red,
+ * green, blue (mean 1 per channel; estimated_sh in metrics.json holds the
+ * scale). */
+static int write_albedo_ply(FILE *f, void *ctx)
+{
+    const ls_job_run *r = (const ls_job_run *)ctx;
+    const ls_mesh *m = &r->result;
+    uint32_t i;
+    fprintf(f, "ply\nformat ascii 1.0\ncomment largesteps fit --albedo vertex: the estimated albedo, mean 1 per "
+               "channel\nelement vertex %u\nproperty float x\nproperty float y\nproperty float z\n"
+               "property float red\nproperty float green\nproperty float blue\nelement face %u\n"
+               "property list uchar int vertex_indices\nend_header\n",
+            (unsigned)m->vertex_count, (unsigned)m->face_count);
+    for (i = 0; i < m->vertex_count; i++)
+        fprintf(f, "%.9g %.9g %.9g %.6g %.6g %.6g\n", (double)m->positions[3u * i], (double)m->positions[3u * i + 1u],
+                (double)m->positions[3u * i + 2u], (double)r->albedo[3u * i], (double)r->albedo[3u * i + 1u],
+                (double)r->albedo[3u * i + 2u]);
+    for (i = 0; i < m->face_count; i++)
+        fprintf(f, "3 %u %u %u\n", (unsigned)m->triangles[3u * i], (unsigned)m->triangles[3u * i + 1u],
+                (unsigned)m->triangles[3u * i + 2u]);
+    return !ferror(f);
+}
+
 typedef struct json_data {
     const ls_job_problem *p;
     const ls_job_run *r;
@@ -478,6 +508,7 @@ static int write_json(FILE *f, void *ctx)
             (double)t->silhouette_ns * 1e-6 / n, (double)t->solve_ns * 1e-6 / n, (double)t->optimizer_ns * 1e-6 / n);
     if (j->p->light == LS_FIT_LIGHT_ESTIMATE) { /* the lighting the fit estimated (shade.h's order) */
         uint32_t k;
+        fprintf(f, "  \"albedo\": \"%s\",\n", j->r->albedo != NULL ? "vertex" : "uniform");
         fprintf(f, "  \"estimated_sh\": [");
         for (k = 0; k < 27; k++) {
             ls_report_json_number(f, (double)j->r->sh[k]);
@@ -520,6 +551,12 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_auto = !a.init_sphere;
     if (!ls_job_load(&p, &o, &arena)) return 1;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
+    if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
+        fprintf(stderr, "largesteps fit: --albedo vertex is estimated with the lighting, from a camera dataset that "
+                        "does not record its lighting (its transforms.json without largesteps_sh); this target's "
+                        "shading is %s\n", p.shading.mode == LS_SHADE_MASK ? "the masks alone" : "given");
+        return 2;
+    }
     if (p.auto_coarse)
         printf("the target has genus %d, which a sphere cannot reach: starting from the target remeshed to %g of its "
                "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
@@ -577,7 +614,9 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         st = ls_job_render(&p, &p.initial, 1, renders, &arena, &d);
         if (st != LS_OK) return ls_job_fail("rendering the initial mesh", st, &d), 1;
     }
+    p.shading.vertex_colors = run.albedo; /* the result under its estimated albedo (NULL: uniform) */
     st = ls_job_render(&p, &run.result, 1, renders + p.views, &arena, &d);
+    p.shading.vertex_colors = NULL;
     if (st != LS_OK) return ls_job_fail("rendering the result", st, &d), 1;
     if (p.have_mesh) {
         have_metrics = ls_job_metrics(&p, &run.result, &arena, &dist, &tangle);
@@ -613,7 +652,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
         ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
-        /* the five files appear together or not at all: an earlier run's set
+        /* the files appear together or not at all: an earlier run's set
          * stays whole when this one cannot be written */
         set = ls_posix_outset_begin(a.out);
         if (set == NULL) return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
@@ -621,11 +660,13 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                ls_posix_outset_add(set, "log.csv", write_log, &l) &&
                ls_posix_outset_add(set, "convergence.svg", write_svg, &l) &&
                ls_posix_outset_add_image(set, "contact.png", &sheet.image, &png, &arena, NULL) &&
-               ls_posix_outset_add(set, "metrics.json", write_json, &j));
+               ls_posix_outset_add(set, "metrics.json", write_json, &j) &&
+               (run.albedo == NULL || ls_posix_outset_add(set, "albedo.ply", write_albedo_ply, &run)));
         if (!ls_posix_outset_commit(set)) return 1;
     }
-    printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json}\n",
-           run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out);
+    printf("final loss %.6g after %u iterations; wrote %s/{result.obj,log.csv,convergence.svg,contact.png,metrics.json%s}\n",
+           run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out,
+           run.albedo != NULL ? ",albedo.ply" : "");
     if (tangle.intersecting_pairs > 0) { /* never a silent tangle: the last line and the exit status */
         fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
                         "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",

@@ -100,7 +100,7 @@ static int apply_scene(ls_job_problem *p, const ls_scene *sc, const char *scene_
     for (k = 0; k < 3; k++) p->shading.background[k] = sc->background[k];
     if (sc->lighting == LS_SCENE_LIGHT_UNKNOWN && p->shading.mode != LS_SHADE_MASK) {
         fprintf(stderr, "largesteps: %s does not record its lighting: estimating it (9 RGB spherical-harmonics "
-                        "coefficients, uniform albedo) from the images with the geometry (--shading mask fits the "
+                        "coefficients; the albedo uniform, or per vertex with --albedo vertex) from the images with the geometry (--shading mask fits the "
                         "alpha masks alone)\n", scene_path);
         p->shading.mode = LS_SHADE_SH;
         p->light = LS_FIT_LIGHT_ESTIMATE;
@@ -758,6 +758,11 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
         r->result.positions = pos;
         r->result.vertex_count = m.vertex_count;
         r->result.face_count = m.face_count;
+    }
+    if (fit.albedo != NULL) {
+        r->albedo = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)fit.vertex_count, sizeof(ls_real));
+        if (r->albedo == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+        memcpy(r->albedo, fit.albedo, 3u * (size_t)fit.vertex_count * sizeof(ls_real));
     }
     return 1;
 }

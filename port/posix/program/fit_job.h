@@ -83,6 +83,8 @@ typedef struct ls_job_run {
     ls_real *track_rms_rel;  /* dense RMS / target diagonal */
     double track_total_ms;   /* time spent measuring (excluded from ms and total_ms) */
     ls_real sh[27];          /* the fit's estimated lighting (LS_FIT_LIGHT_ESTIMATE; else zeros) */
+    ls_real *albedo;         /* [3 result.vertex_count] LS_FIT_ALBEDO_VERTEX: the estimated albedo (mean 1 per
+                                channel, the scale in sh); else NULL */
 } ls_job_run;
 
 /* Loads the problem into the arena (everything stays allocated). */
