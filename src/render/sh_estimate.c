@@ -132,7 +132,7 @@ ls_status ls_sh_accumulate(ls_sh_normal *ne, const ls_view *view, const ls_real 
         for (x = 0; x < vis->width; x++, s0 += vis->ss, p++) {
             const ls_real *t = target + 4 * p;
             ls_real r[9], rc[27];
-            uint32_t i, j, c, a = 0;
+            uint32_t i, j, a = 0;
             if (!(t[3] >= (ls_real)LS_SH_TARGET_ALPHA)) continue;
             if (!pixel_row(vis, s0, view->indices, view->triangle_count, view->normals, renormalize, colors, r, rc))
                 continue;
@@ -142,9 +142,10 @@ ls_status ls_sh_accumulate(ls_sh_normal *ne, const ls_view *view, const ls_real 
                 for (i = 0; i < 3; i++)
                     for (j = 0; j < 9; j++) ne->atb[9 * i + j] += r[j] * t[i];
             } else {
+                uint32_t c;
                 for (c = 0; c < 3; c++) {
-                    const ls_real *q = rc + 9 * c;
-                    ls_real *m = ne->ata_rgb + 45 * c;
+                    const ls_real *q = rc + 9 * (size_t)c;
+                    ls_real *m = ne->ata_rgb + 45 * (size_t)c;
                     a = 0;
                     for (i = 0; i < 9; i++)
                         for (j = i; j < 9; j++) m[a++] += q[i] * q[j];
@@ -287,7 +288,7 @@ ls_status ls_sh_solve(const ls_sh_normal *ne, ls_real sh[27], ls_diag *diag)
     for (c = 0; c < 3; c++) {
         ls_real *x = out + 9 * (size_t)c;
         /* one matrix for the three channels, or each its own (vertex colours) */
-        if ((c == 0 || ne->per_channel) && !factor9(ne->per_channel ? ne->ata_rgb + 45 * c : ne->ata, l, d, &bad)) {
+        if ((c == 0 || ne->per_channel) && !factor9(ne->per_channel ? ne->ata_rgb + 45 * (size_t)c : ne->ata, l, d, &bad)) {
             (void)ls_diag_set(diag, LS_ERR_NOT_SPD,
                               "lighting estimate: the pixels' normals do not determine the 9 coefficients "
                               "(too few pixels, or non-finite sums)", bad);
