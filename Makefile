@@ -193,6 +193,9 @@ PORT_DIRS := $(PORT_DIR) $(wildcard $(PORT_DIR)/program $(PORT_DIR)/experiments)
 CFLAGS_PORT  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wconversion -Wstrict-prototypes \
                 -Wmissing-prototypes -Wvla $(OPT) $(ARCHFLAGS) $(FPFLAGS) $(INCLUDES) $(PORT_DIRS:%=-I%)
 LDLIBS       := -lm
+ifeq ($(HOSTED),1)
+LDLIBS       += -pthread # the POSIX port's thread pool (port/posix/parallel.c); the library starts none
+endif
 LDFLAGS      := $(ARCHFLAGS) $(LDSAN)
 ifeq ($(HOSTED),0)
 # Bare metal: our own start-up and semihosting system calls (port/cortex-m4),

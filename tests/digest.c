@@ -604,7 +604,17 @@ static void dg_scene(digest *d)
 /* 20 iterations of large steps: an icosahedron fitted to renders of an
  * ellipsoid (icosphere level 1) from 2 framed views at 8 x 8, SH shading:
  * the loss of every iteration and the final vertices. */
-static void dg_fit(digest *d)
+/* A parallel-for for the digest: the tasks on this thread, last first, on
+ * worker numbers that rotate (any order and any worker must give the same
+ * bits). */
+static void dg_scrambled_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
+{
+    const uint32_t workers = *(const uint32_t *)ctx;
+    uint32_t i;
+    for (i = count; i-- > 0;) task(arg, i, (i * 7u + 1u) % workers);
+}
+
+static void dg_fit_run(digest *d, uint32_t workers)
 {
     static const ls_real sh[27] = {(ls_real)1.6, (ls_real)0.8, (ls_real)0.4, (ls_real)-0.3, 0, 0, 0, 0, 0,
                                    (ls_real)1.6, (ls_real)0.8, (ls_real)0.4, (ls_real)-0.3, 0, 0, 0, 0, 0,
@@ -630,6 +640,9 @@ static void dg_fit(digest *d)
     c.shading.mode = LS_SHADE_SH;
     c.shading.sh = sh;
     c.optim.lr = (ls_real)0.01;
+    c.workers = workers;
+    c.parallel.run = workers > 1u ? dg_scrambled_for : NULL;
+    c.parallel.ctx = &workers;
     dg_status(d, ls_camera_frame(target.positions, target.vertex_count, (ls_real)0.8, LS_FOV_X, 1, (ls_real)1.1, &fr, NULL));
     dg_status(d, ls_camera_fibonacci_dirs(2, dirs));
     normals = (ls_real *)ls_arena_alloc(&arena, 3u * target.vertex_count, sizeof(ls_real));
@@ -666,6 +679,10 @@ static void dg_fit(digest *d)
     dg_status(d, pos == NULL ? LS_ERR_NOMEM : ls_fit_mesh(&fit, pos, &out));
     for (i = 0; pos != NULL && i < 3u * init.vertex_count; i++) dg_real(d, pos[i]);
 }
+
+static void dg_fit(digest *d) { dg_fit_run(d, 1); }
+/* The same fit with 3 workers: the same hash as "fit". */
+static void dg_fit_workers(digest *d) { dg_fit_run(d, 3); }
 
 /* Entries of the later modules, one file each (tests/digest_NAME.inc, owned
  * by the module): it defines its static dg_ functions and a macro
@@ -707,6 +724,7 @@ static const digest_entry entries[] = {
     {"primitive", dg_primitive, "icosphere level 2, grid 5x3: positions and indices"},
     {"scene", dg_scene, "text scene (look-at, Fibonacci, rings) and Mitsuba sensor (rotate, translate, lookat): views, fovs"},
     {"fit", dg_fit, "20 large-steps iterations, icosahedron to an ellipsoid, 2 views at 8x8, SH: losses, vertices"},
+    {"fit.workers", dg_fit_workers, "the same with 3 workers, the views' tasks in another order: the same hash as fit"},
     DG_ENTRIES_LAPLACIAN
     DG_ENTRIES_OPTIM
     DG_ENTRIES_DISTANCE

@@ -144,6 +144,36 @@ extern "C" {
 #define LS_FIT_ALBEDO_UNIFORM 0u
 #define LS_FIT_ALBEDO_VERTEX  1u
 
+/* Parallelism the caller provides (the library starts no thread). An
+ * iteration's views are independent until their gradients are summed: with
+ * config.workers = W > 1 and config.parallel.run set, the views of a batch
+ * are taken LS_FIT_SLOTS_PER_WORKER W at a time, each rendered, shaded and
+ * differentiated (raster, shading, loss, shading backward, silhouettes, the
+ * lighting's sums) by one of the caller's workers into a slot of its own,
+ * and the slots are then added to the totals in view order (their vertex
+ * ranges split over the workers). Each view's gradient starts from zero, so
+ * the sum's order is the views' whatever W and whatever worker ran which
+ * view: the same bits for every worker count, and with no parallel-for at
+ * all (the slots then run one after another on the calling thread).
+ *
+ * run(ctx, count, task, arg) must call task(arg, i, worker) exactly once
+ * for each i < count, in any order and on any threads, with worker < W
+ * naming the worker (no two tasks at once on one worker number: its
+ * buffers), and return when every call has returned. The monitor's clock
+ * (if any) is then read from the workers; its report callback is called
+ * from the calling thread only. Memory: every worker beyond the first
+ * holds a visibility buffer, the images and a raster scratch; every slot
+ * a view's gradient (6 n reals, 12 n with LS_FIT_ALBEDO_VERTEX); ls_fit_bytes
+ * and ls_fit_job_bytes include them for the configured W. */
+typedef void (*ls_task_fn)(void *arg, uint32_t index, uint32_t worker);
+typedef void (*ls_parallel_for_fn)(void *ctx, uint32_t count, ls_task_fn task, void *arg);
+typedef struct ls_parallel {
+    ls_parallel_for_fn run; /* NULL: the calling thread runs every task */
+    void *ctx;
+} ls_parallel;
+#define LS_FIT_SLOTS_PER_WORKER 4u
+#define LS_FIT_MAX_WORKERS 1024u
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */
@@ -186,6 +216,9 @@ typedef struct ls_fit_config {
                                * whose shading varies more with the normal than its default SH */
     uint32_t albedo;          /* LS_FIT_ALBEDO_UNIFORM (default) or LS_FIT_ALBEDO_VERTEX (with
                                * LS_FIT_LIGHT_ESTIMATE; above) */
+    uint32_t workers;         /* W: the caller's workers the memory is sized for (0 or 1: one;
+                               * at most LS_FIT_MAX_WORKERS); results do not depend on it (above) */
+    ls_parallel parallel;     /* the caller's parallel-for (run NULL: none) */
 } ls_fit_config;
 
 /* The views: view_count clip transforms (16 reals each, projection x view,
@@ -263,6 +296,9 @@ typedef struct ls_fit {
     ls_arena job;             /* ls_fit_init_job: the reservation; its first job_fit_bytes hold the fit's
                                  block, the rest is the remesher's work (job.peak: its high-water mark) */
     size_t job_fit_bytes;
+    struct ls_fit_worker *workers; /* [config.workers] each worker's buffers (private) */
+    struct ls_fit_slot *slots;     /* [slot_count] each view's results before they are summed (private) */
+    uint32_t slot_count;
     ls_real *albedo;          /* [3 n] LS_FIT_ALBEDO_VERTEX: the albedo in use (else NULL) */
     ls_real *albedo_sums;     /* [6 n] LS_FIT_ALBEDO_VERTEX: the next estimate's num, den (working) */
     uint32_t albedo_due;      /* LS_FIT_ALBEDO_VERTEX: 1 when the next iteration estimates it (a new mesh) */

@@ -73,6 +73,14 @@ ls_status ls_loss_begin(ls_loss_acc *acc, uint32_t kind, uint32_t width, uint32_
 ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real *target, ls_real *grad,
                        ls_diag *diag);
 
+/* ls_loss_merge: adds to acc the one view that `part` holds (begun with the
+ * same kind, size and view count, then one ls_loss_view): the same bits as
+ * that ls_loss_view on acc itself, so views taken apart (in parallel) and
+ * merged in view order give the loss of the serial order. Errors:
+ * LS_ERR_INVALID (NULL, a different shape, part not holding exactly one
+ * view, acc already full). O(1). */
+ls_status ls_loss_merge(ls_loss_acc *acc, const ls_loss_acc *part);
+
 /* ls_loss_finish: the mean loss (sum / N) into *loss. LS_ERR_STATE when
  * fewer views were added than announced; LS_ERR_INVALID for NULL. O(1). */
 ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss);

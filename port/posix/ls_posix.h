@@ -10,6 +10,17 @@
 /* Monotonic clock in nanoseconds, usable as an ls_clock_fn (user is ignored). */
 uint64_t ls_posix_clock_ns(void *user);
 
+/* A pool of threads for the fit's parallel-for (fit.h: config.parallel =
+ * {ls_posix_pool_run, pool}, config.workers = the pool's workers): workers -
+ * 1 threads plus the calling thread. create: NULL when the threads cannot all
+ * be started (or workers is 0 or above LS_FIT_MAX_WORKERS); destroy joins
+ * them (NULL is ignored). ls_posix_cores: the processors online (at least 1). */
+typedef struct ls_posix_pool ls_posix_pool;
+ls_posix_pool *ls_posix_pool_create(uint32_t workers);
+void ls_posix_pool_destroy(ls_posix_pool *pool);
+void ls_posix_pool_run(void *pool, uint32_t count, ls_task_fn task, void *arg);
+uint32_t ls_posix_cores(void);
+
 /* The default limit on the size of a file the program reads (plain or after
  * gzip decompression), in MB (2^20 bytes): 256 MB of OBJ text is about 3
  * million triangles, past what the program's 1 GiB arena fits. */

@@ -129,6 +129,7 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
     if (c->albedo == LS_FIT_ALBEDO_VERTEX && c->light != LS_FIT_LIGHT_ESTIMATE)
         return "config->albedo: LS_FIT_ALBEDO_VERTEX is estimated with the lighting: it needs light = "
                "LS_FIT_LIGHT_ESTIMATE";
+    if (c->workers > LS_FIT_MAX_WORKERS) return "config->workers: allowed 0 .. LS_FIT_MAX_WORKERS (0 and 1: one)";
     if (m->vertex_count == 0 || m->face_count == 0) return "initial: the mesh has no vertex or no face";
     if (m->vertex_count > (UINT32_MAX - 3u) / 3u) return "initial: more than (2^32 - 4) / 3 vertices";
     return NULL;
@@ -167,6 +168,29 @@ static int pair_mode(const ls_fit_config *c)
     return c->silhouette == LS_FIT_SILHOUETTE_PAIR;
 }
 
+/* The silhouette pass bins every triangle into the 2 x 2 pixel tiles its
+ * screen box meets; for a framed mesh the (triangle, tile) pairs stay far
+ * below the worst case (every triangle in every tile). The fit reserves
+ * LS_FIT_BIN_PER_TRIANGLE pairs per triangle plus LS_FIT_BIN_PER_TILE per
+ * tile; a view that needs more fails its step with LS_ERR_NOMEM. */
+#define LS_FIT_BIN_PER_TRIANGLE 8u
+#define LS_FIT_BIN_PER_TILE 16u
+
+/* The scratch of one view's pass: the raster, the silhouettes' bins or the
+ * adaptive refinement, whichever is largest (each released before the next). */
+static ls_status view_scratch_bytes(const ls_fit_config *c, uint32_t n, uint32_t f, size_t *bytes)
+{
+    size_t a = 0, b = 0;
+    ls_status st = ls_raster_scratch_bytes_bound(c->width, c->height, c->ss, n, f, &a);
+    if (st == LS_OK)
+        st = ls_silhouette_scratch_bytes_bins(c->width, c->height, n, f, LS_FIT_BIN_PER_TRIANGLE, LS_FIT_BIN_PER_TILE, &b);
+    if (st == LS_OK && b > a) a = b;
+    if (st == LS_OK) st = ls_refine_scratch_bytes_bound(c->width, c->height, c->ss, f, c->aa, &b); /* 0 when off */
+    if (st == LS_OK && b > a) a = b;
+    *bytes = a;
+    return st;
+}
+
 static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n, uint32_t f, size_t *bytes)
 {
     ls_size s;
@@ -193,16 +217,30 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* albedo */
         ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real)); /* albedo_sums */
     }
+    ls_size_add(&s, fit_workers(c), sizeof(struct ls_fit_worker)); /* workers */
+    ls_size_add(&s, fit_slots(c), sizeof(struct ls_fit_slot));      /* slots */
+    {
+        uint32_t k;
+        size_t scratch = 0;
+        ls_status st = view_scratch_bytes(c, n, f, &scratch);
+        if (st != LS_OK) return st;
+        for (k = 0; k < fit_slots(c); k++) {
+            ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* gx */
+            ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* gn */
+            if (c->albedo == LS_FIT_ALBEDO_VERTEX) ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real));
+        }
+        for (k = 1; k < fit_workers(c); k++) { /* worker 0 has the fit's */
+            ls_size_add(&s, px, sizeof(ls_real)); /* image */
+            ls_size_add(&s, px, sizeof(ls_real)); /* gimage */
+            if (pair_mode(c)) {
+                ls_size_add(&s, px, sizeof(ls_real));
+                ls_size_add(&s, px, sizeof(ls_real));
+            }
+            ls_size_add(&s, scratch, 1); /* its scratch */
+        }
+    }
     return ls_size_get(&s, bytes);
 }
-
-/* The silhouette pass bins every triangle into the 2 x 2 pixel tiles its
- * screen box meets; for a framed mesh the (triangle, tile) pairs stay far
- * below the worst case (every triangle in every tile). The fit reserves
- * LS_FIT_BIN_PER_TRIANGLE pairs per triangle plus LS_FIT_BIN_PER_TILE per
- * tile; a view that needs more fails its step with LS_ERR_NOMEM. */
-#define LS_FIT_BIN_PER_TRIANGLE 8u
-#define LS_FIT_BIN_PER_TILE 16u
 
 /* The scratch of one iteration: the step's own arrays (the solved positions,
  * a copy of the CG warm starts) for the whole step, then the larger of the
@@ -211,14 +249,9 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
  * another. */
 ls_status ls_fit_impl_iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes)
 {
-    size_t a = 0, b = 0, e = 0, sil = 0;
+    size_t a = 0, b = 0, e = 0;
     ls_size s, pass, snap;
-    ls_status st = ls_raster_scratch_bytes_bound(c->width, c->height, c->ss, n, f, &a);
-    if (st == LS_OK)
-        st = ls_silhouette_scratch_bytes_bins(c->width, c->height, n, f, LS_FIT_BIN_PER_TRIANGLE, LS_FIT_BIN_PER_TILE, &sil);
-    if (st == LS_OK && sil > a) a = sil;
-    if (st == LS_OK) st = ls_refine_scratch_bytes_bound(c->width, c->height, c->ss, f, c->aa, &sil); /* 0 when off */
-    if (st == LS_OK && sil > a) a = sil;
+    ls_status st = view_scratch_bytes(c, n, f, &a);
     if (st == LS_OK) st = ls_vertex_normals_backward_bytes(n, &b);
     if (st == LS_OK && c->method == LS_FIT_LAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 0, 1, &e);
     if (st == LS_OK && c->method == LS_FIT_BILAPLACIAN) st = ls_laplacian_energy_bytes(lap, 3, 1, 1, &e);
@@ -282,6 +315,13 @@ ls_status ls_fit_impl_base_sizes(const ls_fit_config *c, uint32_t views, uint32_
     if (st == LS_OK) st = ls_optim_bytes(3u * n + 3u, &z->optim);
     if (st == LS_OK) st = ls_edge_table_bytes(f, &z->edges);
     if (st == LS_OK) st = ls_vis_bytes(c->width, c->height, c->ss, n, &z->vis);
+    if (st == LS_OK) { /* one visibility buffer per worker */
+        ls_size v;
+        uint32_t k;
+        ls_size_init(&v);
+        for (k = 0; k < fit_workers(c); k++) ls_size_add(&v, z->vis, 1);
+        st = ls_size_get(&v, &z->vis);
+    }
     return st;
 }
 
@@ -345,6 +385,44 @@ static ls_status fit_bytes_call(const ls_fit_config *config, const ls_fit_views 
     return ls_fit_impl_fit_bytes_frame(config, views, initial, scale, scratch, bytes, NULL, diag);
 }
 
+/* The workers' and the slots' arrays (array_sizes' order). */
+static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
+{
+    const ls_fit_config *c = &fit->config;
+    ls_arena *a = &fit->block;
+    const size_t px = (size_t)c->width * c->height * 4u;
+    size_t scratch = 0;
+    uint32_t k;
+    fit->workers = (struct ls_fit_worker *)ls_arena_alloc(a, fit_workers(c), sizeof(struct ls_fit_worker));
+    fit->slots = (struct ls_fit_slot *)ls_arena_alloc(a, fit_slots(c), sizeof(struct ls_fit_slot));
+    if (fit->slots == NULL || view_scratch_bytes(c, n, f, &scratch) != LS_OK) return 0;
+    memset(fit->workers, 0, fit_workers(c) * sizeof(struct ls_fit_worker));
+    memset(fit->slots, 0, fit_slots(c) * sizeof(struct ls_fit_slot));
+    fit->slot_count = fit_slots(c);
+    for (k = 0; k < fit_slots(c); k++) {
+        struct ls_fit_slot *sl = fit->slots + k;
+        sl->gx = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
+        sl->gn = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
+        if (c->albedo == LS_FIT_ALBEDO_VERTEX) sl->albedo_sums = (ls_real *)ls_arena_alloc(a, 6u * (size_t)n, sizeof(ls_real));
+        if (sl->gn == NULL || (c->albedo == LS_FIT_ALBEDO_VERTEX && sl->albedo_sums == NULL)) return 0;
+    }
+    for (k = 1; k < fit_workers(c); k++) {
+        struct ls_fit_worker *w = fit->workers + k;
+        void *mem;
+        w->image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+        w->gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+        if (pair_mode(c)) {
+            w->pair_image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+            w->pair_gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
+        }
+        mem = ls_arena_alloc(a, scratch, 1);
+        if (w->gimage == NULL || (pair_mode(c) && w->pair_gimage == NULL) || (scratch > 0 && mem == NULL) ||
+            ls_arena_init(&w->scratch, mem, scratch) != LS_OK)
+            return 0;
+    }
+    return 1;
+}
+
 /* Allocations from the block, in the layout's order. */
 static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
 {
@@ -378,7 +456,7 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
         if (fit->albedo_sums == NULL) return 0;
         for (i = 0; i < 3u * (size_t)n; i++) fit->albedo[i] = (ls_real)1;
     }
-    return fit->mvp != NULL;
+    return fit->mvp != NULL && take_parallel(fit, n, f);
 }
 
 /* ls_fit_init in a given frame (ls_fit_remesh keeps the first fit's); lim
@@ -436,6 +514,11 @@ ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, c
     }
     if (st == LS_OK) st = ls_edge_table_build(&fit->edges, fit->triangles, nf, n, &fit->block, diag);
     if (st == LS_OK) st = ls_vis_init(&fit->vis, &fit->block, config->width, config->height, config->ss, n);
+    {
+        uint32_t k;
+        for (k = 1; st == LS_OK && k < fit_workers(config); k++)
+            st = ls_vis_init(&fit->workers[k].vis, &fit->block, config->width, config->height, config->ss, n);
+    }
     if (st == LS_OK) {
         /* what is left is the iteration's scratch: check it covers the reserve */
         st = ls_fit_impl_iteration_scratch(config, n, nf, &fit->lap, &reserve);
@@ -578,8 +661,135 @@ static ls_status first_albedo(ls_fit *fit, ls_view *view, uint32_t batch, ls_dia
     return LS_OK;
 }
 
-/* Renders every view and accumulates the loss and dL/d(rendered positions)
- * into fit->gx. */
+/* One chunk of a batch's views (views_pass), the tasks' shared arguments. */
+typedef struct view_chunk {
+    ls_fit *fit;
+    const ls_monitor *monitor;
+    const ls_view *base; /* what every view shares: positions, indices, normals, shading, edges */
+    uint32_t first, batch, sums, shaded;
+} view_chunk;
+
+/* The view first + index of the batch, by the caller's worker: rendered,
+ * shaded and differentiated into slot `index` (its gradients from zero). */
+static void view_task(void *arg, uint32_t index, uint32_t worker)
+{
+    const view_chunk *j = (const view_chunk *)arg;
+    ls_fit *fit = j->fit;
+    const ls_fit_config *c = &fit->config;
+    struct ls_fit_slot *sl = fit->slots + index;
+    struct ls_fit_worker *w = fit->workers + worker;
+    const size_t nn = 3u * (size_t)fit->vertex_count;
+    const uint32_t v = ls_fit_view_of(c, fit->views.count, fit->iteration, j->first + index);
+    const ls_real *target = fit->views.targets[v];
+    ls_real *image = worker == 0 ? fit->image : w->image, *gimage = worker == 0 ? fit->gimage : w->gimage;
+    ls_real *pair_image = worker == 0 ? fit->pair_image : w->pair_image;
+    ls_real *pair_gimage = worker == 0 ? fit->pair_gimage : w->pair_gimage;
+    ls_arena *arena = worker == 0 ? &fit->block : &w->scratch;
+    ls_vis *vis = worker == 0 ? &fit->vis : &w->vis;
+    ls_diag *diag = &sl->diag;
+    ls_view view = *j->base;
+    uint64_t t0, t1, t2;
+    ls_status st;
+    view.vis = vis;
+    view.mvp = fit->mvp + 16u * (size_t)v;
+    ls_diag_clear(diag);
+    memset(sl->gx, 0, nn * sizeof(ls_real));
+    if (j->shaded) memset(sl->gn, 0, nn * sizeof(ls_real));
+    t0 = now(j->monitor);
+    st = ls_loss_begin(&sl->acc, c->loss, c->width, c->height, j->batch);
+    if (st == LS_OK) st = ls_raster(vis, &view, arena, diag);
+    if (st == LS_OK && j->sums) {
+        ls_sh_normal_clear(&sl->ne);
+        st = ls_sh_accumulate(&sl->ne, &view, target, diag);
+        if (st == LS_OK && fit->albedo != NULL && fit->sh_valid) {
+            memset(sl->albedo_sums, 0, 2u * nn * sizeof(ls_real));
+            st = ls_albedo_accumulate(&view, target, sl->albedo_sums, sl->albedo_sums + nn, diag);
+        }
+    }
+    if (st == LS_OK) st = ls_shade(&view, image, diag);
+    if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, image, arena, NULL, diag);
+    if (st == LS_OK && pair_mode(c)) {
+        /* the loss sees the blended image; its gradient goes back through
+         * the blending to the positions and to the shaded image */
+        st = ls_pair_forward(&view, image, pair_image, diag);
+        if (st == LS_OK) st = ls_loss_view(&sl->acc, pair_image, target, pair_gimage, diag);
+    } else if (st == LS_OK) {
+        st = ls_loss_view(&sl->acc, image, target, gimage, diag);
+    }
+    t1 = now(j->monitor);
+    sl->render_ns = t1 - t0;
+    if (st == LS_OK && pair_mode(c)) {
+        memset(gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
+        st = ls_pair_backward(&view, image, pair_gimage, gimage, sl->gx, diag);
+    }
+    t2 = now(j->monitor);
+    sl->silhouette_ns = t2 - t1;
+    if (st == LS_OK && c->aa > c->ss) {
+        ls_shade_grads sg;
+        memset(&sg, 0, sizeof sg);
+        sg.positions = sl->gx;
+        sg.normals = j->shaded ? sl->gn : NULL;
+        st = ls_refine_shade_backward(&view, c->aa, gimage, &sg, arena, diag);
+    } else if (st == LS_OK) {
+        st = ls_shade_backward(&view, gimage, sl->gx, j->shaded ? sl->gn : NULL, NULL, diag);
+    }
+    t1 = now(j->monitor);
+    sl->shade_backward_ns = t1 - t2;
+    if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
+        st = ls_silhouette_backward(&view, gimage, sl->gx, arena, diag);
+    sl->silhouette_ns += now(j->monitor) - t1;
+    sl->st = st;
+}
+
+/* The slots' gradients added to the totals, element by element in view
+ * order; a part is a range of the elements (any split: the same bits). */
+typedef struct slot_sum {
+    ls_fit *fit;
+    uint32_t count, parts, shaded, albedo;
+} slot_sum;
+
+static void add_range(ls_real *to, size_t lo, size_t hi, const struct ls_fit_slot *slots, uint32_t count, size_t field)
+{
+    size_t i;
+    uint32_t k;
+    for (i = lo; i < hi; i++) {
+        ls_real t = to[i];
+        for (k = 0; k < count; k++) {
+            const ls_real *from = field == 0 ? slots[k].gx : field == 1 ? slots[k].gn : slots[k].albedo_sums;
+            t += from[i];
+        }
+        to[i] = t;
+    }
+}
+
+static void sum_task(void *arg, uint32_t part, uint32_t worker)
+{
+    const slot_sum *j = (const slot_sum *)arg;
+    ls_fit *fit = j->fit;
+    const size_t nn = 3u * (size_t)fit->vertex_count;
+    const size_t lo = nn * part / j->parts, hi = nn * (part + 1u) / j->parts;
+    (void)worker;
+    add_range(fit->gx, lo, hi, fit->slots, j->count, 0);
+    if (j->shaded) add_range(fit->gnormals, lo, hi, fit->slots, j->count, 1);
+    if (j->albedo) {
+        add_range(fit->albedo_sums, 2u * lo, 2u * hi, fit->slots, j->count, 2);
+    }
+}
+
+/* Runs count tasks with the caller's parallel-for, or on this thread. */
+static void run_tasks(const ls_fit_config *c, uint32_t count, ls_task_fn task, void *arg)
+{
+    uint32_t i;
+    if (c->parallel.run != NULL && fit_workers(c) > 1u && count > 1u) {
+        c->parallel.run(c->parallel.ctx, count, task, arg);
+        return;
+    }
+    for (i = 0; i < count; i++) task(arg, i, 0);
+}
+
+/* Renders every view of the batch and accumulates the loss and dL/d(rendered
+ * positions) into fit->gx: the views in chunks of the slots, each chunk's
+ * views by the workers, then added in view order (fit.h). */
 static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 {
     const ls_fit_config *c = &fit->config;
@@ -589,6 +799,8 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     const int sums = estimate && light_iteration(fit);
     ls_loss_acc acc;
     ls_view view;
+    view_chunk chunk;
+    slot_sum sum;
     uint32_t k, batch;
     uint64_t t0;
     ls_status st;
@@ -625,53 +837,53 @@ static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *dia
     if (sums && fit->albedo != NULL) memset(fit->albedo_sums, 0, 6u * (size_t)n * sizeof(ls_real));
     st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
     if (st != LS_OK) return st;
-    for (k = 0; k < batch; k++) {
-        uint64_t t1, t2, t3;
-        const uint32_t v = ls_fit_view_of(c, fit->views.count, fit->iteration, k);
-        view.mvp = fit->mvp + 16u * (size_t)v;
+    fit->timing.render_ns += now(monitor) - t0;
+    chunk.fit = fit;
+    chunk.monitor = monitor;
+    chunk.base = &view;
+    chunk.batch = batch;
+    chunk.sums = (uint32_t)sums;
+    chunk.shaded = (uint32_t)shaded;
+    sum.fit = fit;
+    sum.parts = fit_workers(c);
+    sum.shaded = (uint32_t)shaded;
+    for (k = 0; k < batch; k += fit->slot_count) {
+        const uint32_t count = batch - k < fit->slot_count ? batch - k : fit->slot_count;
+        uint32_t i;
         st = ls_monitor_report(monitor, "fit.view", k, batch);
-        if (st == LS_OK) st = ls_raster(&fit->vis, &view, &fit->block, diag);
-        if (st == LS_OK && sums) st = ls_sh_accumulate(&fit->sh_sums, &view, fit->views.targets[v], diag);
-        if (st == LS_OK && sums && fit->albedo != NULL && fit->sh_valid)
-            st = ls_albedo_accumulate(&view, fit->views.targets[v], fit->albedo_sums, fit->albedo_sums + 3u * (size_t)n,
-                                      diag);
-        if (st == LS_OK) st = ls_shade(&view, fit->image, diag);
-        if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, fit->image, &fit->block, NULL, diag);
-        if (st == LS_OK && pair_mode(c)) {
-            /* the loss sees the blended image; its gradient goes back through
-             * the blending to the positions and to the shaded image */
-            st = ls_pair_forward(&view, fit->image, fit->pair_image, diag);
-            if (st == LS_OK) st = ls_loss_view(&acc, fit->pair_image, fit->views.targets[v], fit->pair_gimage, diag);
-        } else if (st == LS_OK) {
-            st = ls_loss_view(&acc, fit->image, fit->views.targets[v], fit->gimage, diag);
-        }
-        t1 = now(monitor);
-        fit->timing.render_ns += t1 - t0;
-        if (st == LS_OK && pair_mode(c)) {
-            memset(fit->gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
-            st = ls_pair_backward(&view, fit->image, fit->pair_gimage, fit->gimage, fit->gx, diag);
-        }
-        t2 = now(monitor);
-        fit->timing.silhouette_ns += t2 - t1;
-        if (st == LS_OK && c->aa > c->ss) {
-            ls_shade_grads sg;
-            memset(&sg, 0, sizeof sg);
-            sg.positions = fit->gx;
-            sg.normals = shaded ? fit->gnormals : NULL;
-            st = ls_refine_shade_backward(&view, c->aa, fit->gimage, &sg, &fit->block, diag);
-        } else if (st == LS_OK) {
-            st = ls_shade_backward(&view, fit->gimage, fit->gx, shaded ? fit->gnormals : NULL, NULL, diag);
-        }
-        t1 = now(monitor);
-        fit->timing.shade_backward_ns += t1 - t2;
-        if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
-            st = ls_silhouette_backward(&view, fit->gimage, fit->gx, &fit->block, diag);
-        t3 = now(monitor);
-        fit->timing.silhouette_ns += t3 - t1;
-        t0 = t3;
         if (st != LS_OK) return st;
+        chunk.first = k;
+        run_tasks(c, count, view_task, &chunk);
+        for (i = 0; i < count; i++) { /* the first failure in view order */
+            const struct ls_fit_slot *sl = fit->slots + i;
+            if (sl->st != LS_OK) {
+                if (diag != NULL) *diag = sl->diag;
+                return sl->st;
+            }
+        }
+        t0 = now(monitor);
+        for (i = 0; i < count; i++) {
+            const struct ls_fit_slot *sl = fit->slots + i;
+            uint32_t q;
+            st = ls_loss_merge(&acc, &sl->acc);
+            if (st != LS_OK) return st;
+            fit->timing.render_ns += sl->render_ns;
+            fit->timing.shade_backward_ns += sl->shade_backward_ns;
+            fit->timing.silhouette_ns += sl->silhouette_ns;
+            if (!sums) continue;
+            for (q = 0; q < 45u; q++) fit->sh_sums.ata[q] += sl->ne.ata[q];
+            for (q = 0; q < 135u; q++) fit->sh_sums.ata_rgb[q] += sl->ne.ata_rgb[q];
+            for (q = 0; q < 27u; q++) fit->sh_sums.atb[q] += sl->ne.atb[q];
+            fit->sh_sums.pixels += sl->ne.pixels;
+            fit->sh_sums.per_channel |= sl->ne.per_channel;
+        }
+        sum.count = count;
+        sum.albedo = (uint32_t)(sums && fit->albedo != NULL && fit->sh_valid);
+        run_tasks(c, sum.parts, sum_task, &sum);
+        fit->timing.shade_backward_ns += now(monitor) - t0;
     }
     if (shaded) {
+        t0 = now(monitor);
         st = ls_vertex_normals_backward(fit->xr, n, fit->triangles, nf, fit->gnormals, fit->gx, &fit->block, diag);
         fit->timing.shade_backward_ns += now(monitor) - t0;
         if (st != LS_OK) return st;

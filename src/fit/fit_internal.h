@@ -32,6 +32,35 @@ typedef struct fit_sizes {
     size_t arrays, lap, param, optim, edges, vis, iteration;
 } fit_sizes;
 
+/* A worker's buffers (config.workers; fit.h's parallelism). Worker 0 uses
+ * the fit's own (vis, image, gimage, pair images, the block's top as
+ * scratch); the others, these. */
+struct ls_fit_worker {
+    ls_vis vis;
+    ls_real *image, *gimage, *pair_image, *pair_gimage;
+    ls_arena scratch; /* raster, silhouette and refinement scratch of one view */
+};
+
+/* One view's results until they are added to the totals in view order. */
+struct ls_fit_slot {
+    ls_real *gx, *gn;     /* [3 n] dL/d(rendered positions), dL/d(vertex normals), from zero */
+    ls_real *albedo_sums; /* [6 n] LS_FIT_ALBEDO_VERTEX: the albedo's num, den (else NULL) */
+    ls_loss_acc acc;      /* the view's loss (one view) */
+    ls_sh_normal ne;      /* LS_FIT_LIGHT_ESTIMATE: the view's lighting sums */
+    uint64_t render_ns, shade_backward_ns, silhouette_ns;
+    ls_status st;
+    ls_diag diag;
+};
+
+/* W (at least 1) and the slots: one per view when alone, else
+ * LS_FIT_SLOTS_PER_WORKER per worker so that a slow view does not hold the
+ * others back. */
+static inline uint32_t fit_workers(const ls_fit_config *c) { return c->workers > 1u ? c->workers : 1u; }
+static inline uint32_t fit_slots(const ls_fit_config *c)
+{
+    return fit_workers(c) > 1u ? LS_FIT_SLOTS_PER_WORKER * fit_workers(c) : 1u;
+}
+
 /* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */
 typedef struct fit_counts {
     uint32_t vertices, faces, edges, factor_nnz;

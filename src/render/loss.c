@@ -225,6 +225,15 @@ ls_status ls_loss_view(ls_loss_acc *acc, const ls_real *rendered, const ls_real 
     return LS_OK;
 }
 
+ls_status ls_loss_merge(ls_loss_acc *acc, const ls_loss_acc *part)
+{
+    if (acc == NULL || part == NULL || !acc_ok(acc) || part->views_done != 1u || part->kind != acc->kind ||
+        part->width != acc->width || part->height != acc->height || part->view_count != acc->view_count)
+        return LS_ERR_INVALID;
+    add_view(acc, part->sum); /* one view from zero: its sum exactly, no compensation */
+    return LS_OK;
+}
+
 ls_status ls_loss_finish(const ls_loss_acc *acc, ls_real *loss)
 {
     if (acc == NULL || loss == NULL) return LS_ERR_INVALID;

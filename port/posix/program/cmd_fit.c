@@ -38,7 +38,7 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere;
+    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, threads;
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -110,6 +110,8 @@ static int usage(FILE *f)
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
             "  --quiet            no progress line\n"
+            "  --threads N        threads that share each iteration's views (1..1024; default: the\n"
+            "                     processors online); every count gives the same bits\n"
             "  -o DIR             output directory (created if missing)\n"
             LS_ARGS_GLOBAL_HELP
             "exit status: 0 done, 1 failed, 2 bad arguments, 3 done but the result self-intersects (its\n"
@@ -147,7 +149,8 @@ static int ranged(const char *o)
                                         "--target-ss", "--ss", "--aa-adaptive", "--track", "--max-vertices",
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
-                                        "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost"};
+                                        "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost",
+                                        "--threads"};
     size_t k;
     for (k = 0; k < sizeof names / sizeof names[0]; k++)
         if (strcmp(o, names[k]) == 0) return 1;
@@ -205,6 +208,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         cur_opt = o;
         if (strcmp(o, "-o") == 0) a->out = v;
         else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
+        else if (strcmp(o, "--threads") == 0) ok = parse_u32(v, 1, LS_FIT_MAX_WORKERS, &a->threads);
         else if (strcmp(o, "--batch") == 0) ok = parse_u32(v, 0, 1024, &a->cfg.view_batch);
         else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
@@ -683,6 +687,7 @@ int ls_cmd_fit(int argc, char **argv)
     unsigned char *work;
     size_t work_bytes = (size_t)1 << 30;
     ls_arena arena;
+    ls_posix_pool *pool = NULL;
     int rc, r = parse_args(argc, argv, &a);
     if (r <= 0) return r < 0 ? 0 : 2;
     if (!ls_posix_check_output_dir(a.out)) return 2; /* before any work */
@@ -691,7 +696,20 @@ int ls_cmd_fit(int argc, char **argv)
         free(work);
         return fprintf(stderr, "largesteps fit: out of memory\n"), 1;
     }
+    if (a.threads == 0) a.threads = ls_posix_cores();
+    if (a.threads > 1u) { /* the views of each iteration shared by a pool of threads */
+        pool = ls_posix_pool_create(a.threads);
+        if (pool == NULL) {
+            free(work);
+            return fprintf(stderr, "largesteps fit: cannot start %u threads (--threads 1 runs on this one)\n",
+                           (unsigned)a.threads), 1;
+        }
+        a.cfg.workers = a.threads;
+        a.cfg.parallel.run = ls_posix_pool_run;
+        a.cfg.parallel.ctx = pool;
+    }
     rc = fit_main(&a, &arena);
+    ls_posix_pool_destroy(pool);
     free(work); /* on every path, failures included */
     return rc;
 }
