@@ -53,7 +53,7 @@ grep ' skipped ' "$list" | sed 's/^/not found: /' >&2 || true
 grep -v ' skipped ' "$list" | xargs -P "$JOBS" -L 1 sh -c '
     out="$0/$3/$4"; mkdir -p "$out"
     # shellcheck disable=SC2086 # $2: extra fit options, a list
-    /usr/bin/time -f "%e %M" -o "$out/rusage" "$1" fit "$5" --perturb "$4" --quiet --track 0 $2 -o "$out" \
+    /usr/bin/time -f "%e %M" -o "$out/rusage" "$1" fit "$5" --perturb "$4" --quiet --track 0 --threads 1 $2 -o "$out" \
         > "$out/stdout" 2>&1
     echo $? > "$out/rc"
 ' "$OUT" "$BUILD/largesteps" "$extra" || true

@@ -7,7 +7,7 @@
 # (tests/tools/osmesa_dataset.c), then `largesteps fit DIR/transforms.json`
 # with its defaults fits the images alone (unknown lighting: estimated with the geometry)
 # and `largesteps metrics` measures the result against the mesh, which the
-# fit never saw. Then a painted object (its colour varying: the uniform albedo
+# fit never saw (every fit on one thread: --threads 1, the times are one core's). Then a painted object (its colour varying: the uniform albedo
 # against --albedo vertex) and the round trip through the program's own renders
 # against the mesh-target fit. Writes $BUILD/bench/dataset.md and prints it. Environment:
 # BUILD (default build), SHARED (../shared/meshes), DATASET_MESHES (default
@@ -44,7 +44,7 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
             -o "$d/cameras" > "$d.render.log" 2>&1
         "$OUT/osmesa_dataset" "$mesh" "$d/cameras/transforms.json" "$d/images" > "$d.mesa.log" 2>&1
         t0=$(date +%s.%N)
-        "$BUILD/largesteps" fit "$d/images/transforms.json" --quiet -o "$d/fit" > "$d.fit.log" 2>&1 || true
+        "$BUILD/largesteps" fit "$d/images/transforms.json" --threads 1 --quiet -o "$d/fit" > "$d.fit.log" 2>&1 || true
         t1=$(date +%s.%N)
         "$BUILD/largesteps" metrics "$d/fit/result.obj" "$mesh" --json > "$d.metrics.json" 2>&1 || true
         h=$(field "$d.metrics.json" hausdorff_rel)
@@ -72,7 +72,7 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
         row="| $name"
         for albedo in uniform vertex; do
             t0=$(date +%s.%N)
-            "$BUILD/largesteps" fit "$d/images/transforms.json" --albedo $albedo --quiet -o "$d/$albedo" > "$d.$albedo.log" 2>&1 || true
+            "$BUILD/largesteps" fit "$d/images/transforms.json" --albedo $albedo --threads 1 --quiet -o "$d/$albedo" > "$d.$albedo.log" 2>&1 || true
             t1=$(date +%s.%N)
             "$BUILD/largesteps" metrics "$d/$albedo/result.obj" "$mesh" --json > "$d.$albedo.json" 2>&1 || true
             row="$row | $(awk -v h="$(field "$d.$albedo.json" hausdorff_rel)" -v r="$(field "$d.$albedo.json" rms_rel)" \
@@ -97,9 +97,9 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
         d=$OUT/$name.own
         rm -rf "$d"
         "$BUILD/largesteps" render "$mesh" --views 32 --res "$RES" --ss 4 -o "$d/images" > "$d.render.log" 2>&1
-        "$BUILD/largesteps" fit "$d/images/transforms.json" --quiet -o "$d/fit" > "$d.fit.log" 2>&1 || true
+        "$BUILD/largesteps" fit "$d/images/transforms.json" --threads 1 --quiet -o "$d/fit" > "$d.fit.log" 2>&1 || true
         "$BUILD/largesteps" metrics "$d/fit/result.obj" "$mesh" --json > "$d.metrics.json" 2>&1 || true
-        "$BUILD/largesteps" fit "$mesh" --res "$RES" --quiet -o "$d/mesh" > "$d.mesh.log" 2>&1 || true
+        "$BUILD/largesteps" fit "$mesh" --res "$RES" --threads 1 --quiet -o "$d/mesh" > "$d.mesh.log" 2>&1 || true
         h=$(field "$d.metrics.json" hausdorff_rel)
         rms=$(field "$d.metrics.json" rms_rel)
         pairs=$(field "$d/fit/metrics.json" intersecting_pairs)

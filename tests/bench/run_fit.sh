@@ -26,7 +26,7 @@ make -s BUILD="$BUILD" all
     echo "|---|---|---|---|---|---|---|---|"
     for level in 3 4 5 6; do
         "$BUILD/largesteps" fit --level $level --iters "$ITERS" --res "$RES" --views "$VIEWS" --remesh none \
-            --alpha 0.95 --quiet -o "$OUT/fit_level$level" > "$OUT/fit_level$level.txt"
+            --alpha 0.95 --threads 1 --quiet -o "$OUT/fit_level$level" > "$OUT/fit_level$level.txt"
         j=$OUT/fit_level$level/metrics.json
         v=$(sed -n 's/.*"vertices": \([0-9]*\).*/\1/p' "$j" | head -n 1)
         b=$(sed -n 's/.*"fit_bytes": \([0-9]*\).*/\1/p' "$j")
