@@ -291,25 +291,32 @@ static void fit_config(ls_fit_config *c, uint32_t guard)
     c->guard = guard;
 }
 
+/* A fit of config c from a level-2 sphere of radius 0.8 on the targets above. */
+static ls_status fit_sphere(ls_fit *fit, const ls_fit_config *c, ls_arena *arena)
+{
+    ls_fit_views v;
+    ls_mesh init;
+    uint32_t i;
+    v.count = FIT_VIEWS;
+    v.mvp = &fit_mvps[0][0];
+    v.targets = (const ls_real *const *)fit_targets;
+    if (ls_icosphere(2, arena, &init) != LS_OK) return LS_ERR_NOMEM;
+    for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
+    return ls_fit_init(fit, c, &v, &init, arena, NULL);
+}
+
 /* n steps of the fit from a level-2 sphere of radius 0.8 into *out (the
  * lighting and the loss of each step); returns the final mesh's hash. */
 static uint64_t fit_run(uint32_t n, uint32_t albedo, ls_real sh_out[27], ls_real *losses, ls_arena *arena)
 {
     ls_fit_config c;
-    ls_fit_views v;
     ls_fit fit;
-    ls_mesh init;
     uint32_t i;
     ls_arena_mark mark = ls_arena_save(arena);
     uint64_t h;
     fit_config(&c, 0);
     c.albedo = albedo;
-    v.count = FIT_VIEWS;
-    v.mvp = &fit_mvps[0][0];
-    v.targets = (const ls_real *const *)fit_targets;
-    if (ls_icosphere(2, arena, &init) != LS_OK) return 0;
-    for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
-    if (ls_fit_init(&fit, &c, &v, &init, arena, NULL) != LS_OK) return 0;
+    if (fit_sphere(&fit, &c, arena) != LS_OK) return 0;
     CHECK_EQ(fit.sh_valid, 0);
     for (i = 0; i < n; i++) {
         if (ls_fit_step(&fit, NULL, NULL) != LS_OK) return 0;
@@ -369,18 +376,11 @@ static void fit_vertex_albedo(void)
               (double)loss_v[FIT_STEPS - 1], (double)loss_u[FIT_STEPS - 1]);
     {
         ls_fit_config c;
-        ls_fit_views v;
         ls_fit fit;
-        ls_mesh init;
         double mean = 0;
         fit_config(&c, 0);
         c.albedo = LS_FIT_ALBEDO_VERTEX;
-        v.count = FIT_VIEWS;
-        v.mvp = &fit_mvps[0][0];
-        v.targets = (const ls_real *const *)fit_targets;
-        REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
-        for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
-        REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+        REQUIRE(fit_sphere(&fit, &c, &arena) == LS_OK);
         for (i = 0; i < 16; i++) REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
         for (i = 0; i < 3u * fit.vertex_count; i++) mean += (double)fit.albedo[i];
         mean /= 3.0 * fit.vertex_count;
@@ -403,20 +403,13 @@ static void fit_checkpoint_and_remesh_keep_the_lighting(void)
 {
     ls_arena arena;
     ls_fit_config c;
-    ls_fit_views v;
     ls_fit fit;
-    ls_mesh init;
     ls_real sh_a[27], loss_a[4];
     uint32_t i;
     fit_test_targets(3, FIT_VIEWS, FIT_RES, buf, BUF_BYTES / 2u, fit_mvps, fit_targets, fit_sh);
     REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2u, BUF_BYTES / 2u) == LS_OK);
     fit_config(&c, 1);
-    v.count = FIT_VIEWS;
-    v.mvp = &fit_mvps[0][0];
-    v.targets = (const ls_real *const *)fit_targets;
-    REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
-    for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
-    REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+    REQUIRE(fit_sphere(&fit, &c, &arena) == LS_OK);
     for (i = 0; i < 5; i++) REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
     REQUIRE(ls_fit_save(&fit) == LS_OK);
     for (i = 0; i < 4; i++) {
@@ -444,22 +437,15 @@ static void fit_grad_limit(void)
 {
     ls_arena arena;
     ls_fit_config c;
-    ls_fit_views v;
     ls_fit fit;
-    ls_mesh init;
     ls_real x_off[3 * 200];
     uint32_t i, b, run, n_off = 0;
     fit_test_targets(3, FIT_VIEWS, FIT_RES, buf, BUF_BYTES / 2u, fit_mvps, fit_targets, fit_sh);
-    v.count = FIT_VIEWS;
-    v.mvp = &fit_mvps[0][0];
-    v.targets = (const ls_real *const *)fit_targets;
     for (run = 0; run < 3; run++) {
         REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2u, BUF_BYTES / 2u) == LS_OK);
         fit_config(&c, 0);
         c.grad_limit = run == 0 ? (ls_real)0 : run == 1 ? (ls_real)1e30 : (ls_real)0.5;
-        REQUIRE(ls_icosphere(2, &arena, &init) == LS_OK);
-        for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.8;
-        REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+        REQUIRE(fit_sphere(&fit, &c, &arena) == LS_OK);
         REQUIRE(3u * fit.vertex_count <= 3u * 200u);
         for (i = 0; i < 12; i++) {
             ls_real scale[LS_OPTIM_MAX_BLOCKS];

@@ -24,6 +24,8 @@ make -s BUILD="$BUILD" all
 ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Iinclude -I"$BUILD/include" -Iport/posix tests/tools/osmesa_dataset.c \
     "$BUILD/liblargesteps-posix.a" "$BUILD/liblargesteps.a" -lOSMesa -lm -o "$OUT/osmesa_dataset"
 field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
+# The mesh NAME: the shared copy, else the fixture's; nothing when neither is there.
+mesh_of() { for m in "$SHARED/$1.obj" "fixtures/meshes/$1.obj"; do [ -r "$m" ] && echo "$m" && return; done; }
 {
     echo "# Fitting images another renderer made"
     echo
@@ -35,9 +37,8 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
     echo "| mesh | H % of diagonal | RMS % | self-intersecting pairs | vertices | time s |"
     echo "|---|---:|---:|---:|---:|---:|"
     for name in ${DATASET_MESHES:-bunny armadillo nefertiti}; do
-        mesh=$SHARED/$name.obj
-        [ -r "$mesh" ] || mesh=fixtures/meshes/$name.obj
-        if [ ! -r "$mesh" ]; then echo "| $name | not found | | | | |"; continue; fi
+        mesh=$(mesh_of "$name")
+        if [ -z "$mesh" ]; then echo "| $name | not found | | | | |"; continue; fi
         d=$OUT/$name
         rm -rf "$d"
         "$BUILD/largesteps" render "$mesh" --placement hemisphere --views "$VIEWS" --res "$RES" --shading mask \
@@ -63,9 +64,8 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
     echo "| mesh | uniform: H % | RMS % | pairs | time s | vertex albedo: H % | RMS % | pairs | time s |"
     echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
     for name in ${DATASET_MESHES:-bunny armadillo nefertiti}; do
-        mesh=$SHARED/$name.obj
-        [ -r "$mesh" ] || mesh=fixtures/meshes/$name.obj
-        [ -r "$mesh" ] || continue
+        mesh=$(mesh_of "$name")
+        [ -n "$mesh" ] || continue
         d=$OUT/$name.painted
         rm -rf "$d"
         "$OUT/osmesa_dataset" "$mesh" "$OUT/$name/cameras/transforms.json" "$d/images" painted > "$d.mesa.log" 2>&1
@@ -91,9 +91,8 @@ field() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -n 1; }
     echo "| mesh | dataset H % | RMS % | pairs | mesh-target H % | RMS % | pairs | H ratio |"
     echo "|---|---:|---:|---:|---:|---:|---:|---:|"
     for name in ${DATASET_MESHES:-bunny armadillo nefertiti}; do
-        mesh=$SHARED/$name.obj
-        [ -r "$mesh" ] || mesh=fixtures/meshes/$name.obj
-        [ -r "$mesh" ] || continue
+        mesh=$(mesh_of "$name")
+        [ -n "$mesh" ] || continue
         d=$OUT/$name.own
         rm -rf "$d"
         "$BUILD/largesteps" render "$mesh" --views 32 --res "$RES" --ss 4 -o "$d/images" > "$d.render.log" 2>&1
