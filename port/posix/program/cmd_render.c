@@ -8,14 +8,16 @@
  * MESH is an OBJ, PLY or OFF file (ls_mesh_read). The cameras look at the
  * mesh's bounding-box centre from N directions (a Fibonacci sphere, or rings
  * of constant latitude: the largest divisor r of N with r^2 <= N rings of N/r
- * views, or the Fibonacci lattice over the cap above y = -1/4) at the distance where the bounding sphere fills the image with a 5%
- * margin (ls_camera_frame), with a horizontal field of view of DEG degrees
- * (default 40), square W x W images (default 256) with S x S samples per
- * pixel (default 2). Shading (default sh): `mask` white silhouette; `sh`
- * diffuse spherical-harmonics irradiance of a built-in sky (bright above,
- * warm horizon, dark ground: the 9 coefficients per channel that
- * ls_sh_from_equirect projects from a 32 x 16 map written out below), on the
- * uniform-weight vertex normals; `lambert` two directional lights (key from
+ * views, or the Fibonacci lattice over the cap above y = -1/4) at the
+ * distance where the bounding sphere fills the image with a 10% margin
+ * (ls_camera_frame), with a horizontal field of view of DEG degrees
+ * (default 45), square W x W images (default 256) with S x S samples per
+ * pixel (default 2). The framing and the SH lighting are those of the fit's
+ * mesh targets (fit_job.h), so that a dataset rendered here with the fit's
+ * views is the problem `largesteps fit MESH` solves. Shading (default sh):
+ * `mask` white silhouette; `sh` diffuse spherical-harmonics irradiance of
+ * that lighting (a soft sky from above plus a key light from the front
+ * right), on the uniform-weight vertex normals; `lambert` two directional lights (key from
  * upper front right, dim blue fill from below behind) plus ambient 0.05.
  * Background black; alpha is coverage.
  *
@@ -40,6 +42,7 @@
 #include "ls_posix.h"
 #include "commands.h"
 #include "args.h"
+#include "fit_job.h"
 
 #define SHADE_NAMES "mask|sh|lambert"
 
@@ -68,7 +71,7 @@ static int usage(FILE *f)
                "  --placement P fibonacci (default: the whole sphere) | rings | hemisphere (the Fibonacci\n"
                "                lattice above y = -1/4: the upper half and a little below)\n"
                "  --bits B      8 or 16 bits per sample (default 16)\n"
-               "  --fov DEG     field of view in degrees, 0 < DEG < 180 (default 40)\n"
+               "  --fov DEG     field of view in degrees, 0 < DEG < 180 (default 45, the fit's)\n"
                "  -o DIR        output directory (required; created if missing): view_000.png ... and\n"
                "                contact.png, written together or not at all\n" LS_ARGS_GLOBAL_HELP,
             (unsigned)LS_RASTER_MAX_DIM);
@@ -85,7 +88,7 @@ static int parse_args(int argc, char **argv, render_args *a)
     a->ss = 2;
     a->mode = LS_SHADE_SH;
     a->bits = 16;
-    a->fov_deg = 40.0;
+    a->fov_deg = LS_JOB_FOV_DEG;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int ok = 1;
@@ -136,21 +139,6 @@ static int parse_args(int argc, char **argv, render_args *a)
     if (a->cameras != NULL && a->placed)
         return fprintf(stderr, "largesteps render: --cameras gives the views: not with --views, --placement or --fov\n"), 0;
     return 1;
-}
-
-/* The built-in sky's SH coefficients: a 32 x 16 equirectangular map, bright
- * blue-white above, a warm horizon band, dark ground. */
-static ls_status sky_sh(ls_real sh[27])
-{
-    ls_real sky[3 * 32 * 16];
-    uint32_t i;
-    for (i = 0; i < 32 * 16; i++) {
-        ls_real t = (ls_real)(i / 32) / (ls_real)15; /* 0 top .. 1 bottom */
-        sky[3 * i] = t < (ls_real)0.5 ? (ls_real)0.6 + t : (ls_real)0.3;
-        sky[3 * i + 1] = t < (ls_real)0.5 ? (ls_real)0.7 + (ls_real)0.2 * t : (ls_real)0.25;
-        sky[3 * i + 2] = t < (ls_real)0.5 ? (ls_real)1 - (ls_real)0.6 * t : (ls_real)0.2;
-    }
-    return ls_sh_from_equirect(sky, 32, 16, sh);
 }
 
 /* Adds an image to the run's output set (ls_posix_outset_add_image).
@@ -363,7 +351,7 @@ static int setup(render_run *r)
     st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);
     if (st == LS_OK && r->a.cameras == NULL) {
         st = ls_camera_frame(r->mesh.positions, r->mesh.vertex_count, (ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0),
-                             LS_FOV_X, 1, (ls_real)1.05, &r->fr, &d);
+                             LS_FOV_X, 1, (ls_real)LS_JOB_MARGIN, &r->fr, &d);
         if (st == LS_ERR_INVALID) d.what = "cannot frame the mesh: no vertices, or all at one point";
     }
     if (st == LS_OK) st = place_views(r);
@@ -595,7 +583,7 @@ int ls_cmd_render(int argc, char **argv)
         fprintf(stderr, "largesteps: %s is not a directory\n", r.a.out_dir);
         return 1;
     }
-    if (sky_sh(r.sh) != LS_OK) return fail("sky", LS_ERR_INVALID, NULL);
+    memcpy(r.sh, ls_job_default_sh, sizeof r.sh); /* the fit's lighting of mesh targets */
     rc = setup(&r);
     if (rc == 0) {
         shading_options(&r);

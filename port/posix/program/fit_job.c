@@ -13,7 +13,7 @@ extern const size_t ls_embedded_bunny_obj_size;
 
 /* The SH lighting of mesh targets: a soft sky from above plus a key light
  * from the front right (9 coefficients per channel, shade.h's order). */
-static const ls_real default_sh[27] = {
+const ls_real ls_job_default_sh[27] = {
     (ls_real)1.70, (ls_real)0.55, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
     (ls_real)1.65, (ls_real)0.55, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
     (ls_real)1.55, (ls_real)0.60, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
@@ -345,7 +345,7 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     memset(p, 0, sizeof *p);
     memset(&scene, 0, sizeof scene);
     ls_diag_clear(&d);
-    memcpy(p->sh, default_sh, sizeof p->sh);
+    memcpy(p->sh, ls_job_default_sh, sizeof p->sh);
     ls_shade_opts_init(&p->shading);
     p->shading.mode = o->shading;
     p->views = o->views;
@@ -392,8 +392,9 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     }
     p->shading.sh = p->sh;
     if (p->have_mesh) {
-        st = ls_camera_frame(p->target.positions, p->target.vertex_count, (ls_real)(45.0 * 3.14159265358979323846 / 180.0),
-                             LS_FOV_X, (ls_real)p->width / (ls_real)p->height, (ls_real)1.1, &p->framing, &d);
+        st = ls_camera_frame(p->target.positions, p->target.vertex_count,
+                             (ls_real)(LS_JOB_FOV_DEG * 3.14159265358979323846 / 180.0), LS_FOV_X,
+                             (ls_real)p->width / (ls_real)p->height, (ls_real)LS_JOB_MARGIN, &p->framing, &d);
         if (st != LS_OK) return ls_job_fail("framing the target", st, &d);
     } else {
         p->framing.radius = 1;

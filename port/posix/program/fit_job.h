@@ -40,6 +40,15 @@ typedef struct ls_job_options {
  * target's genus asks for it. */
 #define LS_JOB_AUTO_EDGE 0.03
 
+/* The views and lighting of a mesh target, which `largesteps render` uses
+ * too (a dataset it writes is the problem the mesh-target fit solves): a
+ * horizontal field of view of LS_JOB_FOV_DEG degrees, the bounding sphere
+ * filling the image with the margin LS_JOB_MARGIN (ls_camera_frame), and SH
+ * lighting: a soft sky from above plus a key light from the front right. */
+#define LS_JOB_FOV_DEG 45.0
+#define LS_JOB_MARGIN 1.1
+extern const ls_real ls_job_default_sh[27];
+
 typedef struct ls_job_problem {
     uint32_t views, width, height;
     ls_real *mvps;           /* 16 per view */
