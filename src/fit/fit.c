@@ -687,31 +687,32 @@ static void view_task(void *arg, uint32_t index, uint32_t worker)
     ls_arena *arena = worker == 0 ? &fit->block : &w->scratch;
     ls_vis *vis = worker == 0 ? &fit->vis : &w->vis;
     ls_diag *diag = &sl->diag;
-    ls_view view = *j->base;
+    ls_view *view = &w->view; /* in the worker's memory, not on the stack: the deep chain below */
     uint64_t t0, t1, t2;
     ls_status st;
-    view.vis = vis;
-    view.mvp = fit->mvp + 16u * (size_t)v;
+    *view = *j->base;
+    view->vis = vis;
+    view->mvp = fit->mvp + 16u * (size_t)v;
     ls_diag_clear(diag);
     memset(sl->gx, 0, nn * sizeof(ls_real));
     if (j->shaded) memset(sl->gn, 0, nn * sizeof(ls_real));
     t0 = now(j->monitor);
     st = ls_loss_begin(&sl->acc, c->loss, c->width, c->height, j->batch);
-    if (st == LS_OK) st = ls_raster(vis, &view, arena, diag);
+    if (st == LS_OK) st = ls_raster(vis, view, arena, diag);
     if (st == LS_OK && j->sums) {
         ls_sh_normal_clear(&sl->ne);
-        st = ls_sh_accumulate(&sl->ne, &view, target, diag);
+        st = ls_sh_accumulate(&sl->ne, view, target, diag);
         if (st == LS_OK && fit->albedo != NULL && fit->sh_valid) {
             memset(sl->albedo_sums, 0, 2u * nn * sizeof(ls_real));
-            st = ls_albedo_accumulate(&view, target, sl->albedo_sums, sl->albedo_sums + nn, diag);
+            st = ls_albedo_accumulate(view, target, sl->albedo_sums, sl->albedo_sums + nn, diag);
         }
     }
-    if (st == LS_OK) st = ls_shade(&view, image, diag);
-    if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(&view, c->aa, image, arena, NULL, diag);
+    if (st == LS_OK) st = ls_shade(view, image, diag);
+    if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(view, c->aa, image, arena, NULL, diag);
     if (st == LS_OK && pair_mode(c)) {
         /* the loss sees the blended image; its gradient goes back through
          * the blending to the positions and to the shaded image */
-        st = ls_pair_forward(&view, image, pair_image, diag);
+        st = ls_pair_forward(view, image, pair_image, diag);
         if (st == LS_OK) st = ls_loss_view(&sl->acc, pair_image, target, pair_gimage, diag);
     } else if (st == LS_OK) {
         st = ls_loss_view(&sl->acc, image, target, gimage, diag);
@@ -720,7 +721,7 @@ static void view_task(void *arg, uint32_t index, uint32_t worker)
     sl->render_ns = t1 - t0;
     if (st == LS_OK && pair_mode(c)) {
         memset(gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
-        st = ls_pair_backward(&view, image, pair_gimage, gimage, sl->gx, diag);
+        st = ls_pair_backward(view, image, pair_gimage, gimage, sl->gx, diag);
     }
     t2 = now(j->monitor);
     sl->silhouette_ns = t2 - t1;
@@ -729,14 +730,14 @@ static void view_task(void *arg, uint32_t index, uint32_t worker)
         memset(&sg, 0, sizeof sg);
         sg.positions = sl->gx;
         sg.normals = j->shaded ? sl->gn : NULL;
-        st = ls_refine_shade_backward(&view, c->aa, gimage, &sg, arena, diag);
+        st = ls_refine_shade_backward(view, c->aa, gimage, &sg, arena, diag);
     } else if (st == LS_OK) {
-        st = ls_shade_backward(&view, gimage, sl->gx, j->shaded ? sl->gn : NULL, NULL, diag);
+        st = ls_shade_backward(view, gimage, sl->gx, j->shaded ? sl->gn : NULL, NULL, diag);
     }
     t1 = now(j->monitor);
     sl->shade_backward_ns = t1 - t2;
     if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
-        st = ls_silhouette_backward(&view, gimage, sl->gx, arena, diag);
+        st = ls_silhouette_backward(view, gimage, sl->gx, arena, diag);
     sl->silhouette_ns += now(j->monitor) - t1;
     sl->st = st;
 }

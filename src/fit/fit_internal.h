@@ -39,6 +39,7 @@ struct ls_fit_worker {
     ls_vis vis;
     ls_real *image, *gimage, *pair_image, *pair_gimage;
     ls_arena scratch; /* raster, silhouette and refinement scratch of one view */
+    ls_view view;     /* the view this worker renders (every worker, the first too) */
 };
 
 /* One view's results until they are added to the totals in view order. */
