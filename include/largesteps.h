@@ -13,6 +13,7 @@
 #include <largesteps/status.h>
 #include <largesteps/arena.h>
 #include <largesteps/monitor.h>
+#include <largesteps/parallel.h>
 #include <largesteps/math.h>
 #include <largesteps/sparse.h>
 #include <largesteps/order.h>

@@ -70,11 +70,18 @@ if [ "$is_gcc" = 1 ] && [ "$san" != 1 ]; then
     else
         bad "callgraph_no_recursion" "$(cat "$probe_dir/recursion.log")"
     fi
+    # Every task src/ hands to ls_parallel_run is in the edges file (the
+    # stack check follows only the calls it names).
+    unlisted=""
+    for t in $(grep -ho 'ls_parallel_run([^;]*' $(ls src/*/*.c) | sed 's/.*, *\([a-z_0-9]*\), *[^,]*$/\1/'); do
+        grep -q "^[a-z_0-9]*:.*[ :]$t\b" tests/tools/task_edges.txt || unlisted="$unlisted $t"
+    done
+    if [ -z "$unlisted" ]; then ok "callgraph_tasks_listed"; else bad "callgraph_tasks_listed" "not in tests/tools/task_edges.txt:$unlisted"; fi
     # Stack: the -O2 frames of the real build, budget per public function
     # (first seen to fail with a budget no real function meets).
     if python3 tests/tools/callgraph.py stack 8 "$probe_dir/tiny.md" "$build"/obj/src/*.ci >/dev/null 2>&1; then
         bad "callgraph_stack_budget (the check passes an 8-byte budget)"
-    elif python3 tests/tools/callgraph.py stack "$STACK_BUDGET" "$build/stack.md" "$build"/obj/src/*.ci > "$probe_dir/stack.log"; then
+    elif python3 tests/tools/callgraph.py stack "$STACK_BUDGET" "$build/stack.md" --edges tests/tools/task_edges.txt "$build"/obj/src/*.ci > "$probe_dir/stack.log"; then
         ok "$(sed -n 's/^ok   //p' "$probe_dir/stack.log") -> $build/stack.md"
     else
         bad "callgraph_stack_budget" "$(cat "$probe_dir/stack.log")"

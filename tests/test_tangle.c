@@ -1,6 +1,6 @@
 /* tests/test_tangle.c - tangling metrics: known intersecting and
  * non-intersecting triangle configurations, the BVH count against all pairs,
- * a sphere folded through itself, inverted faces after flipping known faces,
+ * a sphere folded through itself, the same report split over workers, inverted faces after flipping known faces,
  * angle and quality percentiles (equilateral mesh: 60 degrees, quality 1;
  * a known mix against a sort done here), errors, arena sweep. */
 #include "test.h"
@@ -195,6 +195,66 @@ static void noisy_sphere_matches_all_pairs(void)
     CHECK_EQ(r.intersecting_faces, faces);
     CHECK_EQ(r.first_pair[0], first[0]);
     CHECK_EQ(r.first_pair[1], first[1]);
+    free(a.base);
+}
+
+/* A parallel-for on this thread that does what threads may: tasks in
+ * reverse order on worker numbers that rotate. */
+static void reversed_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
+{
+    const uint32_t workers = *(const uint32_t *)ctx;
+    uint32_t k;
+    for (k = 0; k < count; k++) task(arg, count - 1u - k, (k * 7u + 3u) % workers);
+}
+
+/* ls_tangle_parallel: the report of ls_tangle, field by field, for 1 to 5
+ * workers, each in exactly ls_tangle_parallel_bytes (one byte less fails);
+ * workers 0 and above the limit refused. */
+static void parallel_same_report(void)
+{
+    ls_arena a, t;
+    ls_mesh m;
+    ls_tangle_report r1, rw;
+    ls_parallel par;
+    ls_diag d;
+    geo_rng g;
+    const double c[3] = {0, 0, 0};
+    uint32_t i, w;
+    size_t bytes;
+    unsigned char *mem;
+    REQUIRE(geo_arena(&a, 1 << 22) != NULL);
+    REQUIRE(geo_sphere(&a, &m, 1.0, c, 14, 20));
+    g.s = test_rng_seed(23);
+    for (i = 0; i < 3 * m.vertex_count; i++) m.positions[i] += (ls_real)(0.3 * (geo_rand(&g) - 0.5));
+    CHECK_STATUS(ls_tangle(&m, &m, &a, &r1, NULL), LS_OK);
+    CHECK(r1.intersecting_pairs > 10);
+    par.run = reversed_for;
+    par.ctx = &w;
+    for (w = 1; w <= 5; w++) {
+        REQUIRE(ls_tangle_parallel_bytes(m.face_count, w, &bytes) == LS_OK);
+        mem = (unsigned char *)malloc(bytes);
+        REQUIRE(mem != NULL);
+        REQUIRE(ls_arena_init(&t, mem, bytes - 1u) == LS_OK);
+        CHECK_STATUS(ls_tangle_parallel(&m, &m, &par, w, &t, &rw, NULL), LS_ERR_NOMEM);
+        REQUIRE(ls_arena_init(&t, mem, bytes) == LS_OK);
+        memset(&rw, 0xab, sizeof rw);
+        CHECK_STATUS(ls_tangle_parallel(&m, &m, &par, w, &t, &rw, NULL), LS_OK);
+        CHECK_EQ(t.peak, bytes);
+        CHECK_MSG(rw.intersecting_pairs == r1.intersecting_pairs && rw.intersecting_faces == r1.intersecting_faces &&
+                      rw.first_pair[0] == r1.first_pair[0] && rw.first_pair[1] == r1.first_pair[1] &&
+                      rw.inverted_faces == r1.inverted_faces && rw.degenerate_faces == r1.degenerate_faces &&
+                      rw.angle_p50 == r1.angle_p50 && rw.quality_mean == r1.quality_mean,
+                  "%u workers: %u pairs, %u faces, first (%u, %u); one: %u, %u, (%u, %u)", (unsigned)w,
+                  rw.intersecting_pairs, rw.intersecting_faces, rw.first_pair[0], rw.first_pair[1],
+                  r1.intersecting_pairs, r1.intersecting_faces, r1.first_pair[0], r1.first_pair[1]);
+        free(mem);
+    }
+    printf("     %u faces, %u intersecting pairs: the same report for 1 to 5 workers\n", m.face_count,
+           r1.intersecting_pairs);
+    CHECK_STATUS(ls_tangle_parallel(&m, NULL, &par, 0, &a, &rw, &d), LS_ERR_INVALID);
+    CHECK(d.what != NULL && strstr(d.what, "workers") != NULL);
+    CHECK_STATUS(ls_tangle_parallel(&m, NULL, &par, LS_TANGLE_MAX_WORKERS + 1u, &a, &rw, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_tangle_parallel_bytes(m.face_count, 0, &bytes), LS_ERR_INVALID);
     free(a.base);
 }
 
@@ -505,6 +565,7 @@ int main(void)
     TEST_RUN(folded_sphere);
     TEST_RUN(noisy_sphere_matches_all_pairs);
     TEST_RUN(noisy_fan_matches_all_pairs);
+    TEST_RUN(parallel_same_report);
     TEST_RUN(inverted_faces);
     TEST_RUN(equilateral_mesh);
     TEST_RUN(percentiles_against_sort);

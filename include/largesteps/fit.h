@@ -84,6 +84,7 @@
 #include <largesteps/param.h>
 #include <largesteps/remesh.h>
 #include <largesteps/tangle.h>
+#include <largesteps/parallel.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -144,8 +145,8 @@ extern "C" {
 #define LS_FIT_ALBEDO_UNIFORM 0u
 #define LS_FIT_ALBEDO_VERTEX  1u
 
-/* Parallelism the caller provides (the library starts no thread). An
- * iteration's views are independent until their gradients are summed: with
+/* Parallelism the caller provides (largesteps/parallel.h). An iteration's
+ * views are independent until their gradients are summed: with
  * config.workers = W > 1 and config.parallel.run set, the views of a batch
  * are taken LS_FIT_SLOTS_PER_WORKER W at a time, each rendered, shaded and
  * differentiated (raster, shading, loss, shading backward, silhouettes, the
@@ -154,23 +155,16 @@ extern "C" {
  * ranges split over the workers). Each view's gradient starts from zero, so
  * the sum's order is the views' whatever W and whatever worker ran which
  * view: the same bits for every worker count, and with no parallel-for at
- * all (the slots then run one after another on the calling thread).
+ * all (the slots then run one after another on the calling thread). The
+ * self-intersection checks (ls_fit_tangle, the guard's check of a remesh)
+ * split their faces over the same workers.
  *
- * run(ctx, count, task, arg) must call task(arg, i, worker) exactly once
- * for each i < count, in any order and on any threads, with worker < W
- * naming the worker (no two tasks at once on one worker number: its
- * buffers), and return when every call has returned. The monitor's clock
- * (if any) is then read from the workers; its report callback is called
- * from the calling thread only. Memory: every worker beyond the first
- * holds a visibility buffer, the images and a raster scratch; every slot
- * a view's gradient (6 n reals, 12 n with LS_FIT_ALBEDO_VERTEX); ls_fit_bytes
- * and ls_fit_job_bytes include them for the configured W. */
-typedef void (*ls_task_fn)(void *arg, uint32_t index, uint32_t worker);
-typedef void (*ls_parallel_for_fn)(void *ctx, uint32_t count, ls_task_fn task, void *arg);
-typedef struct ls_parallel {
-    ls_parallel_for_fn run; /* NULL: the calling thread runs every task */
-    void *ctx;
-} ls_parallel;
+ * The monitor's clock (if any) is read from the workers; its report
+ * callback is called from the calling thread only. Memory: every worker
+ * beyond the first holds a visibility buffer, the images and a raster
+ * scratch; every slot a view's gradient (6 n reals, 12 n with
+ * LS_FIT_ALBEDO_VERTEX); ls_fit_bytes and ls_fit_job_bytes include them for
+ * the configured W. */
 #define LS_FIT_SLOTS_PER_WORKER 4u
 #define LS_FIT_MAX_WORKERS 1024u
 
@@ -296,6 +290,7 @@ typedef struct ls_fit {
     ls_arena job;             /* ls_fit_init_job: the reservation; its first job_fit_bytes hold the fit's
                                  block, the rest is the remesher's work (job.peak: its high-water mark) */
     size_t job_fit_bytes;
+    struct ls_fit_pass *pass;      /* an iteration's views pass (private) */
     struct ls_fit_worker *workers; /* [config.workers] each worker's buffers (private) */
     struct ls_fit_slot *slots;     /* [slot_count] each view's results before they are summed (private) */
     uint32_t slot_count;

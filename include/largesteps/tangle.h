@@ -30,6 +30,7 @@
 #include <largesteps/status.h>
 #include <largesteps/arena.h>
 #include <largesteps/mesh.h>
+#include <largesteps/parallel.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -64,6 +65,20 @@ ls_status ls_tangle_bytes(uint32_t face_count, size_t *bytes);
  * arena and *out are unchanged. */
 ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,
                     ls_diag *diag);
+
+/* ls_tangle_parallel: ls_tangle with the search for intersecting pairs split
+ * into blocks of faces on the caller's parallel-for (largesteps/parallel.h;
+ * par NULL, par->run NULL or workers 1: this thread), tasks numbered by
+ * worker < workers. The report is the same for every worker count and
+ * every order the tasks run in (counts added, the least first pair, the
+ * faces' bits joined). ls_tangle_parallel_bytes: its exact arena bytes,
+ * ls_tangle_bytes plus a bit per face and a count for each worker beyond
+ * the first. Errors as ls_tangle and ls_tangle_bytes; workers 0:
+ * LS_ERR_INVALID, above LS_TANGLE_MAX_WORKERS: LS_ERR_TOO_LARGE. */
+#define LS_TANGLE_MAX_WORKERS 1024u
+ls_status ls_tangle_parallel_bytes(uint32_t face_count, uint32_t workers, size_t *bytes);
+ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
+                             ls_arena *arena, ls_tangle_report *out, ls_diag *diag);
 
 /* ls_tangle_pair: 1 when faces f and g of `mesh` intersect by the rules
  * above, else 0 (also for f == g or an index out of range). O(1); no memory.

@@ -163,11 +163,6 @@ int ls_fit_impl_optimizes_u(const ls_fit_config *c)
     return c->method == LS_FIT_LARGE_STEPS && c->power != 1u;
 }
 
-static int pair_mode(const ls_fit_config *c)
-{
-    return c->silhouette == LS_FIT_SILHOUETTE_PAIR;
-}
-
 /* The silhouette pass bins every triangle into the 2 x 2 pixel tiles its
  * screen box meets; for a framed mesh the (triangle, tile) pairs stay far
  * below the worst case (every triangle in every tile). The fit reserves
@@ -207,7 +202,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
     ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real));  /* gnormals */
     ls_size_add(&s, px, sizeof(ls_real));              /* image */
     ls_size_add(&s, px, sizeof(ls_real));              /* gimage */
-    if (pair_mode(c)) {
+    if (fit_pair_mode(c)) {
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_image */
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_gimage */
     }
@@ -217,6 +212,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* albedo */
         ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real)); /* albedo_sums */
     }
+    ls_size_add(&s, 1, sizeof(struct ls_fit_pass));                /* pass */
     ls_size_add(&s, fit_workers(c), sizeof(struct ls_fit_worker)); /* workers */
     ls_size_add(&s, fit_slots(c), sizeof(struct ls_fit_slot));      /* slots */
     {
@@ -232,7 +228,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         for (k = 1; k < fit_workers(c); k++) { /* worker 0 has the fit's */
             ls_size_add(&s, px, sizeof(ls_real)); /* image */
             ls_size_add(&s, px, sizeof(ls_real)); /* gimage */
-            if (pair_mode(c)) {
+            if (fit_pair_mode(c)) {
                 ls_size_add(&s, px, sizeof(ls_real));
                 ls_size_add(&s, px, sizeof(ls_real));
             }
@@ -273,7 +269,7 @@ ls_status ls_fit_impl_iteration_scratch(const ls_fit_config *c, uint32_t n, uint
     ls_size_add_size(&s, &pass);
     if (c->guard) { /* ls_fit_tangle: the positions, then the solve's warm start (CG) or the check */
         ls_size check, warm;
-        ls_status st2 = ls_tangle_bytes(f, &e);
+        ls_status st2 = ls_tangle_parallel_bytes(f, fit_workers(c), &e);
         if (st2 != LS_OK) return st2;
         ls_size_init(&check);
         ls_size_add(&check, 3u * (size_t)n, sizeof(ls_real));
@@ -393,9 +389,11 @@ static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
     const size_t px = (size_t)c->width * c->height * 4u;
     size_t scratch = 0;
     uint32_t k;
+    fit->pass = (struct ls_fit_pass *)ls_arena_alloc(a, 1, sizeof(struct ls_fit_pass));
     fit->workers = (struct ls_fit_worker *)ls_arena_alloc(a, fit_workers(c), sizeof(struct ls_fit_worker));
     fit->slots = (struct ls_fit_slot *)ls_arena_alloc(a, fit_slots(c), sizeof(struct ls_fit_slot));
-    if (fit->slots == NULL || view_scratch_bytes(c, n, f, &scratch) != LS_OK) return 0;
+    if (fit->pass == NULL || fit->workers == NULL || fit->slots == NULL || view_scratch_bytes(c, n, f, &scratch) != LS_OK) return 0;
+    memset(fit->pass, 0, sizeof *fit->pass);
     memset(fit->workers, 0, fit_workers(c) * sizeof(struct ls_fit_worker));
     memset(fit->slots, 0, fit_slots(c) * sizeof(struct ls_fit_slot));
     fit->slot_count = fit_slots(c);
@@ -411,12 +409,12 @@ static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
         void *mem;
         w->image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
         w->gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
-        if (pair_mode(c)) {
+        if (fit_pair_mode(c)) {
             w->pair_image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
             w->pair_gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
         }
         mem = ls_arena_alloc(a, scratch, 1);
-        if (w->gimage == NULL || (pair_mode(c) && w->pair_gimage == NULL) || (scratch > 0 && mem == NULL) ||
+        if (w->gimage == NULL || (fit_pair_mode(c) && w->pair_gimage == NULL) || (scratch > 0 && mem == NULL) ||
             ls_arena_init(&w->scratch, mem, scratch) != LS_OK)
             return 0;
     }
@@ -439,7 +437,7 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
     fit->gnormals = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
     fit->image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
     fit->gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
-    if (pair_mode(&fit->config)) {
+    if (fit_pair_mode(&fit->config)) {
         fit->pair_image = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
         fit->pair_gimage = (ls_real *)ls_arena_alloc(a, px, sizeof(ls_real));
         if (fit->pair_gimage == NULL) return 0;
@@ -562,11 +560,6 @@ static ls_status fit_init_call(ls_fit *fit, const ls_fit_config *config, const l
     return ls_fit_impl_fit_init_frame(fit, config, views, initial, scale, radius, NULL, arena, diag);
 }
 
-static uint64_t now(const ls_monitor *m)
-{
-    return (m != NULL && m->clock != NULL) ? m->clock(m->user) : 0u;
-}
-
 /* The first non-finite value of v[0..count), or count. */
 static size_t first_nonfinite(const ls_real *v, size_t count)
 {
@@ -611,287 +604,6 @@ uint32_t ls_fit_view_of(const ls_fit_config *config, uint32_t count, uint32_t it
     return (uint32_t)(pos * coprime_stride(count) % count);
 }
 
-/* LS_FIT_LIGHT_ESTIMATE: whether the step about to run (or running:
- * fit->iteration is counted up after the solve) makes a new estimate. */
-static int light_iteration(const ls_fit *fit)
-{
-    return fit->iteration % LS_FIT_LIGHT_EVERY == LS_FIT_LIGHT_EVERY - 1u;
-}
-
-/* LS_FIT_LIGHT_ESTIMATE before its first estimate: the iteration's views
- * rasterized once more to make it (view: set up by views_pass, the vertex
- * normals computed). A step that fails restores sh_valid (fit_step_call). */
-static ls_status first_estimate(ls_fit *fit, ls_view *view, uint32_t batch, ls_diag *diag)
-{
-    uint32_t k;
-    ls_status st = LS_OK;
-    if (fit->sh_valid) return LS_OK;
-    ls_sh_normal_clear(&fit->sh_sums);
-    for (k = 0; k < batch && st == LS_OK; k++) {
-        const uint32_t v = ls_fit_view_of(&fit->config, fit->views.count, fit->iteration, k);
-        view->mvp = fit->mvp + 16u * (size_t)v;
-        st = ls_raster(&fit->vis, view, &fit->block, diag);
-        if (st == LS_OK) st = ls_sh_accumulate(&fit->sh_sums, view, fit->views.targets[v], diag);
-    }
-    if (st != LS_OK) return st;
-    if (ls_sh_solve(&fit->sh_sums, fit->sh, NULL) == LS_OK) fit->sh_valid = 1;
-    return LS_OK;
-}
-
-/* LS_FIT_ALBEDO_VERTEX on a new mesh (albedo_due, the albedo all 1): the
- * iteration's views rasterized once more to estimate it under the lighting
- * in use. A step that fails sets it back to 1 (fit_step_call). */
-static ls_status first_albedo(ls_fit *fit, ls_view *view, uint32_t batch, ls_diag *diag)
-{
-    const size_t nn = 3u * (size_t)fit->vertex_count;
-    uint32_t k;
-    ls_status st = LS_OK;
-    if (!fit->albedo_due || !fit->sh_valid) return LS_OK;
-    memset(fit->albedo_sums, 0, 2u * nn * sizeof(ls_real));
-    for (k = 0; k < batch && st == LS_OK; k++) {
-        const uint32_t v = ls_fit_view_of(&fit->config, fit->views.count, fit->iteration, k);
-        view->mvp = fit->mvp + 16u * (size_t)v;
-        st = ls_raster(&fit->vis, view, &fit->block, diag);
-        if (st == LS_OK)
-            st = ls_albedo_accumulate(view, fit->views.targets[v], fit->albedo_sums, fit->albedo_sums + nn, diag);
-    }
-    if (st != LS_OK) return st;
-    (void)ls_albedo_solve(fit->albedo_sums, fit->albedo_sums + nn, fit->vertex_count, fit->albedo, NULL);
-    fit->albedo_due = 0;
-    return LS_OK;
-}
-
-/* One chunk of a batch's views (views_pass), the tasks' shared arguments. */
-typedef struct view_chunk {
-    ls_fit *fit;
-    const ls_monitor *monitor;
-    const ls_view *base; /* what every view shares: positions, indices, normals, shading, edges */
-    uint32_t first, batch, sums, shaded;
-} view_chunk;
-
-/* The view first + index of the batch, by the caller's worker: rendered,
- * shaded and differentiated into slot `index` (its gradients from zero). */
-static void view_task(void *arg, uint32_t index, uint32_t worker)
-{
-    const view_chunk *j = (const view_chunk *)arg;
-    ls_fit *fit = j->fit;
-    const ls_fit_config *c = &fit->config;
-    struct ls_fit_slot *sl = fit->slots + index;
-    struct ls_fit_worker *w = fit->workers + worker;
-    const size_t nn = 3u * (size_t)fit->vertex_count;
-    const uint32_t v = ls_fit_view_of(c, fit->views.count, fit->iteration, j->first + index);
-    const ls_real *target = fit->views.targets[v];
-    ls_real *image = worker == 0 ? fit->image : w->image, *gimage = worker == 0 ? fit->gimage : w->gimage;
-    ls_real *pair_image = worker == 0 ? fit->pair_image : w->pair_image;
-    ls_real *pair_gimage = worker == 0 ? fit->pair_gimage : w->pair_gimage;
-    ls_arena *arena = worker == 0 ? &fit->block : &w->scratch;
-    ls_vis *vis = worker == 0 ? &fit->vis : &w->vis;
-    ls_diag *diag = &sl->diag;
-    ls_view *view = &w->view; /* in the worker's memory, not on the stack: the deep chain below */
-    uint64_t t0, t1, t2;
-    ls_status st;
-    *view = *j->base;
-    view->vis = vis;
-    view->mvp = fit->mvp + 16u * (size_t)v;
-    ls_diag_clear(diag);
-    memset(sl->gx, 0, nn * sizeof(ls_real));
-    if (j->shaded) memset(sl->gn, 0, nn * sizeof(ls_real));
-    t0 = now(j->monitor);
-    st = ls_loss_begin(&sl->acc, c->loss, c->width, c->height, j->batch);
-    if (st == LS_OK) st = ls_raster(vis, view, arena, diag);
-    if (st == LS_OK && j->sums) {
-        ls_sh_normal_clear(&sl->ne);
-        st = ls_sh_accumulate(&sl->ne, view, target, diag);
-        if (st == LS_OK && fit->albedo != NULL && fit->sh_valid) {
-            memset(sl->albedo_sums, 0, 2u * nn * sizeof(ls_real));
-            st = ls_albedo_accumulate(view, target, sl->albedo_sums, sl->albedo_sums + nn, diag);
-        }
-    }
-    if (st == LS_OK) st = ls_shade(view, image, diag);
-    if (st == LS_OK && c->aa > c->ss) st = ls_refine_shade(view, c->aa, image, arena, NULL, diag);
-    if (st == LS_OK && pair_mode(c)) {
-        /* the loss sees the blended image; its gradient goes back through
-         * the blending to the positions and to the shaded image */
-        st = ls_pair_forward(view, image, pair_image, diag);
-        if (st == LS_OK) st = ls_loss_view(&sl->acc, pair_image, target, pair_gimage, diag);
-    } else if (st == LS_OK) {
-        st = ls_loss_view(&sl->acc, image, target, gimage, diag);
-    }
-    t1 = now(j->monitor);
-    sl->render_ns = t1 - t0;
-    if (st == LS_OK && pair_mode(c)) {
-        memset(gimage, 0, (size_t)c->width * c->height * 4u * sizeof(ls_real));
-        st = ls_pair_backward(view, image, pair_gimage, gimage, sl->gx, diag);
-    }
-    t2 = now(j->monitor);
-    sl->silhouette_ns = t2 - t1;
-    if (st == LS_OK && c->aa > c->ss) {
-        ls_shade_grads sg;
-        memset(&sg, 0, sizeof sg);
-        sg.positions = sl->gx;
-        sg.normals = j->shaded ? sl->gn : NULL;
-        st = ls_refine_shade_backward(view, c->aa, gimage, &sg, arena, diag);
-    } else if (st == LS_OK) {
-        st = ls_shade_backward(view, gimage, sl->gx, j->shaded ? sl->gn : NULL, NULL, diag);
-    }
-    t1 = now(j->monitor);
-    sl->shade_backward_ns = t1 - t2;
-    if (st == LS_OK && c->silhouette == LS_FIT_SILHOUETTE_EXACT)
-        st = ls_silhouette_backward(view, gimage, sl->gx, arena, diag);
-    sl->silhouette_ns += now(j->monitor) - t1;
-    sl->st = st;
-}
-
-/* The slots' gradients added to the totals, element by element in view
- * order; a part is a range of the elements (any split: the same bits). */
-typedef struct slot_sum {
-    ls_fit *fit;
-    uint32_t count, parts, shaded, albedo;
-} slot_sum;
-
-static void add_range(ls_real *to, size_t lo, size_t hi, const struct ls_fit_slot *slots, uint32_t count, size_t field)
-{
-    size_t i;
-    uint32_t k;
-    for (i = lo; i < hi; i++) {
-        ls_real t = to[i];
-        for (k = 0; k < count; k++) {
-            const ls_real *from = field == 0 ? slots[k].gx : field == 1 ? slots[k].gn : slots[k].albedo_sums;
-            t += from[i];
-        }
-        to[i] = t;
-    }
-}
-
-static void sum_task(void *arg, uint32_t part, uint32_t worker)
-{
-    const slot_sum *j = (const slot_sum *)arg;
-    ls_fit *fit = j->fit;
-    const size_t nn = 3u * (size_t)fit->vertex_count;
-    const size_t lo = nn * part / j->parts, hi = nn * (part + 1u) / j->parts;
-    (void)worker;
-    add_range(fit->gx, lo, hi, fit->slots, j->count, 0);
-    if (j->shaded) add_range(fit->gnormals, lo, hi, fit->slots, j->count, 1);
-    if (j->albedo) {
-        add_range(fit->albedo_sums, 2u * lo, 2u * hi, fit->slots, j->count, 2);
-    }
-}
-
-/* Runs count tasks with the caller's parallel-for, or on this thread. */
-static void run_tasks(const ls_fit_config *c, uint32_t count, ls_task_fn task, void *arg)
-{
-    uint32_t i;
-    if (c->parallel.run != NULL && fit_workers(c) > 1u && count > 1u) {
-        c->parallel.run(c->parallel.ctx, count, task, arg);
-        return;
-    }
-    for (i = 0; i < count; i++) task(arg, i, 0);
-}
-
-/* Renders every view of the batch and accumulates the loss and dL/d(rendered
- * positions) into fit->gx: the views in chunks of the slots, each chunk's
- * views by the workers, then added in view order (fit.h). */
-static ls_status views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
-{
-    const ls_fit_config *c = &fit->config;
-    const uint32_t n = fit->vertex_count, nf = fit->face_count;
-    const int shaded = c->shading.mode == LS_SHADE_SH || c->shading.mode == LS_SHADE_LAMBERT;
-    const int estimate = c->light == LS_FIT_LIGHT_ESTIMATE;
-    const int sums = estimate && light_iteration(fit);
-    ls_loss_acc acc;
-    ls_view view;
-    view_chunk chunk;
-    slot_sum sum;
-    uint32_t k, batch;
-    uint64_t t0;
-    ls_status st;
-    memset(&view, 0, sizeof view);
-    view.vis = &fit->vis;
-    view.positions = fit->xr;
-    view.indices = fit->triangles;
-    view.triangle_count = nf;
-    view.vertex_count = n;
-    view.normals = fit->normals;
-    view.opts = &c->shading;
-    if (estimate) { /* the fit's own coefficients (and albedo) */
-        fit->lit = c->shading;
-        fit->lit.sh = fit->sh;
-        fit->lit.vertex_colors = fit->albedo; /* NULL: uniform */
-        view.opts = &fit->lit;
-    }
-    view.table = &fit->edges;
-    view.boost = c->boost;
-    memset(fit->gx, 0, 3u * (size_t)n * sizeof(ls_real));
-    memset(fit->gnormals, 0, 3u * (size_t)n * sizeof(ls_real));
-    t0 = now(monitor);
-    if (shaded) {
-        st = ls_shade_vertex_normals(fit->xr, n, fit->triangles, nf, fit->normals, diag);
-        if (st != LS_OK) return st;
-    }
-    batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
-    if (estimate) {
-        st = first_estimate(fit, &view, batch, diag);
-        if (st == LS_OK && fit->albedo != NULL) st = first_albedo(fit, &view, batch, diag);
-        if (st != LS_OK) return st;
-    }
-    if (sums) ls_sh_normal_clear(&fit->sh_sums);
-    if (sums && fit->albedo != NULL) memset(fit->albedo_sums, 0, 6u * (size_t)n * sizeof(ls_real));
-    st = ls_loss_begin(&acc, c->loss, c->width, c->height, batch);
-    if (st != LS_OK) return st;
-    fit->timing.render_ns += now(monitor) - t0;
-    chunk.fit = fit;
-    chunk.monitor = monitor;
-    chunk.base = &view;
-    chunk.batch = batch;
-    chunk.sums = (uint32_t)sums;
-    chunk.shaded = (uint32_t)shaded;
-    sum.fit = fit;
-    sum.parts = fit_workers(c);
-    sum.shaded = (uint32_t)shaded;
-    for (k = 0; k < batch; k += fit->slot_count) {
-        const uint32_t count = batch - k < fit->slot_count ? batch - k : fit->slot_count;
-        uint32_t i;
-        st = ls_monitor_report(monitor, "fit.view", k, batch);
-        if (st != LS_OK) return st;
-        chunk.first = k;
-        run_tasks(c, count, view_task, &chunk);
-        for (i = 0; i < count; i++) { /* the first failure in view order */
-            const struct ls_fit_slot *sl = fit->slots + i;
-            if (sl->st != LS_OK) {
-                if (diag != NULL) *diag = sl->diag;
-                return sl->st;
-            }
-        }
-        t0 = now(monitor);
-        for (i = 0; i < count; i++) {
-            const struct ls_fit_slot *sl = fit->slots + i;
-            uint32_t q;
-            st = ls_loss_merge(&acc, &sl->acc);
-            if (st != LS_OK) return st;
-            fit->timing.render_ns += sl->render_ns;
-            fit->timing.shade_backward_ns += sl->shade_backward_ns;
-            fit->timing.silhouette_ns += sl->silhouette_ns;
-            if (!sums) continue;
-            for (q = 0; q < 45u; q++) fit->sh_sums.ata[q] += sl->ne.ata[q];
-            for (q = 0; q < 135u; q++) fit->sh_sums.ata_rgb[q] += sl->ne.ata_rgb[q];
-            for (q = 0; q < 27u; q++) fit->sh_sums.atb[q] += sl->ne.atb[q];
-            fit->sh_sums.pixels += sl->ne.pixels;
-            fit->sh_sums.per_channel |= sl->ne.per_channel;
-        }
-        sum.count = count;
-        sum.albedo = (uint32_t)(sums && fit->albedo != NULL && fit->sh_valid);
-        run_tasks(c, sum.parts, sum_task, &sum);
-        fit->timing.shade_backward_ns += now(monitor) - t0;
-    }
-    if (shaded) {
-        t0 = now(monitor);
-        st = ls_vertex_normals_backward(fit->xr, n, fit->triangles, nf, fit->gnormals, fit->gx, &fit->block, diag);
-        fit->timing.shade_backward_ns += now(monitor) - t0;
-        if (st != LS_OK) return st;
-    }
-    return ls_loss_finish(&acc, &fit->loss);
-}
-
 /* The iteration up to the optimizer: positions xs (= M^-1 params for large
  * steps, the fit's x for the baselines), rendered at xs + translation, the
  * loss, dL/dx in fit->gx and the optimizer's gradient in fit->grad. Writes
@@ -917,9 +629,9 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     ls_real tr[3];
     uint64_t t0;
     ls_status st = LS_OK;
-    t0 = now(monitor);
+    t0 = fit_now(monitor);
     if (ls_fit_impl_optimizes_u(c)) st = ls_param_from_differential(&fit->param, fit->params, xs);
-    fit->timing.solve_ns += now(monitor) - t0;
+    fit->timing.solve_ns += fit_now(monitor) - t0;
     if (st != LS_OK) {
         if (st == LS_ERR_NONFINITE) diag_set(diag, st, "solve: non-finite differential coordinates", fit->iteration);
         return st;
@@ -927,7 +639,7 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
     for (k = 0; k < 3; k++) tr[k] = c->use_translation ? fit->params[3u * n + k] : (ls_real)0;
     for (i = 0; i < n; i++)
         for (k = 0; k < 3; k++) fit->xr[3u * i + k] = xs[3u * i + k] + tr[k];
-    st = views_pass(fit, monitor, diag);
+    st = ls_fit_impl_views_pass(fit, monitor, diag);
     if (st == LS_ERR_NONFINITE && diag != NULL) diag->index = fit->iteration, diag->has_index = 1;
     if (st != LS_OK) return st;
     if (first_nonfinite(fit->gx, 3u * (size_t)n) < 3u * (size_t)n) {
@@ -953,14 +665,14 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
         for (i = 0; i < n; i++) s += fit->gx[3u * i + k];
         fit->grad[3u * n + k] = s;
     }
-    t0 = now(monitor);
+    t0 = fit_now(monitor);
     if (c->method == LS_FIT_LARGE_STEPS) {
         st = ls_param_adjoint(&fit->param, fit->gx, fit->grad);
         if (st == LS_OK && c->mean_mode == LS_FIT_MEAN_PROJECT) remove_mean(fit->grad, n);
     } else {
         memcpy(fit->grad, fit->gx, 3u * (size_t)n * sizeof(ls_real));
     }
-    fit->timing.solve_ns += now(monitor) - t0;
+    fit->timing.solve_ns += fit_now(monitor) - t0;
     if (st == LS_ERR_NONFINITE) diag_set(diag, st, "adjoint solve: non-finite gradient", fit->iteration);
     return st;
 }
@@ -992,7 +704,7 @@ static void limit_gradient(ls_fit *fit)
 
 /* The optimizer step, undone when a parameter overflows (its snapshot in
  * the block's scratch, released on return). */
-static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
+LS_NOINLINE static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag)
 {
     ls_optim *o = &fit->optim;
     const size_t count = o->count;
@@ -1012,10 +724,10 @@ static ls_status step_optimizer(ls_fit *fit, const ls_monitor *monitor, ls_diag 
     memcpy(m1, o->m1, count * sizeof(ls_real));
     memcpy(m2, o->m2, count * sizeof(ls_real));
     memcpy(last, o->last_scale, sizeof last);
-    t0 = now(monitor);
+    t0 = fit_now(monitor);
     limit_gradient(fit);
     st = ls_optim_step(o, fit->params, fit->grad, diag);
-    fit->timing.optimizer_ns += now(monitor) - t0;
+    fit->timing.optimizer_ns += fit_now(monitor) - t0;
     if (st == LS_ERR_NONFINITE) diag_set(diag, st, "non-finite gradient of the optimized parameters", fit->iteration);
     if (st == LS_OK && first_nonfinite(fit->params, count) < count) {
         diag_set(diag, LS_ERR_NONFINITE, "optimizer step: a parameter overflowed", fit->iteration);
@@ -1068,7 +780,7 @@ static ls_status fit_step_call(ls_fit *fit, const ls_monitor *monitor, ls_diag *
         if (ls_fit_impl_optimizes_u(&fit->config)) memcpy(fit->x, xs, nn * sizeof(ls_real));
         else memcpy(fit->x, fit->params, nn * sizeof(ls_real));
         /* the lighting of the geometry just rendered, for the next steps (kept when it cannot be solved) */
-        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && light_iteration(fit)) {
+        if (fit->config.light == LS_FIT_LIGHT_ESTIMATE && fit_light_iteration(fit)) {
             /* each from sums taken under the other's previous value; the
              * albedo's mean stays 1, so the two cannot trade scale back and forth */
             const uint32_t had_light = fit->sh_valid;

@@ -1,6 +1,7 @@
 /* fit_internal.h - what the fit's files share (private to src/fit): the
  * sizing records, error helpers, and the functions one file offers the
  * others. fit.c: configuration, sizing, set-up and the iteration;
+ * fit_views.c: the iteration's views on the caller's workers;
  * fit_remesh.c: checkpoints, self-intersection checks and remeshing (also
  * inside a job's memory); fit_job.c: a whole job's memory, planned up front. */
 #ifndef LS_FIT_INTERNAL_H
@@ -24,6 +25,10 @@ static inline void diag_set(ls_diag *diag, ls_status st, const char *what, uint6
 }
 
 static inline int finite_r(ls_real x) { return x - x == x - x; }
+
+static inline uint64_t fit_now(const ls_monitor *m) { return (m != NULL && m->clock != NULL) ? m->clock(m->user) : 0u; }
+
+static inline int fit_pair_mode(const ls_fit_config *c) { return c->silhouette == LS_FIT_SILHOUETTE_PAIR; }
 
 /* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
  * the Laplacian (with its build scratch), M and its solver, the optimizer,
@@ -53,10 +58,28 @@ struct ls_fit_slot {
     ls_diag diag;
 };
 
+/* One iteration's views pass (fit_views.c): what its tasks share, in the
+ * fit's memory rather than on the stack under the tasks' deep chains. */
+struct ls_fit_pass {
+    ls_fit *fit;
+    const ls_monitor *monitor;
+    ls_view base;    /* what every view shares: positions, indices, normals, shading, edges */
+    ls_loss_acc acc; /* the batch's loss, the slots merged in view order */
+    uint32_t first;  /* the chunk's first view in the batch */
+    uint32_t batch, sums, shaded, albedo;
+    uint32_t count, parts; /* the chunk's views; the sum's parts */
+};
+
 /* W (at least 1) and the slots: one per view when alone, else
  * LS_FIT_SLOTS_PER_WORKER per worker so that a slow view does not hold the
  * others back. */
 static inline uint32_t fit_workers(const ls_fit_config *c) { return c->workers > 1u ? c->workers : 1u; }
+/* LS_FIT_LIGHT_ESTIMATE: whether the step about to run (or running:
+ * fit->iteration is counted up after the solve) makes a new estimate. */
+static inline int fit_light_iteration(const ls_fit *fit)
+{
+    return fit->iteration % LS_FIT_LIGHT_EVERY == LS_FIT_LIGHT_EVERY - 1u;
+}
 static inline uint32_t fit_slots(const ls_fit_config *c)
 {
     return fit_workers(c) > 1u ? LS_FIT_SLOTS_PER_WORKER * fit_workers(c) : 1u;
@@ -72,6 +95,10 @@ typedef struct fit_counts {
 /* fit_job.c */
 ls_status ls_fit_impl_over(ls_diag *diag, const char *what, uint64_t count, uint32_t cap);
 ls_status ls_fit_impl_within(const fit_counts *have, const fit_counts *lim, int remesh, ls_diag *diag);
+
+/* fit_views.c: renders every view of the iteration's batch and accumulates
+ * the loss and dL/d(rendered positions) into fit->gx (fit->xr set). */
+ls_status ls_fit_impl_views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
 
 /* fit.c */
 void ls_fit_impl_measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius);

@@ -102,7 +102,7 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     if (c->guard) { /* the result's self-intersection check (the larger mesh's) or the measurement */
         ls_size check;
         size_t tb = 0;
-        st = ls_tangle_bytes(f, &tb);
+        st = ls_tangle_parallel_bytes(f, fit_workers(c), &tb);
         if (st != LS_OK) return st;
         ls_size_init(&check);
         ls_size_add(&check, tb, 1);

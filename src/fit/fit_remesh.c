@@ -55,7 +55,7 @@ static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *di
         m.triangles = fit->triangles;
         m.vertex_count = fit->vertex_count;
         m.face_count = fit->face_count;
-        st = ls_tangle(&m, NULL, &fit->block, out, diag);
+        st = ls_tangle_parallel(&m, NULL, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag);
     }
     ls_arena_restore(&fit->block, mark);
     return st;
@@ -132,8 +132,10 @@ LS_NOINLINE static ls_status no_new_tangles(const ls_fit *fit, const ls_mesh *cu
                                             ls_diag *diag)
 {
     ls_tangle_report before, after;
-    ls_status st = ls_tangle(cur, NULL, work, &before, diag);
-    if (st == LS_OK) st = ls_tangle(out, NULL, work, &after, diag);
+    const ls_parallel *par = &fit->config.parallel;
+    const uint32_t w = fit_workers(&fit->config);
+    ls_status st = ls_tangle_parallel(cur, NULL, par, w, work, &before, diag);
+    if (st == LS_OK) st = ls_tangle_parallel(out, NULL, par, w, work, &after, diag);
     if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
         diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
                  fit->iteration);

@@ -5,6 +5,7 @@
 #include <largesteps/math.h>
 #include <largesteps/sort.h>
 #include <string.h>
+#include "../base/parallel_internal.h"
 
 #define RAD_TO_DEG ((ls_real)57.295779513082320876798)
 
@@ -211,7 +212,16 @@ int ls_tangle_pair(const ls_mesh *mesh, uint32_t f, uint32_t g)
 
 /* ---- sizing ----------------------------------------------------------- */
 
-static ls_status tangle_size(uint32_t face_count, size_t *bytes)
+/* The intersection search's split: a part per worker (its pair count and
+ * first pair, a bit per face), blocks of faces handed out TANGLE_BLOCKS per
+ * worker so that a slow block does not hold the others back. */
+#define TANGLE_BLOCKS 8u
+
+typedef struct tangle_part {
+    uint32_t pairs, first[2];
+} tangle_part;
+
+static ls_status tangle_size(uint32_t face_count, uint32_t workers, size_t *bytes)
 {
     ls_size s, b, sortp;
     size_t bvh, tree, n3;
@@ -225,7 +235,8 @@ static ls_status tangle_size(uint32_t face_count, size_t *bytes)
     /* phase 2: tree + face flags + the nodes' common vertices */
     ls_size_init(&b);
     ls_size_add(&b, tree, 1);
-    ls_size_add(&b, (size_t)face_count / 32u + 1u, sizeof(uint32_t));
+    ls_size_add(&b, (size_t)workers * ((size_t)face_count / 32u + 1u), sizeof(uint32_t));
+    ls_size_add(&b, workers, sizeof(tangle_part));
     ls_size_add(&b, 3u * (size_t)ls_bvh_node_count(face_count), sizeof(uint32_t));
     ls_size_max(&s, &b);
     /* phase 3 (tree released): keys, index, sort scratch for 3F corners */
@@ -237,13 +248,18 @@ static ls_status tangle_size(uint32_t face_count, size_t *bytes)
     return ls_size_get(&s, bytes);
 }
 
-ls_status ls_tangle_bytes(uint32_t face_count, size_t *bytes)
+ls_status ls_tangle_parallel_bytes(uint32_t face_count, uint32_t workers, size_t *bytes)
 {
     if (bytes == NULL) return LS_ERR_INVALID;
     *bytes = 0;
-    if (face_count == 0) return LS_ERR_INVALID;
-    if (face_count > (UINT32_MAX - 1u) / 3u) return LS_ERR_TOO_LARGE;
-    return tangle_size(face_count, bytes);
+    if (face_count == 0 || workers == 0) return LS_ERR_INVALID;
+    if (face_count > (UINT32_MAX - 1u) / 3u || workers > LS_TANGLE_MAX_WORKERS) return LS_ERR_TOO_LARGE;
+    return tangle_size(face_count, workers, bytes);
+}
+
+ls_status ls_tangle_bytes(uint32_t face_count, size_t *bytes)
+{
+    return ls_tangle_parallel_bytes(face_count, 1u, bytes);
 }
 
 /* ---- shapes ----------------------------------------------------------- */
@@ -472,54 +488,61 @@ static void common_vertices(const ls_mesh *m, const ls_bvh *bvh, uint32_t *com)
     }
 }
 
-static void count_pair(uint32_t f, uint32_t g, uint32_t *flags, ls_tangle_report *r)
+static void count_pair(uint32_t f, uint32_t g, uint32_t *flags, tangle_part *r)
 {
     const uint32_t a = f < g ? f : g, b = f < g ? g : f;
-    if (r->intersecting_pairs == 0 || a < r->first_pair[0] || (a == r->first_pair[0] && b < r->first_pair[1])) {
-        r->first_pair[0] = a;
-        r->first_pair[1] = b;
+    if (r->pairs == 0 || a < r->first[0] || (a == r->first[0] && b < r->first[1])) {
+        r->first[0] = a;
+        r->first[1] = b;
     }
-    r->intersecting_pairs++;
+    r->pairs++;
     flags[f / 32u] |= 1u << (f % 32u);
     flags[g / 32u] |= 1u << (g % 32u);
 }
 
-static void intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_t *com, uint32_t *flags,
-                          ls_tangle_report *r)
+/* The search's shared arguments; a task is a block of faces. */
+typedef struct tangle_job {
+    const ls_mesh *m;
+    const ls_bvh *bvh;
+    const uint32_t *com;
+    uint32_t *flags; /* [workers][words] */
+    tangle_part *parts; /* [workers] */
+    size_t words;
+    ls_real slack;
+    uint32_t blocks;
+} tangle_job;
+
+/* The pairs whose first contact is an edge of a face of [lo, hi): each pair
+ * counted once, by the face of its first contact (first_contact). */
+static void intersections(const tangle_job *j, uint32_t lo, uint32_t hi, uint32_t *flags, tangle_part *r)
 {
-    const ls_bvh_node *root = &bvh->nodes[0];
+    const ls_mesh *m = j->m;
+    const ls_bvh *bvh = j->bvh;
+    const ls_real slack = j->slack;
     uint32_t stack[LS_BVH_MAX_DEPTH + 2u];
-    ls_real slack, big = 0;
-    uint32_t f, k, a;
-    for (a = 0; a < 3u; a++) {
-        if (LS_RFABS(root->lo[a]) > big) big = LS_RFABS(root->lo[a]);
-        if (LS_RFABS(root->hi[a]) > big) big = LS_RFABS(root->hi[a]);
-    }
-    /* above seg_tri's on-plane tolerance: 64 eps x a sum of at most 6 coordinates, over the
-       cosine of the projection (>= 1/sqrt 3) */
-    slack = (ls_real)2048 * LS_REAL_EPSILON * big;
-    for (f = 0; f < m->face_count; f++) {
+    uint32_t f, k;
+    for (f = lo; f < hi; f++) {
         const uint32_t *t = m->triangles + 3u * (size_t)f;
         for (k = 0; k < 3u; k++) {
             const uint32_t va = t[k], vb = t[(k + 1u) % 3u];
-            ls_real lo[3], hi[3];
+            ls_real elo[3], ehi[3];
             uint32_t sp = 1;
-            edge_box(m, f, k, slack, lo, hi);
+            edge_box(m, f, k, slack, elo, ehi);
             stack[0] = 0;
             while (sp > 0u) {
                 const uint32_t i = stack[--sp];
                 const ls_bvh_node *n = &bvh->nodes[i];
-                const uint32_t *c = com + 3u * (size_t)i;
-                uint32_t j;
-                if (!boxes_overlap(n->lo, n->hi, lo, hi) || holds(c, va) || holds(c, vb)) continue;
+                const uint32_t *c = j->com + 3u * (size_t)i;
+                uint32_t q;
+                if (!boxes_overlap(n->lo, n->hi, elo, ehi) || holds(c, va) || holds(c, vb)) continue;
                 if (n->count == 0u) {
                     if (sp + 2u > LS_BVH_MAX_DEPTH + 2u) return; /* not a tree of ls_bvh_build */
                     stack[sp++] = n->first;
                     stack[sp++] = i + 1u;
                     continue;
                 }
-                for (j = n->first; j < n->first + n->count; j++) {
-                    const uint32_t g = bvh->order[j];
+                for (q = n->first; q < n->first + n->count; q++) {
+                    const uint32_t g = bvh->order[q];
                     if (g == f || !contact(m, f, k, g, slack) || !first_contact(m, f, k, g, slack) ||
                         !pair_test(m, f, g))
                         continue;
@@ -528,8 +551,58 @@ static void intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_t *c
             }
         }
     }
-    for (f = 0; f <= m->face_count / 32u; f++) {
-        uint32_t x = flags[f];
+}
+
+static void tangle_task(void *arg, uint32_t block, uint32_t worker)
+{
+    const tangle_job *j = (const tangle_job *)arg;
+    const uint64_t fc = j->m->face_count;
+    intersections(j, (uint32_t)(fc * block / j->blocks), (uint32_t)(fc * (block + 1u) / j->blocks),
+                  j->flags + (size_t)worker * j->words, j->parts + worker);
+}
+
+/* The search over the workers, merged into r: counts added, the least first
+ * pair, the face bits joined (the same report for any split). */
+static void all_intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_t *com, uint32_t *flags,
+                              tangle_part *parts, const ls_parallel *par, uint32_t workers, ls_tangle_report *r)
+{
+    const ls_bvh_node *root = &bvh->nodes[0];
+    tangle_job job;
+    ls_real big = 0;
+    size_t w, i;
+    uint32_t a;
+    for (a = 0; a < 3u; a++) {
+        if (LS_RFABS(root->lo[a]) > big) big = LS_RFABS(root->lo[a]);
+        if (LS_RFABS(root->hi[a]) > big) big = LS_RFABS(root->hi[a]);
+    }
+    job.m = m;
+    job.bvh = bvh;
+    job.com = com;
+    job.flags = flags;
+    job.parts = parts;
+    job.words = (size_t)m->face_count / 32u + 1u;
+    /* above seg_tri's on-plane tolerance: 64 eps x a sum of at most 6 coordinates, over the
+       cosine of the projection (>= 1/sqrt 3) */
+    job.slack = (ls_real)2048 * LS_REAL_EPSILON * big;
+    job.blocks = workers > 1u ? TANGLE_BLOCKS * workers : 1u;
+    if (job.blocks > m->face_count) job.blocks = m->face_count;
+    memset(flags, 0, (size_t)workers * job.words * sizeof(uint32_t));
+    memset(parts, 0, (size_t)workers * sizeof(tangle_part));
+    ls_parallel_run(par, workers, job.blocks, tangle_task, &job);
+    for (w = 0; w < workers; w++) {
+        const tangle_part *p = parts + w;
+        if (p->pairs == 0u) continue;
+        if (r->intersecting_pairs == 0u || p->first[0] < r->first_pair[0] ||
+            (p->first[0] == r->first_pair[0] && p->first[1] < r->first_pair[1])) {
+            r->first_pair[0] = p->first[0];
+            r->first_pair[1] = p->first[1];
+        }
+        r->intersecting_pairs += p->pairs;
+        if (w > 0u)
+            for (i = 0; i < job.words; i++) flags[i] |= flags[w * job.words + i];
+    }
+    for (i = 0; i < job.words; i++) {
+        uint32_t x = flags[i];
         while (x != 0) {
             x &= x - 1u;
             r->intersecting_faces++;
@@ -537,13 +610,14 @@ static void intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_t *c
     }
 }
 
-ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,
-                    ls_diag *diag)
+ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
+                         ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_tangle_report r;
     ls_bvh bvh;
+    tangle_part *parts;
     uint32_t *flags, *com, *idx, *scratch, n3;
     uint64_t *keys;
     size_t bytes;
@@ -565,7 +639,11 @@ ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *are
                  0, 0);
         return LS_ERR_INVALID;
     }
-    st = ls_tangle_bytes(mesh->face_count, &bytes);
+    if (workers == 0u || workers > LS_TANGLE_MAX_WORKERS) {
+        diag_set(diag, LS_ERR_INVALID, "workers: allowed 1 .. LS_TANGLE_MAX_WORKERS (1024)", 0, 0);
+        return LS_ERR_INVALID;
+    }
+    st = ls_tangle_parallel_bytes(mesh->face_count, workers, &bytes);
     if (st == LS_OK) st = ls_bvh_check_mesh(mesh, diag);
     else diag_set(diag, st, "too many faces", 0, 0);
     if (st == LS_OK && reference != NULL) st = ls_bvh_check_mesh(reference, diag);
@@ -578,12 +656,12 @@ ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *are
     mark = ls_arena_save(arena);
     st = ls_bvh_build(mesh, arena, &bvh, NULL);
     if (st != LS_OK) goto fail;
-    flags = (uint32_t *)ls_arena_scratch(arena, mesh->face_count / 32u + 1u, sizeof(uint32_t));
+    flags = (uint32_t *)ls_arena_scratch(arena, (size_t)workers * (mesh->face_count / 32u + 1u), sizeof(uint32_t));
+    parts = (tangle_part *)ls_arena_scratch(arena, workers, sizeof(tangle_part));
     com = (uint32_t *)ls_arena_scratch(arena, 3u * (size_t)bvh.node_count, sizeof(uint32_t));
-    if (flags == NULL || com == NULL) goto nomem;
-    memset(flags, 0, (mesh->face_count / 32u + 1u) * sizeof(uint32_t));
+    if (flags == NULL || parts == NULL || com == NULL) goto nomem;
     common_vertices(mesh, &bvh, com);
-    intersections(mesh, &bvh, com, flags, &r);
+    all_intersections(mesh, &bvh, com, flags, parts, par, workers, &r);
     ls_arena_restore(arena, mark);
     n3 = 3u * mesh->face_count;
     keys = (uint64_t *)ls_arena_scratch(arena, n3, sizeof(uint64_t));
@@ -601,4 +679,10 @@ fail:
     ls_arena_restore(arena, mark);
     diag_set(diag, st, "arena too small for the tangle metrics", 0, 0);
     return st;
+}
+
+ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,
+                    ls_diag *diag)
+{
+    return ls_tangle_parallel(mesh, reference, NULL, 1u, arena, out, diag);
 }

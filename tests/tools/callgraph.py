@@ -9,13 +9,18 @@ has every call the source makes; at -O2 gcc turns tail recursion into loops)
   * computes, for every public function (ls_*), the worst-case stack depth of
     any call chain it starts: its own frame plus the deepest callee chain.
     Calls through function pointers are the caller's callbacks (progress,
-    I/O) and are not counted: their stack is the caller's business.
+    I/O) and are not counted: their stack is the caller's business. The
+    library's own calls through a pointer (the tasks it hands to the caller's
+    parallel-for, run on the calling thread too) are named in an edges file
+    (--edges FILE: lines "caller: callee ...", a static function named
+    "path:name" as gcc names it) and counted; a name there that
+    is not in the graph, or a caller without an indirect call, fails.
   * fails if any public function exceeds the budget, or if a frame is dynamic
     (alloca/VLA) and therefore unbounded;
   * writes the table of every public function's worst case to OUT (Markdown).
 Prints "callgraph: N passed, M failed" like the test programs.
-usage: callgraph.py recursion file.ci...
-       callgraph.py stack BUDGET OUT.md file.ci...
+usage: callgraph.py recursion [--edges FILE] file.ci...
+       callgraph.py stack BUDGET OUT.md [--edges FILE] file.ci...
 """
 import re
 import sys
@@ -27,6 +32,15 @@ if mode == 'stack':
     files = sys.argv[4:]
 else:
     files = sys.argv[2:]
+extra = {}  # caller -> callees through a pointer (--edges)
+if files[:1] == ['--edges']:
+    with open(files[1]) as f:
+        for line in f:
+            line = line.split('#', 1)[0].strip()
+            if line:
+                caller, callees = line.split(':', 1)
+                extra.setdefault(caller.strip(), set()).update(callees.split())
+    files = files[2:]
 
 frames = {}   # function -> (bytes, kind)
 edges = {}    # function -> set of callees
@@ -50,6 +64,22 @@ for path in files:
 
 passed = failed = 0
 problems = []
+stale = []
+for caller, callees in sorted(extra.items()):
+    if caller not in edges or '__indirect_call' not in edges[caller]:
+        stale.append('%s (no indirect call in the graph)' % caller)
+        continue
+    for c in sorted(callees):
+        if c not in edges:
+            stale.append('%s -> %s (no such function in the graph)' % (caller, c))
+        else:
+            edges[caller].add(c)
+if stale:
+    for s_ in stale:
+        print('     edges file: ' + s_)
+    print('FAIL callgraph: the edges file names what the graph does not have')
+    print('callgraph: 0 passed, 1 failed')
+    sys.exit(1)
 
 # Cycle detection and longest path with an explicit stack (Tarjan would do;
 # a three-colour DFS is enough to find one cycle and report it).
