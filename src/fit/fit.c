@@ -215,6 +215,13 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
     ls_size_add(&s, 1, sizeof(struct ls_fit_pass));                /* pass */
     ls_size_add(&s, fit_workers(c), sizeof(struct ls_fit_worker)); /* workers */
     ls_size_add(&s, fit_slots(c), sizeof(struct ls_fit_slot));      /* slots */
+    if (fit_workers(c) > 1u) { /* the normals' incidence and terms (fit_normals.c) */
+        ls_size_add(&s, (size_t)n + 1u, sizeof(uint32_t));
+        ls_size_add(&s, 3u * (size_t)f, sizeof(uint32_t));
+        ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real));
+        ls_size_add(&s, 9u * (size_t)f, sizeof(ls_real));
+        ls_size_add(&s, f, 1);
+    }
     {
         uint32_t k;
         size_t scratch = 0;
@@ -394,6 +401,15 @@ static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
     fit->slots = (struct ls_fit_slot *)ls_arena_alloc(a, fit_slots(c), sizeof(struct ls_fit_slot));
     if (fit->pass == NULL || fit->workers == NULL || fit->slots == NULL || view_scratch_bytes(c, n, f, &scratch) != LS_OK) return 0;
     memset(fit->pass, 0, sizeof *fit->pass);
+    if (fit_workers(c) > 1u) {
+        struct ls_fit_pass *p = fit->pass;
+        p->vf_start = (uint32_t *)ls_arena_alloc(a, (size_t)n + 1u, sizeof(uint32_t));
+        p->vf_corner = (uint32_t *)ls_arena_alloc(a, 3u * (size_t)f, sizeof(uint32_t));
+        p->nsum = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
+        p->face_buf = (ls_real *)ls_arena_alloc(a, 9u * (size_t)f, sizeof(ls_real));
+        p->face_ok = (unsigned char *)ls_arena_alloc(a, f, 1);
+        if (p->face_ok == NULL) return 0;
+    }
     memset(fit->workers, 0, fit_workers(c) * sizeof(struct ls_fit_worker));
     memset(fit->slots, 0, fit_slots(c) * sizeof(struct ls_fit_slot));
     fit->slot_count = fit_slots(c);
@@ -494,6 +510,7 @@ ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, c
     if (st == LS_OK) st = frame_views(views, scale, fit->mvp, diag);
     if (st == LS_OK) {
         memcpy(fit->triangles, initial->triangles, 3u * (size_t)nf * sizeof(uint32_t));
+        ls_fit_impl_incidence(fit);
         st = ls_laplacian_uniform(initial, LS_LAP_UPPER, &fit->block, &fit->lap, diag);
     }
     if (st == LS_OK && config->method == LS_FIT_LARGE_STEPS) {

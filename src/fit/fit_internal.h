@@ -67,7 +67,14 @@ struct ls_fit_pass {
     ls_loss_acc acc; /* the batch's loss, the slots merged in view order */
     uint32_t first;  /* the chunk's first view in the batch */
     uint32_t batch, sums, shaded, albedo;
-    uint32_t count, parts; /* the chunk's views; the sum's parts */
+    uint32_t count, parts; /* the chunk's views; the sum's and the normals' parts */
+    /* W > 1 (fit_normals.c), else NULL: each vertex's corners (3 t + k) in
+     * face order, [vf_start[v], vf_start[v + 1]); the sums of its faces'
+     * normals; per face, its terms (3 normal, or 9 gradient reals) and
+     * whether it has any */
+    uint32_t *vf_start, *vf_corner;
+    ls_real *nsum, *face_buf;
+    unsigned char *face_ok;
 };
 
 /* W (at least 1) and the slots: one per view when alone, else
@@ -99,6 +106,14 @@ ls_status ls_fit_impl_within(const fit_counts *have, const fit_counts *lim, int 
 /* fit_views.c: renders every view of the iteration's batch and accumulates
  * the loss and dL/d(rendered positions) into fit->gx (fit->xr set). */
 ls_status ls_fit_impl_views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag *diag);
+
+/* fit_normals.c: the vertex normals of fit->xr into fit->normals, and
+ * their backward (fit->gnormals added into fit->gx), on the workers when
+ * W > 1; ls_fit_impl_incidence rebuilds the vertex-to-corner lists after
+ * the triangles change. */
+void ls_fit_impl_incidence(const ls_fit *fit);
+ls_status ls_fit_impl_normals(ls_fit *fit, ls_diag *diag);
+ls_status ls_fit_impl_normals_backward(ls_fit *fit, ls_diag *diag);
 
 /* fit.c */
 void ls_fit_impl_measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius);

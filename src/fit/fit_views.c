@@ -189,7 +189,7 @@ ls_status ls_fit_impl_views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag
     memset(fit->gnormals, 0, 3u * (size_t)n * sizeof(ls_real));
     t0 = fit_now(monitor);
     if (shaded) {
-        st = ls_shade_vertex_normals(fit->xr, n, fit->triangles, nf, fit->normals, diag);
+        st = ls_fit_impl_normals(fit, diag);
         if (st != LS_OK) return st;
     }
     batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
@@ -246,7 +246,7 @@ ls_status ls_fit_impl_views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag
     }
     if (shaded) {
         t0 = fit_now(monitor);
-        st = ls_vertex_normals_backward(fit->xr, n, fit->triangles, nf, fit->gnormals, fit->gx, &fit->block, diag);
+        st = ls_fit_impl_normals_backward(fit, diag);
         fit->timing.shade_backward_ns += fit_now(monitor) - t0;
         if (st != LS_OK) return st;
     }

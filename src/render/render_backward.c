@@ -433,6 +433,43 @@ ls_status ls_shade_backward_grads(const ls_view *view, const ls_real *grad_image
                                    view->mvp, grad_image, grads, diag);
 }
 
+void ls_vertex_normal_sum_grad(ls_real m[3], const ls_real g[3])
+{
+    ls_real l2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+    if (l2 > (ls_real)0) {
+        ls_real l = R_SQRT(l2), n[3], d;
+        int k;
+        for (k = 0; k < 3; k++) n[k] = m[k] / l;
+        d = n[0] * g[0] + n[1] * g[1] + n[2] * g[2];
+        for (k = 0; k < 3; k++) m[k] = (g[k] - n[k] * d) / l;
+    } else {
+        m[0] = m[1] = m[2] = (ls_real)0;
+    }
+}
+
+int ls_face_normal_backward(const ls_real *positions, const uint32_t *f, const ls_real *gm, ls_real g[9])
+{
+    ls_real e1[3], e2[3], c[3], l2 = ls_face_cross(positions, f, e1, e2, c), l, n[3], gn[3], gc[3], d;
+    int k;
+    if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) return 0;
+    l = R_SQRT(l2);
+    for (k = 0; k < 3; k++) {
+        n[k] = c[k] / l;
+        gn[k] = (gm[3 * (size_t)f[0] + (size_t)k] + gm[3 * (size_t)f[1] + (size_t)k]) + gm[3 * (size_t)f[2] + (size_t)k];
+    }
+    d = n[0] * gn[0] + n[1] * gn[1] + n[2] * gn[2];
+    for (k = 0; k < 3; k++) gc[k] = (gn[k] - n[k] * d) / l;
+    for (k = 0; k < 3; k++) {
+        int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        ls_real g1 = e2[k1] * gc[k2] - e2[k2] * gc[k1]; /* (e2 x gc)_k */
+        ls_real g2 = gc[k1] * e1[k2] - gc[k2] * e1[k1]; /* (gc x e1)_k */
+        g[3 + k] = g1;
+        g[6 + k] = g2;
+        g[k] = g1 + g2;
+    }
+    return 1;
+}
+
 ls_status ls_vertex_normals_backward_bytes(uint32_t vertex_count, size_t *bytes)
 {
     ls_size s;
@@ -464,45 +501,16 @@ ls_status ls_vertex_normals_backward(const ls_real *positions, uint32_t vertex_c
         return LS_ERR_NOMEM;
     }
     ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, m); /* the forward's sums m_v */
-    /* m_v becomes dL/dm_v */
-    for (v = 0; v < vertex_count; v++) {
-        ls_real *mv = m + 3 * (size_t)v;
-        const ls_real *g = grad_normals + 3 * (size_t)v;
-        ls_real l2 = mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2];
-        if (l2 > (ls_real)0) {
-            ls_real l = R_SQRT(l2), n[3], d;
-            int k;
-            for (k = 0; k < 3; k++) n[k] = mv[k] / l;
-            d = n[0] * g[0] + n[1] * g[1] + n[2] * g[2];
-            for (k = 0; k < 3; k++) mv[k] = (g[k] - n[k] * d) / l;
-        } else {
-            mv[0] = mv[1] = mv[2] = (ls_real)0;
-        }
-    }
+    for (v = 0; v < vertex_count; v++) ls_vertex_normal_sum_grad(m + 3 * (size_t)v, grad_normals + 3 * (size_t)v);
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        ls_real e1[3], e2[3], c[3], l2 = ls_face_cross(positions, f, e1, e2, c), l, n[3], gn[3], gc[3], d;
-        ls_real *d0, *d1, *d2;
+        ls_real g[9];
         int k;
-        if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue;
-        l = R_SQRT(l2);
+        if (!ls_face_normal_backward(positions, f, m, g)) continue;
         for (k = 0; k < 3; k++) {
-            n[k] = c[k] / l;
-            gn[k] = (m[3 * (size_t)f[0] + (size_t)k] + m[3 * (size_t)f[1] + (size_t)k]) +
-                    m[3 * (size_t)f[2] + (size_t)k];
-        }
-        d = n[0] * gn[0] + n[1] * gn[1] + n[2] * gn[2];
-        for (k = 0; k < 3; k++) gc[k] = (gn[k] - n[k] * d) / l;
-        d0 = grad_positions + 3 * (size_t)f[0];
-        d1 = grad_positions + 3 * (size_t)f[1];
-        d2 = grad_positions + 3 * (size_t)f[2];
-        for (k = 0; k < 3; k++) {
-            int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-            ls_real g1 = e2[k1] * gc[k2] - e2[k2] * gc[k1]; /* (e2 x gc)_k */
-            ls_real g2 = gc[k1] * e1[k2] - gc[k2] * e1[k1]; /* (gc x e1)_k */
-            d1[k] += g1;
-            d2[k] += g2;
-            d0[k] -= g1 + g2;
+            grad_positions[3 * (size_t)f[1] + (size_t)k] += g[3 + k];
+            grad_positions[3 * (size_t)f[2] + (size_t)k] += g[6 + k];
+            grad_positions[3 * (size_t)f[0] + (size_t)k] -= g[k];
         }
     }
     ls_arena_restore(arena, mark);

@@ -92,6 +92,25 @@ ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3]
 void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
                            uint32_t triangle_count, ls_real *m);
 
+/* ls_face_unit_normal: n = face f's unit normal, the term ls_vertex_normal_sums
+ * adds at each of its corners; returns 0 (n zero) for a degenerate or
+ * overflowing face, which adds nothing. O(1). (shade.c) */
+int ls_face_unit_normal(const ls_real *positions, const uint32_t *f, ls_real n[3]);
+
+/* ls_vertex_normal_unit: n = m / |m| (zero for m = 0), ls_shade_vertex_normals'
+ * normal from a vertex's sum m (n may be m). O(1). (shade.c) */
+void ls_vertex_normal_unit(const ls_real m[3], ls_real n[3]);
+
+/* ls_vertex_normal_sum_grad: in place, a vertex's sum m becomes dL/dm given
+ * g = dL/d(its unit normal). O(1). (render_backward.c) */
+void ls_vertex_normal_sum_grad(ls_real m[3], const ls_real g[3]);
+
+/* ls_face_normal_backward: face f's terms of ls_vertex_normals_backward
+ * from gm [3 V] = dL/dm: g[0..2] subtracted at corner 0, g[3..5] added at
+ * corner 1, g[6..8] at corner 2; returns 0 for a face that adds nothing
+ * (degenerate or overflowing). O(1). (render_backward.c) */
+int ls_face_normal_backward(const ls_real *positions, const uint32_t *f, const ls_real *gm, ls_real g[9]);
+
 /* ls_shade_uv: the texture coordinates uv[2] of triangle f at barycentrics b
  * from the per-vertex uvs [2 vertex_count]. O(1). (shade.c) */
 void ls_shade_uv(const ls_real *uvs, const uint32_t *f, const ls_real b[3], ls_real uv[2]);

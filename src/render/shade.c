@@ -337,6 +337,18 @@ ls_real ls_face_cross(const ls_real *positions, const uint32_t *f, ls_real e1[3]
     return face_cross(positions, f, e1, e2, c);
 }
 
+int ls_face_unit_normal(const ls_real *positions, const uint32_t *f, ls_real n[3])
+{
+    ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l;
+    n[0] = n[1] = n[2] = (ls_real)0;
+    if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) return 0; /* degenerate or overflow */
+    l = R_SQRT(l2);
+    n[0] = c[0] / l;
+    n[1] = c[1] / l;
+    n[2] = c[2] / l;
+    return 1;
+}
+
 void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
                            uint32_t triangle_count, ls_real *m)
 {
@@ -345,23 +357,20 @@ void ls_vertex_normal_sums(const ls_real *positions, uint32_t vertex_count, cons
     /* faces in input order: a fixed accumulation order per vertex */
     for (t = 0; t < triangle_count; t++) {
         const uint32_t *f = indices + 3 * (size_t)t;
-        ls_real e1[3], e2[3], c[3], l2 = face_cross(positions, f, e1, e2, c), l, n0, n1, n2;
-        ls_real *m0 = m + 3 * (size_t)f[0], *m1 = m + 3 * (size_t)f[1], *m2 = m + 3 * (size_t)f[2];
-        if (!(l2 > (ls_real)0) || l2 - l2 != l2 - l2) continue; /* degenerate or overflow */
-        l = R_SQRT(l2);
-        n0 = c[0] / l;
-        n1 = c[1] / l;
-        n2 = c[2] / l;
-        m0[0] += n0;
-        m0[1] += n1;
-        m0[2] += n2;
-        m1[0] += n0;
-        m1[1] += n1;
-        m1[2] += n2;
-        m2[0] += n0;
-        m2[1] += n1;
-        m2[2] += n2;
+        ls_real n[3];
+        uint32_t k, q;
+        if (!ls_face_unit_normal(positions, f, n)) continue;
+        for (k = 0; k < 3u; k++)
+            for (q = 0; q < 3u; q++) m[3 * (size_t)f[k] + q] += n[q];
     }
+}
+
+void ls_vertex_normal_unit(const ls_real m[3], ls_real n[3])
+{
+    n[0] = m[0];
+    n[1] = m[1];
+    n[2] = m[2];
+    if (!normalize_nonzero(n)) n[0] = n[1] = n[2] = (ls_real)0;
 }
 
 ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_count, const uint32_t *indices,
@@ -374,10 +383,7 @@ ls_status ls_shade_vertex_normals(const ls_real *positions, uint32_t vertex_coun
     if (triangle_count > 0 && indices == NULL) return ls_invalid_arg(diag, "indices is NULL with triangle_count > 0");
     if (ls_check_triangle_indices(indices, triangle_count, vertex_count, diag) != LS_OK) return LS_ERR_MESH;
     ls_vertex_normal_sums(positions, vertex_count, indices, triangle_count, out);
-    for (v = 0; v < vertex_count; v++) {
-        ls_real *n = out + 3 * (size_t)v;
-        if (!normalize_nonzero(n)) n[0] = n[1] = n[2] = (ls_real)0;
-    }
+    for (v = 0; v < vertex_count; v++) ls_vertex_normal_unit(out + 3 * (size_t)v, out + 3 * (size_t)v);
     return LS_OK;
 }
 
