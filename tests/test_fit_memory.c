@@ -6,6 +6,7 @@
  * bad capacities are refused up front. A sphere fitted to an ellipsoid seen
  * from 3 views at 24 x 24. */
 #include "test.h"
+#include "geo_test.h"
 #include "sweep.h"
 #include <stdlib.h>
 #include "fit_targets.h"
@@ -70,13 +71,16 @@ static ls_fit_views views(void)
     return v;
 }
 
-/* Room for two remeshes of the sphere (162 -> ~600 -> ~2400 vertices). */
+/* Room for two remeshes of the sphere (162 -> ~600 -> ~2400 vertices);
+ * room_vertices above LS_FIT_AUTO_ORDER_VERTICES sizes the job for the
+ * other ordering. */
+static uint32_t room_vertices = 6000;
 static ls_fit_capacity roomy(void)
 {
     ls_fit_capacity cap;
-    cap.max_vertices = 6000;
-    cap.max_faces = 2u * 6000u - 4u; /* a sphere: F = 2 V - 4 */
-    cap.max_factor_nnz = 6000u * 64u;
+    cap.max_vertices = room_vertices;
+    cap.max_faces = 2u * room_vertices - 4u; /* a sphere: F = 2 V - 4 */
+    cap.max_factor_nnz = room_vertices * 64u;
     return cap;
 }
 
@@ -187,6 +191,59 @@ static void job_with_vertex_albedo(void)
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
     guard_on = albedo_on = 0;
 }
+/* A capacity from LS_FIT_AUTO_ORDER_VERTICES on sizes the job for the
+ * AUTO ordering (nested dissection's scratch too); the small meshes of the
+ * run still take AMD, inside those bytes. */
+static void job_sized_for_the_auto_ordering(void)
+{
+    room_vertices = LS_FIT_AUTO_ORDER_VERTICES + 1000u;
+    job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
+    room_vertices = 6000;
+}
+
+/* A mesh of LS_FIT_AUTO_ORDER_VERTICES vertices or more (an icosphere of
+ * 40962) is factored with the smaller of AMD and nested dissection's fill
+ * (nested dissection's on a regular sphere), in exactly the job's bytes. */
+static void large_mesh_takes_the_auto_ordering(void)
+{
+    ls_fit_config c;
+    ls_fit_views v = views();
+    ls_fit_capacity cap;
+    ls_arena scratch, arena, mesh_arena;
+    ls_mesh big;
+    ls_fit fit;
+    ls_diag d;
+    size_t job = 0;
+    unsigned char *mem, *mesh_mem;
+    uint32_t i;
+    if (geo_emulated()) {
+        printf("     (skipped under emulation: a 40962-vertex factor)\n");
+        return;
+    }
+    mesh_mem = (unsigned char *)malloc(16u << 20);
+    REQUIRE(mesh_mem != NULL && ls_arena_init(&mesh_arena, mesh_mem, 16u << 20) == LS_OK);
+    REQUIRE(ls_icosphere(6, &mesh_arena, &big) == LS_OK);
+    REQUIRE(big.vertex_count >= LS_FIT_AUTO_ORDER_VERTICES);
+    for (i = 0; i < 3u * big.vertex_count; i++) big.positions[i] *= (ls_real)0.6;
+    config(&c, LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
+    cap.max_vertices = big.vertex_count;
+    cap.max_faces = big.face_count;
+    cap.max_factor_nnz = big.vertex_count * 64u;
+    REQUIRE(ls_arena_init(&scratch, buf, BUF_BYTES) == LS_OK);
+    CHECK_STATUS(ls_fit_job_bytes(&c, &v, &big, &cap, &scratch, &job, &d), LS_OK);
+    mem = (unsigned char *)malloc(job);
+    REQUIRE(mem != NULL && ls_arena_init(&arena, mem, job) == LS_OK);
+    CHECK_STATUS(ls_fit_init_job(&fit, &c, &v, &big, &cap, &arena, &d), LS_OK);
+    CHECK_EQ(fit.param.f.method, LS_ORDER_ND);
+    CHECK_STATUS(ls_fit_step(&fit, NULL, &d), LS_OK);
+    CHECK_STATUS(ls_fit_step(&fit, NULL, &d), LS_OK);
+    CHECK_EQ(arena.peak, job);
+    printf("     %u vertices: nnz(L) %u with nested dissection; job %lu bytes\n", (unsigned)big.vertex_count,
+           (unsigned)fit.param.f.l_nnz, (unsigned long)job);
+    free(mem);
+    free(mesh_mem);
+}
+
 static void job_cg_and_baseline(void)
 {
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_CG);
@@ -406,6 +463,8 @@ int main(void)
     TEST_RUN(job_cg_and_baseline);
     TEST_RUN(job_with_guard);
     TEST_RUN(job_with_vertex_albedo);
+    TEST_RUN(job_sized_for_the_auto_ordering);
+    TEST_RUN(large_mesh_takes_the_auto_ordering);
     TEST_RUN(job_one_byte_less_fails_at_init);
     TEST_RUN(remesh_beyond_capacity);
     TEST_RUN(bad_capacities);

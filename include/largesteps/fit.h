@@ -168,6 +168,13 @@ extern "C" {
 #define LS_FIT_SLOTS_PER_WORKER 4u
 #define LS_FIT_MAX_WORKERS 1024u
 
+/* The factor's ordering (LS_FIT_LARGE_STEPS with the LDL^T): AMD below
+ * LS_FIT_AUTO_ORDER_VERTICES vertices, LS_ORDER_AUTO (AMD or nested
+ * dissection, the smaller predicted fill) from there on, where AMD's fill
+ * grows faster than n log n on regular meshes. A job sizes for its
+ * capacity's ordering. */
+#define LS_FIT_AUTO_ORDER_VERTICES 16384u
+
 typedef struct ls_fit_config {
     uint32_t method;          /* LS_FIT_* */
     uint32_t form;            /* LS_SYSTEM_LAMBDA (M = I + lambda L) or LS_SYSTEM_ALPHA */

@@ -21,6 +21,12 @@ void ls_posix_pool_destroy(ls_posix_pool *pool);
 void ls_posix_pool_run(void *pool, uint32_t count, ls_task_fn task, void *arg);
 uint32_t ls_posix_cores(void);
 
+/* The program's working memory, malloc'd (free with free()): on a 64-bit
+ * host the larger of 1 GiB and 3/4 of the machine's physical memory (its
+ * pages are committed only as they are used), else 1 GiB; 1 GiB when the
+ * larger cannot be had. *bytes: its size (0 and NULL when not even 1 GiB). */
+void *ls_posix_work_memory(size_t *bytes);
+
 /* The default limit on the size of a file the program reads (plain or after
  * gzip decompression), in MB (2^20 bytes): 256 MB of OBJ text is about 3
  * million triangles, past what the program's 1 GiB arena fits. */

@@ -117,7 +117,7 @@ ls_status ls_fit_impl_normals_backward(ls_fit *fit, ls_diag *diag);
 
 /* fit.c */
 void ls_fit_impl_measure_frame(const ls_mesh *m, ls_real *scale, ls_real *radius);
-void ls_fit_impl_param_config(const ls_fit_config *c, ls_param_config *pc);
+void ls_fit_impl_param_config(const ls_fit_config *c, uint32_t n, ls_param_config *pc);
 int ls_fit_impl_optimizes_u(const ls_fit_config *c);
 ls_status ls_fit_impl_iteration_scratch(const ls_fit_config *c, uint32_t n, uint32_t f, const ls_csc *lap, size_t *bytes);
 ls_status ls_fit_impl_total(const fit_sizes *z, size_t *bytes);

@@ -66,7 +66,7 @@ static ls_status job_sizes(const ls_fit_config *c, uint32_t views, const fit_cou
     lap.nrows = lap.ncols = n;
     if (st == LS_OK) st = ls_fit_impl_iteration_scratch(c, n, f, &lap, &z.iteration);
     if (st == LS_OK && c->method == LS_FIT_LARGE_STEPS) {
-        ls_fit_impl_param_config(c, &pc);
+        ls_fit_impl_param_config(c, n, &pc); /* the capacity's: the ordering of its largest mesh */
         st = ls_param_bytes_bound(n, n + lim->edges, lim->factor_nnz, &pc, 1, &z.param);
         /* the measurement runs the analysis only: no factor */
         if (st == LS_OK && uses_factor(c))

@@ -685,13 +685,13 @@ int ls_cmd_fit(int argc, char **argv)
 {
     fit_args a;
     unsigned char *work;
-    size_t work_bytes = (size_t)1 << 30;
+    size_t work_bytes = 0;
     ls_arena arena;
     ls_posix_pool *pool = NULL;
     int rc, r = parse_args(argc, argv, &a);
     if (r <= 0) return r < 0 ? 0 : 2;
     if (!ls_posix_check_output_dir(a.out)) return 2; /* before any work */
-    work = (unsigned char *)malloc(work_bytes);
+    work = (unsigned char *)ls_posix_work_memory(&work_bytes);
     if (work == NULL || ls_arena_init(&arena, work, work_bytes) != LS_OK) {
         free(work);
         return fprintf(stderr, "largesteps fit: out of memory\n"), 1;

@@ -624,7 +624,14 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
         st = ls_fit_job_bytes(&c, &fv, &p->initial, &r->capacity, arena, &r->job_bytes, &d);
         if (st != LS_OK) return capacity_fail("sizing the fit", st, &d);
         mem = ls_arena_alloc(arena, r->job_bytes, 1);
-        if (mem == NULL || ls_arena_init(&fit_arena, mem, r->job_bytes) != LS_OK) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+        if (mem == NULL || ls_arena_init(&fit_arena, mem, r->job_bytes) != LS_OK) {
+            fprintf(stderr, "largesteps: memory: the fit needs %.1f MiB for a capacity of %u vertices "
+                            "(ls_fit_job_bytes) and %.1f MiB are left of the program's working memory: "
+                            "lower --max-vertices, --res, --views or --threads\n",
+                    (double)r->job_bytes / 1048576.0, (unsigned)r->capacity.max_vertices,
+                    (double)ls_arena_available(arena) / 1048576.0);
+            return 0;
+        }
     }
     t0 = ls_job_now_ms();
     st = capacity != NULL ? ls_fit_init_job(&fit, &c, &fv, &p->initial, &r->capacity, &fit_arena, &d)
