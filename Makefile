@@ -400,6 +400,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	BUILD=$(BUILD) sh tests/bench/run_remesh.sh
 	BUILD=$(BUILD) sh tests/bench/run_fit.sh
 	BUILD=$(BUILD) sh tests/bench/run_workers.sh
+	BUILD=$(BUILD) sh tests/bench/run_scaling.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/bench/fast_paths.sh
 
 
