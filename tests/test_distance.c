@@ -258,6 +258,51 @@ static void concentric_spheres(void)
     free(a.base);
 }
 
+/* A parallel-for on this thread that runs the tasks last first, on worker
+ * numbers counted down. */
+static void reversed_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
+{
+    const uint32_t workers = *(const uint32_t *)ctx;
+    uint32_t k;
+    for (k = 0; k < count; k++) task(arg, count - 1u - k, (workers - 1u - k % workers));
+}
+
+/* ls_mesh_distance_parallel: the report of ls_mesh_distance, every byte,
+ * for 1 to 3 workers; workers 0 refused. */
+static void parallel_same_report(void)
+{
+    ls_arena a;
+    ls_mesh ma, mb;
+    ls_distance_report r1, rw;
+    ls_parallel par;
+    ls_diag d;
+    geo_rng g;
+    const double ctr[3] = {0, 0, 0};
+    uint32_t i, w, samples[2];
+    REQUIRE(geo_arena(&a, 1 << 22) != NULL);
+    REQUIRE(geo_sphere(&a, &ma, 1.0, ctr, 16, 30));
+    REQUIRE(geo_sphere(&a, &mb, 1.1, ctr, 12, 20));
+    g.s = test_rng_seed(31);
+    for (i = 0; i < 3 * ma.vertex_count; i++) ma.positions[i] += (ls_real)(0.05 * (geo_rand(&g) - 0.5));
+    memset(&r1, 0, sizeof r1);
+    CHECK_STATUS(ls_mesh_distance(&ma, &mb, geo_scaled(4000), geo_scaled(3000), &a, &r1, NULL), LS_OK);
+    par.run = reversed_for;
+    par.ctx = &w;
+    samples[0] = geo_scaled(4000);
+    samples[1] = geo_scaled(3000);
+    for (w = 1; w <= 3; w++) {
+        memset(&rw, 0, sizeof rw);
+        CHECK_STATUS(ls_mesh_distance_parallel(&ma, &mb, samples, &par, w, &a, &rw, NULL),
+                     LS_OK);
+        CHECK_MSG(memcmp(&r1, &rw, sizeof r1) == 0, "%u workers: H %.17g rms %.17g; one: %.17g %.17g", (unsigned)w,
+                  (double)rw.hausdorff, (double)rw.rms, (double)r1.hausdorff, (double)r1.rms);
+    }
+    printf("     H %.6f rms %.6f: the same report for 1 to 3 workers\n", (double)r1.hausdorff, (double)r1.rms);
+    CHECK_STATUS(ls_mesh_distance_parallel(&ma, &mb, samples, &par, 0, &a, &rw, &d), LS_ERR_INVALID);
+    CHECK(d.what != NULL && strstr(d.what, "workers") != NULL);
+    free(a.base);
+}
+
 /* Two parallel unit squares 0.25 apart: every distance is 0.25, both ways;
  * normal error 0 (same orientation) or 180 (flipped copy). */
 static void parallel_squares(void)
@@ -407,6 +452,7 @@ int main(void)
     TEST_RUN(symmetric_and_zero_for_identical);
     TEST_RUN(concentric_spheres);
     TEST_RUN(parallel_squares);
+    TEST_RUN(parallel_same_report);
     TEST_RUN(errors);
     TEST_RUN(arena_sweep);
     return TEST_END();

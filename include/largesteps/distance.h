@@ -37,6 +37,7 @@
 #include <largesteps/arena.h>
 #include <largesteps/mesh.h>
 #include <largesteps/bvh.h>
+#include <largesteps/parallel.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -102,6 +103,15 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
  * on failure the arena and *out are unchanged. */
 ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
                            ls_arena *arena, ls_distance_report *out, ls_diag *diag);
+
+/* ls_mesh_distance_parallel: ls_mesh_distance with its two directions as two
+ * tasks on the caller's parallel-for (largesteps/parallel.h; par NULL,
+ * par->run NULL or workers 1: one after the other on this thread), each
+ * direction's samples in their order as there: the same report, bit for
+ * bit, for any worker count. samples: samples_a and samples_b. The same bytes (ls_mesh_distance_bytes) and
+ * errors; workers 0: LS_ERR_INVALID. */
+ls_status ls_mesh_distance_parallel(const ls_mesh *a, const ls_mesh *b, const uint32_t samples[2], const ls_parallel *par,
+                                    uint32_t workers, ls_arena *arena, ls_distance_report *out, ls_diag *diag);
 
 /* ls_distance_sample_point: face sample number k (0 <= k < samples) of
  * `mesh` as ls_distance_one_way places it: its face (*face) and position.

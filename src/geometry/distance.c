@@ -3,6 +3,7 @@
 #include <largesteps/distance.h>
 #include <largesteps/math.h>
 #include <string.h>
+#include "../base/parallel_internal.h"
 
 /* R2 sequence increments, round(2^32 / g) and round(2^32 / g^2) for the
  * plastic number g = 1.3247179572447460...; the sequence starts at 1/2. */
@@ -284,16 +285,44 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
     return LS_OK;
 }
 
+/* The two directions, a task each (ls_mesh_distance_parallel). */
+typedef struct dist_job {
+    const ls_mesh *src[2];
+    const ls_bvh *target[2];
+    uint32_t samples[2];
+    ls_dist_one_way *out[2];
+    ls_status st[2];
+} dist_job;
+
+static void dist_task(void *arg, uint32_t index, uint32_t worker)
+{
+    dist_job *j = (dist_job *)arg;
+    (void)worker;
+    j->st[index] = one_way(j->src[index], j->target[index], j->samples[index], j->out[index]);
+}
+
 ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
                            ls_arena *arena, ls_distance_report *out, ls_diag *diag)
+{
+    const uint32_t samples[2] = {samples_a, samples_b};
+    return ls_mesh_distance_parallel(a, b, samples, NULL, 1u, arena, out, diag);
+}
+
+ls_status ls_mesh_distance_parallel(const ls_mesh *a, const ls_mesh *b, const uint32_t samples[2], const ls_parallel *par,
+                                    uint32_t workers, ls_arena *arena, ls_distance_report *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     ls_arena_mark mark;
     ls_bvh ta, tb;
     ls_distance_report r;
     ls_real lo[3], hi[3], d[3];
+    dist_job job;
     ls_status st;
     uint32_t k;
+    if (workers == 0u || samples == NULL) {
+        diag_set(diag, LS_ERR_INVALID, workers == 0u ? "workers: 0; at least 1" : "samples is NULL", 0, 0);
+        return LS_ERR_INVALID;
+    }
     if (a == NULL || b == NULL || arena == NULL || out == NULL || a->face_count == 0 || b->face_count == 0 ||
         a->triangles == NULL || b->triangles == NULL || a->positions == NULL || b->positions == NULL) {
         diag_set(diag, LS_ERR_INVALID,
@@ -326,8 +355,16 @@ ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_
         return st;
     }
     memset(&r, 0, sizeof r);
-    st = one_way(a, &tb, samples_a, &r.ab);
-    if (st == LS_OK) st = one_way(b, &ta, samples_b, &r.ba);
+    job.src[0] = a;
+    job.src[1] = b;
+    job.target[0] = &tb;
+    job.target[1] = &ta;
+    job.samples[0] = samples[0];
+    job.samples[1] = samples[1];
+    job.out[0] = &r.ab;
+    job.out[1] = &r.ba;
+    ls_parallel_run(par, workers, 2u, dist_task, &job);
+    st = job.st[0] != LS_OK ? job.st[0] : job.st[1];
     ls_arena_restore(arena, mark);
     if (st != LS_OK) {
         diag_set(diag, st, "closest-point query failed", 0, 0);

@@ -554,6 +554,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_smooth = a.init_smooth;
     o.init_auto = !a.init_sphere;
     if (!ls_job_load(&p, &o, &arena)) return 1;
+    p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
+    p.workers = a.cfg.workers;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
         fprintf(stderr, "largesteps fit: --albedo vertex is estimated with the lighting, from a camera dataset that "
@@ -627,7 +629,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         if (!have_metrics) return 1;
         ls_report_text_distance(stdout, &dist);
     } else {
-        st = ls_tangle(&run.result, NULL, &arena, &tangle, &d);
+        st = ls_tangle_parallel(&run.result, NULL, &p.parallel, p.workers > 1u ? p.workers : 1u, &arena, &tangle, &d);
         if (st != LS_OK) return ls_job_fail("checking the result for self-intersections", st, &d), 1;
     }
     ls_report_text_tangle(stdout, "result", &tangle);

@@ -454,6 +454,16 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 /* One distance sample of the fit's current mesh, in memory released after
  * it (the fit stays the last allocation at the bottom, as ls_fit_remesh
  * needs). */
+static uint32_t job_workers(const ls_job_problem *p) { return p->workers > 1u ? p->workers : 1u; }
+
+/* The distances between m and the target, on the problem's workers. */
+static ls_status job_distance(const ls_job_problem *p, const ls_mesh *m, ls_arena *arena, ls_distance_report *dist,
+                              ls_diag *d)
+{
+    const uint32_t samples[2] = {ls_distance_default_samples(m), ls_distance_default_samples(&p->target)};
+    return ls_mesh_distance_parallel(m, &p->target, samples, &p->parallel, job_workers(p), arena, dist, d);
+}
+
 static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elapsed_ms, ls_arena *arena, ls_job_run *r)
 {
     ls_arena_mark mark = ls_arena_save(arena);
@@ -465,8 +475,7 @@ static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elaps
     ls_diag_clear(&d);
     if (st == LS_OK) st = ls_fit_mesh(fit, pos, &m);
     if (st == LS_OK)
-        st = ls_mesh_distance(&m, &p->target, ls_distance_default_samples(&m), ls_distance_default_samples(&p->target),
-                              arena, &dist, &d);
+        st = job_distance(p, &m, arena, &dist, &d);
     ls_arena_restore(arena, mark);
     if (st != LS_OK) return ls_job_fail("distances during the fit", st, &d);
     r->track_it[r->tracked] = it;
@@ -782,10 +791,9 @@ int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *are
     ls_status st;
     if (!p->have_mesh) return 0;
     ls_diag_clear(&d);
-    st = ls_mesh_distance(result, &p->target, ls_distance_default_samples(result), ls_distance_default_samples(&p->target),
-                          arena, dist, &d);
+    st = job_distance(p, result, arena, dist, &d);
     if (st != LS_OK) return ls_job_fail("distances", st, &d);
-    st = ls_tangle(result, NULL, arena, tangle, &d);
+    st = ls_tangle_parallel(result, NULL, &p->parallel, job_workers(p), arena, tangle, &d);
     if (st != LS_OK) return ls_job_fail("tangling metrics", st, &d);
     return 1;
 }

@@ -65,6 +65,8 @@ typedef struct ls_job_problem {
     int auto_coarse;         /* the coarse start was chosen for the target's genus */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
                                 fit (sh then zeros until the fit's estimate is copied in) */
+    ls_parallel parallel;    /* the metrics' workers (the caller sets them after ls_job_load; none: 0) */
+    uint32_t workers;
 } ls_job_problem;
 
 typedef struct ls_job_run {
