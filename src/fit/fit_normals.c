@@ -6,7 +6,7 @@
  * (which one worker calls), so the bits are theirs. */
 #include "fit_internal.h"
 #include "../render/render_internal.h"
-#include "../base/parallel_internal.h"
+#include "../base/parallel.h"
 #include <stddef.h>
 
 void ls_fit_impl_incidence(const ls_fit *fit)

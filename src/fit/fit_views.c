@@ -2,7 +2,7 @@
  * differentiated by one of the caller's workers into a slot of its own, and
  * the slots added to the totals in view order (fit.h's parallelism) */
 #include "fit_internal.h"
-#include "../base/parallel_internal.h"
+#include "../base/parallel.h"
 #include <stddef.h>
 
 /* LS_FIT_LIGHT_ESTIMATE before its first estimate: the iteration's views

@@ -3,7 +3,7 @@
 #include <largesteps/distance.h>
 #include <largesteps/math.h>
 #include <string.h>
-#include "../base/parallel_internal.h"
+#include "../base/parallel.h"
 
 /* R2 sequence increments, round(2^32 / g) and round(2^32 / g^2) for the
  * plastic number g = 1.3247179572447460...; the sequence starts at 1/2. */

@@ -5,7 +5,7 @@
 #include <largesteps/math.h>
 #include <largesteps/sort.h>
 #include <string.h>
-#include "../base/parallel_internal.h"
+#include "../base/parallel.h"
 
 #define RAD_TO_DEG ((ls_real)57.295779513082320876798)
 

@@ -1,7 +1,7 @@
-/* parallel_internal.h - the library's one way to run tasks
+/* parallel.h (src/base) - the library's one way to run tasks
  * (largesteps/parallel.h): on the caller's parallel-for, or on this thread. */
-#ifndef LS_PARALLEL_INTERNAL_H
-#define LS_PARALLEL_INTERNAL_H
+#ifndef LS_BASE_PARALLEL_H
+#define LS_BASE_PARALLEL_H
 
 #include <stddef.h>
 #include <largesteps/parallel.h>
@@ -21,4 +21,4 @@ static inline void ls_parallel_run(const ls_parallel *p, uint32_t workers, uint3
     for (i = 0; i < count; i++) task(arg, i, 0u);
 }
 
-#endif /* LS_PARALLEL_INTERNAL_H */
+#endif /* LS_BASE_PARALLEL_H */
