@@ -29,7 +29,7 @@ void *ls_posix_work_memory(size_t *bytes);
 
 /* The default limit on the size of a file the program reads (plain or after
  * gzip decompression), in MB (2^20 bytes): 256 MB of OBJ text is about 3
- * million triangles, past what the program's 1 GiB arena fits. */
+ * million triangles. */
 #define LS_POSIX_INPUT_LIMIT_MB 256u
 
 /* The input limit in bytes for every later read (ls_posix_read_file,
