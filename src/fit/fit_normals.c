@@ -24,31 +24,31 @@ void ls_fit_impl_incidence(const ls_fit *fit)
     start[0] = 0;
 }
 
-/* [lo, hi) of `count` items for part `part` of the pass's parts. */
-static void part_range(const struct ls_fit_pass *p, uint32_t count, uint32_t part, uint32_t *lo, uint32_t *hi)
+/* A task's pass and its part [lo, hi) of the faces (faces 1) or vertices. */
+static const struct ls_fit_pass *task_part(const void *arg, uint32_t part, int faces, uint32_t *lo, uint32_t *hi)
 {
-    *lo = (uint32_t)((uint64_t)count * part / p->parts);
-    *hi = (uint32_t)((uint64_t)count * (part + 1u) / p->parts);
+    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
+    const uint64_t count = faces ? p->fit->face_count : p->fit->vertex_count;
+    *lo = (uint32_t)(count * part / p->parts);
+    *hi = (uint32_t)(count * (part + 1u) / p->parts);
+    return p;
 }
 
 static void normal_face_task(void *arg, uint32_t part, uint32_t worker)
 {
-    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
-    const ls_fit *fit = p->fit;
     uint32_t t, lo, hi;
+    const struct ls_fit_pass *p = task_part(arg, part, 1, &lo, &hi);
+    const ls_fit *fit = p->fit;
     (void)worker;
-    part_range(p, fit->face_count, part, &lo, &hi);
     for (t = lo; t < hi; t++)
         p->face_ok[t] = (unsigned char)ls_face_unit_normal(fit->xr, fit->triangles + 3u * (size_t)t, p->face_buf + 3u * (size_t)t);
 }
 
 static void normal_vertex_task(void *arg, uint32_t part, uint32_t worker)
 {
-    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
-    const ls_fit *fit = p->fit;
     uint32_t v, e, q, lo, hi;
+    const struct ls_fit_pass *p = task_part(arg, part, 0, &lo, &hi);
     (void)worker;
-    part_range(p, fit->vertex_count, part, &lo, &hi);
     for (v = lo; v < hi; v++) {
         ls_real *m = p->nsum + 3u * (size_t)v;
         m[0] = m[1] = m[2] = (ls_real)0;
@@ -57,7 +57,7 @@ static void normal_vertex_task(void *arg, uint32_t part, uint32_t worker)
             if (!p->face_ok[t]) continue;
             for (q = 0; q < 3u; q++) m[q] += p->face_buf[3u * (size_t)t + q];
         }
-        ls_vertex_normal_unit(m, fit->normals + 3u * (size_t)v);
+        ls_vertex_normal_unit(m, p->fit->normals + 3u * (size_t)v);
     }
 }
 
@@ -76,21 +76,18 @@ ls_status ls_fit_impl_normals(ls_fit *fit, ls_diag *diag)
 
 static void grad_vertex_task(void *arg, uint32_t part, uint32_t worker)
 {
-    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
-    const ls_fit *fit = p->fit;
     uint32_t v, lo, hi;
+    const struct ls_fit_pass *p = task_part(arg, part, 0, &lo, &hi);
     (void)worker;
-    part_range(p, fit->vertex_count, part, &lo, &hi);
-    for (v = lo; v < hi; v++) ls_vertex_normal_sum_grad(p->nsum + 3u * (size_t)v, fit->gnormals + 3u * (size_t)v);
+    for (v = lo; v < hi; v++) ls_vertex_normal_sum_grad(p->nsum + 3u * (size_t)v, p->fit->gnormals + 3u * (size_t)v);
 }
 
 static void grad_face_task(void *arg, uint32_t part, uint32_t worker)
 {
-    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
-    const ls_fit *fit = p->fit;
     uint32_t t, lo, hi;
+    const struct ls_fit_pass *p = task_part(arg, part, 1, &lo, &hi);
+    const ls_fit *fit = p->fit;
     (void)worker;
-    part_range(p, fit->face_count, part, &lo, &hi);
     for (t = lo; t < hi; t++)
         p->face_ok[t] = (unsigned char)ls_face_normal_backward(fit->xr, fit->triangles + 3u * (size_t)t, p->nsum,
                                                                p->face_buf + 9u * (size_t)t);
@@ -98,13 +95,11 @@ static void grad_face_task(void *arg, uint32_t part, uint32_t worker)
 
 static void grad_gather_task(void *arg, uint32_t part, uint32_t worker)
 {
-    const struct ls_fit_pass *p = (const struct ls_fit_pass *)arg;
-    const ls_fit *fit = p->fit;
     uint32_t v, e, q, lo, hi;
+    const struct ls_fit_pass *p = task_part(arg, part, 0, &lo, &hi);
     (void)worker;
-    part_range(p, fit->vertex_count, part, &lo, &hi);
     for (v = lo; v < hi; v++) {
-        ls_real *d = fit->gx + 3u * (size_t)v;
+        ls_real *d = p->fit->gx + 3u * (size_t)v;
         for (e = p->vf_start[v]; e < p->vf_start[v + 1u]; e++) {
             const uint32_t t = p->vf_corner[e] / 3u, k = p->vf_corner[e] % 3u;
             const ls_real *g = p->face_buf + 9u * (size_t)t;
