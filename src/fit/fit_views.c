@@ -48,7 +48,6 @@ static ls_status first_albedo(ls_fit *fit, ls_view *view, uint32_t batch, ls_dia
     return LS_OK;
 }
 
-
 /* The view first + index of the batch, by the caller's worker: rendered,
  * shaded and differentiated into slot `index` (its gradients from zero). */
 static void view_task(void *arg, uint32_t index, uint32_t worker)
@@ -122,20 +121,16 @@ static void view_task(void *arg, uint32_t index, uint32_t worker)
     sl->st = st;
 }
 
-/* The slots' gradients added to the totals, element by element in view
- * order; a part is a range of the elements (any split: the same bits). */
-
-static void add_range(ls_real *to, size_t lo, size_t hi, const struct ls_fit_slot *slots, uint32_t count, size_t field)
+/* The slots' gradients added to the totals over [lo, hi), slot after slot:
+ * each element receives them in view order (any split: the same bits).
+ * field: the slot's array, 0 gx, 1 gn, 2 albedo_sums. */
+static void add_range(ls_real *to, size_t lo, size_t hi, const struct ls_fit_slot *slots, uint32_t count, uint32_t field)
 {
     size_t i;
     uint32_t k;
-    for (i = lo; i < hi; i++) {
-        ls_real t = to[i];
-        for (k = 0; k < count; k++) {
-            const ls_real *from = field == 0 ? slots[k].gx : field == 1 ? slots[k].gn : slots[k].albedo_sums;
-            t += from[i];
-        }
-        to[i] = t;
+    for (k = 0; k < count; k++) {
+        const ls_real *from = field == 0u ? slots[k].gx : field == 1u ? slots[k].gn : slots[k].albedo_sums;
+        for (i = lo; i < hi; i++) to[i] += from[i];
     }
 }
 
@@ -146,11 +141,9 @@ static void sum_task(void *arg, uint32_t part, uint32_t worker)
     const size_t nn = 3u * (size_t)fit->vertex_count;
     const size_t lo = nn * part / j->parts, hi = nn * (part + 1u) / j->parts;
     (void)worker;
-    add_range(fit->gx, lo, hi, fit->slots, j->count, 0);
-    if (j->shaded) add_range(fit->gnormals, lo, hi, fit->slots, j->count, 1);
-    if (j->albedo) {
-        add_range(fit->albedo_sums, 2u * lo, 2u * hi, fit->slots, j->count, 2);
-    }
+    add_range(fit->gx, lo, hi, fit->slots, j->count, 0u);
+    if (j->shaded) add_range(fit->gnormals, lo, hi, fit->slots, j->count, 1u);
+    if (j->albedo) add_range(fit->albedo_sums, 2u * lo, 2u * hi, fit->slots, j->count, 2u);
 }
 
 /* Renders every view of the batch and accumulates the loss and dL/d(rendered

@@ -629,7 +629,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         if (!have_metrics) return 1;
         ls_report_text_distance(stdout, &dist);
     } else {
-        st = ls_tangle_parallel(&run.result, NULL, &p.parallel, p.workers > 1u ? p.workers : 1u, &arena, &tangle, &d);
+        st = ls_tangle_parallel(&run.result, NULL, &p.parallel, ls_job_workers(&p), &arena, &tangle, &d);
         if (st != LS_OK) return ls_job_fail("checking the result for self-intersections", st, &d), 1;
     }
     ls_report_text_tangle(stdout, "result", &tangle);

@@ -454,14 +454,14 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 /* One distance sample of the fit's current mesh, in memory released after
  * it (the fit stays the last allocation at the bottom, as ls_fit_remesh
  * needs). */
-static uint32_t job_workers(const ls_job_problem *p) { return p->workers > 1u ? p->workers : 1u; }
+uint32_t ls_job_workers(const ls_job_problem *p) { return p->workers > 1u ? p->workers : 1u; }
 
 /* The distances between m and the target, on the problem's workers. */
 static ls_status job_distance(const ls_job_problem *p, const ls_mesh *m, ls_arena *arena, ls_distance_report *dist,
                               ls_diag *d)
 {
     const uint32_t samples[2] = {ls_distance_default_samples(m), ls_distance_default_samples(&p->target)};
-    return ls_mesh_distance_parallel(m, &p->target, samples, &p->parallel, job_workers(p), arena, dist, d);
+    return ls_mesh_distance_parallel(m, &p->target, samples, &p->parallel, ls_job_workers(p), arena, dist, d);
 }
 
 static int track(const ls_job_problem *p, ls_fit *fit, uint32_t it, double elapsed_ms, ls_arena *arena, ls_job_run *r)
@@ -793,7 +793,7 @@ int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *are
     ls_diag_clear(&d);
     st = job_distance(p, result, arena, dist, &d);
     if (st != LS_OK) return ls_job_fail("distances", st, &d);
-    st = ls_tangle_parallel(result, NULL, &p->parallel, job_workers(p), arena, tangle, &d);
+    st = ls_tangle_parallel(result, NULL, &p->parallel, ls_job_workers(p), arena, tangle, &d);
     if (st != LS_OK) return ls_job_fail("tangling metrics", st, &d);
     return 1;
 }

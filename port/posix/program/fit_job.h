@@ -69,6 +69,9 @@ typedef struct ls_job_problem {
     uint32_t workers;
 } ls_job_problem;
 
+/* The problem's worker count for the library's parallel calls (at least 1). */
+uint32_t ls_job_workers(const ls_job_problem *p);
+
 typedef struct ls_job_run {
     uint32_t iterations;     /* done */
     ls_real *loss;           /* per iteration (capacity iterations + 1) */
