@@ -49,5 +49,6 @@
 #include <largesteps/tangle.h>
 #include <largesteps/halfedge.h>
 #include <largesteps/remesh.h>
+#include <largesteps/visual_hull.h>
 
 #endif /* LARGESTEPS_H */

@@ -32,6 +32,22 @@ static inline double geo_rand(geo_rng *g)
     return test_rng_unit(&g->s);
 }
 
+/* The signed volume a closed mesh encloses (divergence theorem), in double:
+ * > 0 for outward faces. */
+static inline double geo_signed_volume(const ls_mesh *m)
+{
+    double v = 0.0;
+    uint32_t f;
+    for (f = 0; f < m->face_count; f++) {
+        const ls_real *a = m->positions + 3u * m->triangles[3u * f], *b = m->positions + 3u * m->triangles[3u * f + 1u],
+                      *c = m->positions + 3u * m->triangles[3u * f + 2u];
+        v += ((double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
+              (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+              (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
+    }
+    return v;
+}
+
 /* A heap arena of n bytes (aligned); free a->base with free(). */
 static inline ls_arena *geo_arena(ls_arena *a, size_t n)
 {

@@ -1,26 +1,12 @@
 /* tests/test_primitive.c - icosphere and grid meshes: counts, geometry,
  * topology (validated by ls_mesh_validate), orientation, exact sizing. */
 #include "test.h"
+#include "geo_test.h"
 #include "sweep.h"
 #include <stdlib.h>
 
 #define BUF_BYTES (8u << 20)
 static unsigned char *buf;
-
-/* Signed volume (divergence theorem), in double: > 0 for outward faces. */
-static double signed_volume(const ls_mesh *m)
-{
-    double v = 0.0;
-    uint32_t f;
-    for (f = 0; f < m->face_count; f++) {
-        const ls_real *a = m->positions + 3u * m->triangles[3u * f], *b = m->positions + 3u * m->triangles[3u * f + 1u],
-                      *c = m->positions + 3u * m->triangles[3u * f + 2u];
-        v += ((double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
-              (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
-              (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
-    }
-    return v;
-}
 
 static double edge_len(const ls_mesh *m, uint32_t a, uint32_t b)
 {
@@ -66,7 +52,7 @@ static void icosphere_geometry_and_topology(void)
         CHECK_EQ(r.has_genus, 1);
         CHECK_EQ(r.genus, 0);
         CHECK_EQ(r.duplicate_faces, 0);
-        vol = signed_volume(&m);
+        vol = geo_signed_volume(&m);
         /* outward, growing towards the ball's 4 pi / 3 */
         CHECK(vol > prev_volume && vol < 4.0 * 3.14159265358979 / 3.0);
         prev_volume = vol;

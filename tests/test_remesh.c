@@ -91,20 +91,6 @@ static double mean_edge_ref(const ls_mesh *m)
     return s / (3.0 * m->face_count);
 }
 
-static double signed_volume(const ls_mesh *m)
-{
-    double v = 0;
-    uint32_t f;
-    for (f = 0; f < m->face_count; f++) {
-        const ls_real *a = m->positions + 3u * m->triangles[3u * f], *b = m->positions + 3u * m->triangles[3u * f + 1],
-                      *c = m->positions + 3u * m->triangles[3u * f + 2];
-        v += ((double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
-              (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
-              (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
-    }
-    return v;
-}
-
 static int cmp_d(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -409,8 +395,8 @@ static void remesh_closed(const char *path, double factor)
         printf("     self-intersecting pairs: input %ld, output %ld (ls_tangle: %ld, %ld)\n", si, so, tangle_count(&in.m),
                tangle_count(&r.out));
     }
-    vol_in = signed_volume(&in.m);
-    vol_out = signed_volume(&r.out);
+    vol_in = geo_signed_volume(&in.m);
+    vol_out = geo_signed_volume(&r.out);
     haus = hausdorff_vertices(&in.m, &r.out);
     if (factor <= 0.5) {
         CHECK_MSG(fabs(vol_out / vol_in - 1) < 0.01, "volume change %.4f %%", 100 * (vol_out / vol_in - 1));

@@ -38,7 +38,7 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, threads;
+    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -105,6 +105,8 @@ static int usage(FILE *f)
             "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
             "                     a target of genus > 0 starts this way by itself (--init-coarse 0.03)\n"
             "  --init-sphere      start from the icosphere whatever the target's genus\n"
+            "  --init-hull N      initial mesh: the visual hull of the target images on a grid of N cells\n"
+            "                     across (2..1024; e.g. 128), remeshed and smoothed as --init-coarse 0.03\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
@@ -145,7 +147,7 @@ static int ss3(const char *o)
 /* Options whose parser printed its own message (a number and its range). */
 static int ranged(const char *o)
 {
-    static const char *const names[] = {"--views", "--batch", "--res", "--iters", "--level", "--init-coarse", "--init-smooth",
+    static const char *const names[] = {"--views", "--batch", "--res", "--iters", "--level", "--init-coarse", "--init-smooth", "--init-hull",
                                         "--target-ss", "--ss", "--aa-adaptive", "--track", "--max-vertices",
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
@@ -215,6 +217,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--init-coarse") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->init_edge);
         else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
+        else if (strcmp(o, "--init-hull") == 0) ok = parse_u32(v, 2, 1024, &a->init_hull);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && (a->target_ss != 3 || ss3(o));
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && (a->cfg.ss != 3 || ss3(o));
         else if (strcmp(o, "--aa-adaptive") == 0) ok = parse_u32(v, 0, LS_REFINE_MAX, &a->cfg.aa);
@@ -553,6 +556,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_edge = (double)a.init_edge;
     o.init_smooth = a.init_smooth;
     o.init_auto = !a.init_sphere;
+    o.init_hull = a.init_hull;
     if (!ls_job_load(&p, &o, &arena)) return 1;
     p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
     p.workers = a.cfg.workers;

@@ -297,11 +297,12 @@ static void taubin(const ls_csc *lap, ls_real *x, ls_real *y, uint32_t n)
         }
 }
 
-/* The initial mesh from the target: remeshed to edge `edge` x the target's
- * bounding-box diagonal (projected onto it: same genus), then `smooth`
- * Taubin steps take its detail away. For targets a sphere cannot reach
- * (the elephant has genus 3). The mesh stays at the arena's bottom. */
-static int coarse_initial(ls_job_problem *p, double edge, uint32_t smooth, ls_arena *arena)
+/* The initial mesh from `source` (the target, or its visual hull): remeshed
+ * to edge `edge` x the source's bounding-box diagonal (projected onto it:
+ * same genus), then `smooth` Taubin steps take its detail away. For targets
+ * a sphere cannot reach (the elephant has genus 3). The mesh stays at the
+ * arena's bottom. */
+static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge, uint32_t smooth, ls_arena *arena)
 {
     ls_real lo[3], hi[3], diag2 = 0, *y;
     ls_remesh_params rp;
@@ -311,17 +312,17 @@ static int coarse_initial(ls_job_problem *p, double edge, uint32_t smooth, ls_ar
     uint32_t i, c;
     ls_status st;
     ls_diag_clear(&d);
-    for (c = 0; c < 3; c++) lo[c] = hi[c] = p->target.positions[c];
-    for (i = 0; i < p->target.vertex_count; i++)
+    for (c = 0; c < 3; c++) lo[c] = hi[c] = source->positions[c];
+    for (i = 0; i < source->vertex_count; i++)
         for (c = 0; c < 3; c++) {
-            ls_real v = p->target.positions[3u * i + c];
+            ls_real v = source->positions[3u * i + c];
             if (v < lo[c]) lo[c] = v;
             if (v > hi[c]) hi[c] = v;
         }
     for (c = 0; c < 3; c++) diag2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
     ls_remesh_params_default(&rp, (ls_real)edge * LS_RSQRT(diag2));
-    st = ls_remesh(&p->target, &rp, arena, &p->initial, NULL, &d);
-    if (st != LS_OK) return ls_job_fail("remeshing the target into the initial mesh", st, &d);
+    st = ls_remesh(source, &rp, arena, &p->initial, NULL, &d);
+    if (st != LS_OK) return ls_job_fail("remeshing into the initial mesh", st, &d);
     mark = ls_arena_save(arena);
     st = ls_laplacian_uniform(&p->initial, LS_LAP_FULL, arena, &lap, &d);
     y = st == LS_OK ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
@@ -332,6 +333,37 @@ static int coarse_initial(ls_job_problem *p, double edge, uint32_t smooth, ls_ar
     taubin(&lap, p->initial.positions, y, smooth);
     ls_arena_restore(arena, mark);
     return 1;
+}
+
+/* The initial mesh from the targets' masks: their visual hull in the cube
+ * around the framing's sphere (a mesh target's bounding sphere; a dataset's
+ * sphere guessed from its masks, so half as large again), remeshed coarse
+ * and smoothed. */
+static int hull_initial(ls_job_problem *p, uint32_t resolution, double edge, uint32_t smooth, ls_arena *arena)
+{
+    ls_hull_views hv;
+    ls_hull_params hp;
+    ls_real lo[3], hi[3];
+    ls_mesh hull;
+    ls_diag d;
+    uint32_t c;
+    ls_status st;
+    ls_diag_clear(&d);
+    for (c = 0; c < 3; c++) {
+        ls_real r = p->have_mesh ? p->framing.radius : (ls_real)1.5 * p->framing.radius;
+        lo[c] = p->framing.center[c] - r;
+        hi[c] = p->framing.center[c] + r;
+    }
+    ls_hull_params_default(&hp, lo, hi);
+    hp.resolution = resolution;
+    hv.images = (const ls_real *const *)p->targets;
+    hv.mvps = p->mvps;
+    hv.count = p->views;
+    hv.width = p->width;
+    hv.height = p->height;
+    st = ls_visual_hull(&hv, &hp, arena, &hull, &d);
+    if (st != LS_OK) return ls_job_fail("the visual hull of the targets", st, &d);
+    return coarse_initial(p, &hull, edge, smooth, arena);
 }
 
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
@@ -435,11 +467,14 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         join_path(o->target, scene.initial_mesh, path, sizeof path);
         st = ls_posix_load_mesh(path, arena, &p->initial, &d);
         if (st != LS_OK) return ls_job_fail(path, st, &d);
+    } else if (o->init_hull > 0) {
+        if (!hull_initial(p, o->init_hull, o->init_edge > 0 ? o->init_edge : LS_JOB_AUTO_EDGE, o->init_smooth, arena))
+            return 0;
     } else if (o->init_edge > 0 && p->have_mesh) {
-        if (!coarse_initial(p, o->init_edge, o->init_smooth, arena)) return 0;
+        if (!coarse_initial(p, &p->target, o->init_edge, o->init_smooth, arena)) return 0;
     } else if (o->init_auto && p->have_mesh && !is_scene && p->target_genus > 0) {
         p->auto_coarse = 1;
-        if (!coarse_initial(p, LS_JOB_AUTO_EDGE, o->init_smooth, arena)) return 0;
+        if (!coarse_initial(p, &p->target, LS_JOB_AUTO_EDGE, o->init_smooth, arena)) return 0;
     } else {
         /* an icosphere on the target's bounding sphere */
         st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);

@@ -27,6 +27,9 @@ typedef struct ls_job_options {
     uint32_t init_smooth;
     uint32_t init_auto;     /* 1 (mesh targets, init_edge 0): a target of genus > 0 starts from
                                the target remeshed coarse (LS_JOB_AUTO_EDGE), as init_edge would */
+    uint32_t init_hull;     /* > 0 (init_edge 0): the initial mesh is the targets' visual hull on a
+                               grid of this many cells across (ls_visual_hull), remeshed to
+                               LS_JOB_AUTO_EDGE and smoothed by init_smooth Taubin steps */
 } ls_job_options;
 
 /* The fit's config.grad_limit with estimated lighting (fit.h): without it one
