@@ -3,7 +3,9 @@
 # cert, clang-analyzer) and scan-build. Zero findings; any suppression is
 # justified in place in the source (NOLINT(check): why / cppcheck-suppress).
 # Each analyser is first shown a planted bug (tests/tools/lint_probe.c) and
-# must report it, so a silent analyser does not pass.
+# must report it, so a silent analyser does not pass. JOBS (default 2):
+# the processes each analyser runs at once.
+jobs=${JOBS:-2}
 pass=0 fail=0
 ok()  { pass=$((pass + 1)); echo "ok   $1"; }
 bad() { fail=$((fail + 1)); echo "FAIL $1"; if [ -n "$2" ]; then printf '%s\n' "$2" | sed 's/^/     /'; fi; }
@@ -18,7 +20,7 @@ need() { command -v "$1" >/dev/null 2>&1 || { bad "$2 ($1 is not installed: .ci/
 
 # cppcheck
 if need cppcheck lint_cppcheck; then
-    CPPCHECK="cppcheck --std=c99 --enable=warning,portability,performance,style --inline-suppr --error-exitcode=1 -q --suppress=missingIncludeSystem --suppress=unusedFunction $INC"
+    CPPCHECK="cppcheck -j $jobs --std=c99 --enable=warning,portability,performance,style --inline-suppr --error-exitcode=1 -q --suppress=missingIncludeSystem --suppress=unusedFunction $INC"
     if $CPPCHECK $probe >/dev/null 2>&1; then
         bad "lint_cppcheck (does not report the planted bug in $probe)"
     elif out=$($CPPCHECK $SRC 2>&1) && [ -z "$out" ]; then
@@ -34,7 +36,7 @@ if need clang-tidy lint_clang_tidy; then
     TIDY="clang-tidy -quiet --checks=$CHECKS --warnings-as-errors=*"
     if $TIDY $probe -- -std=c99 $INC >/dev/null 2>&1; then
         bad "lint_clang_tidy (does not report the planted bug in $probe)"
-    elif out=$($TIDY $SRC -- -std=c99 $INC 2>&1); then
+    elif out=$(printf '%s\n' $SRC | xargs -P "$jobs" -n 4 sh -c "$TIDY \"\$@\" -- -std=c99 $INC" sh 2>&1); then
         ok "lint_clang_tidy"
     else
         bad "lint_clang_tidy" "$(printf '%s\n' "$out" | grep -E 'warning|error' | head -n 40)"
@@ -47,7 +49,7 @@ if need scan-build lint_scan_build; then
         bad "lint_scan_build (does not report the planted bug in $probe)"
     else
         rm -rf "$dir/scan"
-        if out=$(scan-build --use-cc=clang --status-bugs -o "$dir/scan" make --no-print-directory -B BUILD="$dir/scan-build" lib 2>&1); then
+        if out=$(scan-build --use-cc=clang --status-bugs -o "$dir/scan" make --no-print-directory -j"$jobs" -B BUILD="$dir/scan-build" lib 2>&1); then
             ok "lint_scan_build"
         else
             bad "lint_scan_build" "$(printf '%s\n' "$out" | grep -E 'warning|bug' | head -n 40)"
