@@ -39,6 +39,7 @@
 typedef struct fit_args {
     const char *target, *out;
     uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
+    uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -106,7 +107,8 @@ static int usage(FILE *f)
             "                     a target of genus > 0 starts this way by itself (--init-coarse 0.03)\n"
             "  --init-sphere      start from the icosphere whatever the target's genus\n"
             "  --init-hull N      initial mesh: the visual hull of the target images on a grid of N cells\n"
-            "                     across (2..1024; e.g. 128), remeshed and smoothed as --init-coarse 0.03\n"
+            "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
+            "                     E sets it), not smoothed (--init-smooth N smooths it)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
@@ -216,7 +218,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--init-coarse") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->init_edge);
-        else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
+        else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth), a->init_smooth_given = 1;
         else if (strcmp(o, "--init-hull") == 0) ok = parse_u32(v, 2, 1024, &a->init_hull);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && (a->target_ss != 3 || ss3(o));
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && (a->cfg.ss != 3 || ss3(o));
@@ -554,7 +556,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.shading = a.cfg.shading.mode;
     o.level = a.level;
     o.init_edge = (double)a.init_edge;
-    o.init_smooth = a.init_smooth;
+    o.init_smooth = a.init_hull > 0 && !a.init_smooth_given ? 0u : a.init_smooth;
     o.init_auto = !a.init_sphere;
     o.init_hull = a.init_hull;
     if (!ls_job_load(&p, &o, &arena)) return 1;

@@ -468,7 +468,7 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         st = ls_posix_load_mesh(path, arena, &p->initial, &d);
         if (st != LS_OK) return ls_job_fail(path, st, &d);
     } else if (o->init_hull > 0) {
-        if (!hull_initial(p, o->init_hull, o->init_edge > 0 ? o->init_edge : LS_JOB_AUTO_EDGE, o->init_smooth, arena))
+        if (!hull_initial(p, o->init_hull, o->init_edge > 0 ? o->init_edge : LS_JOB_HULL_EDGE, o->init_smooth, arena))
             return 0;
     } else if (o->init_edge > 0 && p->have_mesh) {
         if (!coarse_initial(p, &p->target, o->init_edge, o->init_smooth, arena)) return 0;

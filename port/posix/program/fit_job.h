@@ -27,9 +27,9 @@ typedef struct ls_job_options {
     uint32_t init_smooth;
     uint32_t init_auto;     /* 1 (mesh targets, init_edge 0): a target of genus > 0 starts from
                                the target remeshed coarse (LS_JOB_AUTO_EDGE), as init_edge would */
-    uint32_t init_hull;     /* > 0 (init_edge 0): the initial mesh is the targets' visual hull on a
-                               grid of this many cells across (ls_visual_hull), remeshed to
-                               LS_JOB_AUTO_EDGE and smoothed by init_smooth Taubin steps */
+    uint32_t init_hull;     /* > 0: the initial mesh is the targets' visual hull on a grid of this
+                               many cells across (ls_visual_hull), remeshed to init_edge (0:
+                               LS_JOB_HULL_EDGE) and smoothed by init_smooth Taubin steps */
 } ls_job_options;
 
 /* The fit's config.grad_limit with estimated lighting (fit.h): without it one
@@ -42,6 +42,10 @@ typedef struct ls_job_options {
 /* The coarse start's edge (x the target's bounding-box diagonal) when the
  * target's genus asks for it. */
 #define LS_JOB_AUTO_EDGE 0.03
+
+/* The visual hull start's edge (x its bounding-box diagonal): at 0.03 a
+ * camel's legs, remeshed, cross each other; at 0.02 they do not. */
+#define LS_JOB_HULL_EDGE 0.02
 
 /* The views and lighting of a mesh target, which `largesteps render` uses
  * too (a dataset it writes is the problem the mesh-target fit solves): a
