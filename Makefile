@@ -382,7 +382,7 @@ tradeoffs: $(CLI)
 	done
 
 # Benchmarks against peers measured in the same run (bench-only packages:
-# libsuitesparse-dev libeigen3-dev libosmesa6-dev libcgal-dev); tables in $(BUILD)/bench/.
+# libsuitesparse-dev libeigen3-dev libosmesa6-dev libcgal-dev libfftw3-dev); tables in $(BUILD)/bench/.
 bench: all $(BUILD)/bench/bench_gradient
 	@mkdir -p $(BUILD)/bench
 	BENCH_OUT=$(BUILD)/bench/gradient.md $(BUILD)/bench/bench_gradient
@@ -430,6 +430,9 @@ $(BUILD)/bench/peer_cholmod: tests/bench/peer_cholmod.c
 $(BUILD)/bench/peer_eigen: tests/bench/peer_eigen.cpp
 	@mkdir -p $(@D)
 	$(CXX) -O2 -I/usr/include/eigen3 -Itests/bench $< -o $@
+$(BUILD)/bench/peer_fftw_grid: tests/bench/peer_fftw_grid.c $(LIB) $(CONFIG_H)
+	@mkdir -p $(@D)
+	$(CC) -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -ffp-contract=off -Wall -Wextra -Werror $(INCLUDES) $< $(LIB) -lfftw3 -lm -o $@
 $(BUILD)/bench/peer_cgal_distance: tests/bench/peer_cgal_distance.cpp
 	@mkdir -p $(@D)
 	$(CXX) -O2 -DNDEBUG $< -o $@

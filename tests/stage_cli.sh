@@ -166,6 +166,17 @@ if [ -e "$out/corrupt_out.obj" ]; then bad "remesh_corrupt_gzip_writes_nothing";
 check experiment_silhouettes "$ls" experiment silhouettes --iters 8 --res 24 --views 3 --level 1 -o "$out/exp"
 if grep -q '^| large steps, lambda 99 |' "$out/exp/silhouettes.md" 2>/dev/null; then ok "experiment_table_written"; else bad "experiment_table_written"; fi
 
+# the lambda sweep (tiny): the alpha form with the mean of dL/du kept and projected, each alpha against the paper's H
+check experiment_lambda_sweep "$ls" experiment lambda-sweep --form alpha --mean both --iters 4 --res 24 --views 2 --level 1 -o "$out/sweep"
+# (16 rows; the projected table's distances differ from the kept one's: the option reaches the fit)
+sweep_rows() { grep '^| alpha' "$out/sweep/lambda-sweep.md" | sed -n "$1" | cut -d'|' -f3-7; }
+if [ "$(grep -c '^| alpha .* | 0\.[0-9.-]* |$' "$out/sweep/lambda-sweep.md" 2>/dev/null)" = 16 ] &&
+    grep -q 'step 0.001 in the target' "$out/sweep/lambda-sweep.md" && grep -q 'projected out' "$out/sweep/lambda-sweep.md" &&
+    [ "$(sweep_rows 1,8p)" != "$(sweep_rows 9,16p)" ]; then
+    ok "experiment_lambda_sweep_both_means"; else bad "experiment_lambda_sweep_both_means"; fi
+expect experiment_sweep_bad_mean 2 "--mean: 'foo' is not keep, project or both" "$ls" experiment lambda-sweep --mean foo -o "$out/x"
+expect experiment_sweep_bad_step 2 "--step: '0' is not a number in (0, 10\]" "$ls" experiment lambda-sweep --step 0 -o "$out/x"
+
 # the compare experiment (tiny): four methods at equal iterations and at equal time, and its contact sheet
 check experiment_compare "$ls" experiment compare --iters 6 --res 24 --views 2 --level 1 -o "$out/cmp"
 if [ "$(grep -c -e '^| naive' -e '^| Laplacian' -e '^| bilaplacian' -e '^| large steps' "$out/cmp/compare.md" 2>/dev/null)" = 8 ] &&

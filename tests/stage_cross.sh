@@ -13,8 +13,9 @@
 # Logs: build/logs/cross-TARGET-REAL.log, build/logs/cross-TARGET.out.
 budget=${CROSS_BUDGET:-400}
 targets=${CROSS_TARGETS:-"aarch64 armhf riscv64 s390x i686"}
-jobs=${JOBS:-2}
 mkdir -p build/logs
+# shellcheck source=tests/tools/reports.sh
+. "$(dirname "$0")/tools/reports.sh"
 # One target, both precisions: its report lines into build/logs/cross-T.out.
 if [ "$1" = --one ]; then
     t=$2
@@ -41,21 +42,9 @@ if [ "$1" = --one ]; then
     exit 0
 fi
 total_start=$(date +%s)
-for t in $targets; do rm -f "build/logs/cross-$t.out"; done
-# shellcheck disable=SC2086 # $targets is a list
-printf '%s\n' $targets | xargs -P "$jobs" -I{} sh "$0" --one {}
 pass=0 fail=0
-for t in $targets; do
-    out=build/logs/cross-$t.out
-    if [ -r "$out" ]; then
-        cat "$out"
-        pass=$((pass + $(grep -c '^ok   cross_' "$out")))
-        fail=$((fail + $(grep -c '^FAIL cross_' "$out")))
-    else
-        echo "FAIL cross_$t (it did not report: build/logs/cross-$t.out is missing)"
-        fail=$((fail + 1))
-    fi
-done
+# shellcheck disable=SC2086 # $targets is a list
+reports_run "$0" build/logs/cross- .out cross_ $targets
 echo "     time all targets: $(( $(date +%s) - total_start )) s"
 echo "cross: $pass passed, $fail failed"
 [ "$fail" = 0 ]

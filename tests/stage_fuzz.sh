@@ -13,6 +13,8 @@
 # the stage fails (CI installs it), it never passes by skipping.
 # Prints ok/FAIL lines and "fuzz: N passed, M failed".
 self=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
+# shellcheck source=tests/tools/reports.sh
+. "$(dirname "$self")/tools/reports.sh"
 cd "$(dirname "$0")/.." || exit 1
 FUZZ_TIME=${FUZZ_TIME:-10}
 FUZZ_BUILD=${FUZZ_BUILD:-build/fuzz}
@@ -76,17 +78,6 @@ else
 fi
 
 # JOBS (default 2) targets at once; each one's lines in the list's order.
-for t in $TARGETS; do rm -f "$FUZZ_BUILD/report-$t.txt"; done
 # shellcheck disable=SC2086 # $TARGETS is a list
-printf '%s\n' $TARGETS | xargs -P "${JOBS:-2}" -I{} sh "$self" --one {}
-for t in $TARGETS; do
-    r=$FUZZ_BUILD/report-$t.txt
-    if [ -r "$r" ]; then
-        cat "$r"
-        pass=$((pass + $(grep -c '^ok ' "$r")))
-        fail=$((fail + $(grep -c '^FAIL ' "$r")))
-    else
-        bad "fuzz_$t (it did not report: $r is missing)"
-    fi
-done
+reports_run "$self" "$FUZZ_BUILD/report-" .txt "" $TARGETS
 finish

@@ -2,7 +2,9 @@
 # tests/bench/run_grid.sh - the parameterization on a texture grid: the
 # transform solver (grid_solve.h) against the sparse LDL^T (automatic
 # ordering) and CG, M = I + lambda L, 3 channels (RGB), one thread, CPU
-# time. Writes build/bench/grid.md and prints it. No peer: all three are ours.
+# time. Writes build/bench/grid.md and prints it; then the transform solver
+# against FFTW's DCT-II/III of the same grid (peer_fftw_grid, Debian
+# libfftw3-dev, bench only; skipped with a note when it is missing).
 #
 # Environment: BUILD (default build), GRID_SIZES (default "256 512 1024"),
 # GRID_LAMBDA (10), GRID_TOL (CG relative tolerance, 1e-10), GRID_WRAP (0:
@@ -45,6 +47,21 @@ grep -v '^RATIO ' "$ratios.all" >&2 || true
     echo "| grid | LDL^T init | LDL^T solve | LDL^T bytes | CG solve | CG bytes | transform solver alone, bytes |"
     echo "|---|---|---|---|---|---|---|"
     cat "$ratios"
+    if [ -f /usr/include/fftw3.h ] && [ "$WRAP" = 0 ]; then
+        make --no-print-directory -s BUILD="$BUILD" "$OUT/peer_fftw_grid"
+        echo
+        echo "The transform solver against FFTW (3.x, FFTW_MEASURE plans; REDFT10, the division by the eigenvalues,"
+        echo "REDFT01 and the 1/(4WH) scale, the 3 interleaved channels in one plan), the same right-hand side,"
+        echo "CPU ms of one solve, the minimum of $REPEAT alternated runs; difference = ||x_ours - x_FFTW|| / ||x_FFTW||."
+        echo
+        echo "| grid | ours ms | FFTW ms | ours / FFTW | difference |"
+        echo "|---|---|---|---|---|"
+        # shellcheck disable=SC2086
+        "$OUT/peer_fftw_grid" "$REPEAT" "$LAMBDA" $SIZES
+    else
+        echo
+        echo "FFTW peer skipped: apt-get install libfftw3-dev (and GRID_WRAP=0)."
+    fi
 } > "$OUT/grid.md"
 rm -f "$ratios.all"
 cat "$OUT/grid.md"

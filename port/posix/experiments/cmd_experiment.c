@@ -2,11 +2,13 @@
  * paper's experiments as Markdown tables (DIR/NAME.md, also printed).
  *
  *   lambda-sweep  the alpha form, alpha in {0, .25, .5, .75, .95, .98, .99,
- *                 .999} (lambda = alpha / (1 - alpha)) at the paper's
- *                 learning rate 1e-3 and one iteration count, L1 (the paper
- *                 ran 4300 steps; M = (1 - alpha)(I + lambda L), so a step
- *                 of u moves x 1 / (1 - alpha) times farther than in the
- *                 lambda form: the effective rate grows with alpha); then
+ *                 .999} (lambda = alpha / (1 - alpha)) at the paper's step
+ *                 (--step, in the target's units, as its step_size 1e-3) and
+ *                 one iteration count, L1 (the paper ran 4300 steps;
+ *                 M = (1 - alpha)(I + lambda L), so a step of u moves x
+ *                 1 / (1 - alpha) times farther than in the lambda form: the
+ *                 effective rate grows with alpha), with the mean of dL/du
+ *                 kept (the paper's) and/or projected out (--mean); then
  *                 the lambda form with the learning rate chosen per lambda
  *                 from a grid (best H).
  *   compare       naive, Laplacian-regularized, bilaplacian-regularized and
@@ -40,6 +42,8 @@ typedef struct exp_args {
     uint32_t iters, res, views, level, init_smooth;
     uint32_t remesh_count, remesh_at[LS_JOB_MAX_REMESH]; /* compare: every run's remesh schedule */
     uint32_t forms;   /* lambda-sweep: 1 the alpha form, 2 the lambda form, 3 both */
+    uint32_t means;   /* lambda-sweep, alpha form: 1 mean kept, 2 projected, 3 both */
+    double step;      /* lambda-sweep, alpha form: the learning rate in the target's units */
     double cap;       /* compare: a baseline run stops at cap x the large-steps run's time */
     double init_edge; /* > 0: the initial mesh is the target remeshed and smoothed (fit_job.h) */
 } exp_args;
@@ -65,6 +69,10 @@ static int usage(FILE *f)
                "              bounding-box diagonal (0 < E <= 1; default: the icosphere), N Taubin steps\n"
                "              (0..10000; default 10); for targets of genus > 0\n"
                "  --form F    lambda-sweep: alpha | lambda | both (default both)\n"
+               "  --step X    lambda-sweep, alpha form: the learning rate in the target's units, as the\n"
+               "              paper's step_size (0 < X <= 10; default 1e-3, the paper's)\n"
+               "  --mean M    lambda-sweep, alpha form: keep (the paper's) | project (the mean of dL/du\n"
+               "              taken out, the translation alone moves the mesh as a whole) | both (default)\n"
                "  --remesh I,J  compare: remesh every run before these iterations (default none, as the\n"
                "              paper's comparison figure)\n"
                "  --cap F     compare: each baseline run stops at F x the tuned large-steps run's time\n"
@@ -91,6 +99,7 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     uint32_t k;
     ls_job_schedule_default(&s);
     s.guard_every = 0; /* the paper's plain loop: these runs reproduce its experiments */
+    s.settle = 0;
     s.iterations = iters;
     s.time_budget_ms = budget_ms;
     s.remesh_count = nremesh < LS_JOB_MAX_REMESH ? nremesh : LS_JOB_MAX_REMESH;
@@ -118,14 +127,22 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     return e;
 }
 
+/* One table row; extra (NULL: none) is one more cell. */
+static void row_end(FILE *f, const char *label, const exp_result *e, const char *extra)
+{
+    if (!e->ok)
+        fprintf(f, "| %s | failed |%s", label, " | | | | | | |");
+    else
+        fprintf(f, "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %u | %u | %.0f (%.1f ms/it) |", label, e->h, e->h_rel,
+                e->dense_h_rel, e->mean_rel, e->rms_rel, (unsigned)e->pairs, (unsigned)e->vertices, e->ms,
+                e->ms_per_it);
+    if (extra != NULL) fprintf(f, " %s |", extra);
+    fprintf(f, "\n");
+}
+
 static void row(FILE *f, const char *label, const exp_result *e)
 {
-    if (!e->ok) {
-        fprintf(f, "| %s | failed | | | | | | |\n", label);
-        return;
-    }
-    fprintf(f, "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %u | %u | %.0f (%.1f ms/it) |\n", label, e->h, e->h_rel,
-            e->dense_h_rel, e->mean_rel, e->rms_rel, (unsigned)e->pairs, (unsigned)e->vertices, e->ms, e->ms_per_it);
+    row_end(f, label, e, NULL);
 }
 
 static void header(FILE *f)
@@ -142,25 +159,59 @@ static void config(ls_fit_config *c, uint32_t method, ls_real lr)
     c->optim.lr = lr;
 }
 
-/* The alpha form at the paper's fixed learning rate. */
+/* R, the unit of the fit's learning rate (fit.h): half the largest side of
+ * the initial mesh's bounding box (1 for a mesh collapsed to a point). */
+static double initial_radius(const ls_mesh *m)
+{
+    double lo[3], hi[3], r = 0;
+    uint32_t v, k;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->vertex_count > 0 ? (double)m->positions[k] : 0;
+    for (v = 0; v < m->vertex_count; v++)
+        for (k = 0; k < 3; k++) {
+            double x = (double)m->positions[3u * v + k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+    for (k = 0; k < 3; k++)
+        if ((hi[k] - lo[k]) / 2 > r) r = (hi[k] - lo[k]) / 2;
+    return r > 0 ? r : 1;
+}
+
+/* The alpha form at the paper's fixed step, with the mean of dL/du kept
+ * and/or projected out. */
 static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
 {
     static const double alphas[8] = {0, 0.25, 0.5, 0.75, 0.95, 0.98, 0.99, 0.999};
+    static const char *paper[8] = {"0.78-0.91", "0.78-0.91", "0.78-0.91", "0.156-0.158", "0.156-0.158",
+                                   "0.156-0.158", "0.156-0.158", "0.127"};
+    const double radius = initial_radius(&p->initial);
     ls_fit_config c;
-    char label[64];
+    char label[96];
+    uint32_t mean;
     int i;
-    fprintf(f, "## alpha form, lr 1e-3 (the paper's; x moves lr / (1 - alpha) per unit step), %u iterations, L1\n\n",
-            (unsigned)a->iters);
-    header(f);
-    for (i = 0; i < 8; i++) {
-        exp_result e;
-        config(&c, LS_FIT_LARGE_STEPS, (ls_real)1e-3);
-        c.form = LS_SYSTEM_ALPHA;
-        c.weight = (ls_real)alphas[i];
-        e = run_one(p, &c, a->iters, 0, NULL, 0, arena, NULL);
-        snprintf(label, sizeof label, "alpha %g (lambda %.3g)", alphas[i], alphas[i] / (1 - alphas[i]));
-        row(f, label, &e);
-        fflush(f);
+    for (mean = 0; mean < 2; mean++) {
+        if ((a->means & (1u << mean)) == 0) continue;
+        fprintf(f, "## alpha form, step %g in the target's units (lr %.6g R, R = %.6g), %u iterations, L1, the mean "
+                   "of dL/du %s\n\n",
+                a->step, a->step / radius, radius, (unsigned)a->iters,
+                mean == 0 ? "kept (the paper's)" : "projected out (the translation moves the mesh as a whole)");
+        fprintf(f, "Beside each run, H as the paper's figure gives it for the same alpha (its range over the alphas "
+                   "of one regime).\n\n");
+        fprintf(f, "| run | H | H rel | dense H rel | mean rel | RMS rel | self-intersections | vertices | time ms | "
+                   "paper's H (Suzanne) |\n");
+        fprintf(f, "|---|---|---|---|---|---|---|---|---|---|\n");
+        for (i = 0; i < 8; i++) {
+            exp_result e;
+            config(&c, LS_FIT_LARGE_STEPS, (ls_real)(a->step / radius));
+            c.form = LS_SYSTEM_ALPHA;
+            c.weight = (ls_real)alphas[i];
+            c.mean_mode = mean == 0 ? LS_FIT_MEAN_KEEP : LS_FIT_MEAN_PROJECT;
+            e = run_one(p, &c, a->iters, 0, NULL, 0, arena, NULL);
+            snprintf(label, sizeof label, "alpha %g (lambda %.3g)", alphas[i], alphas[i] / (1 - alphas[i]));
+            row_end(f, label, &e, paper[i]);
+            fflush(f);
+        }
+        fprintf(f, "\n");
     }
 }
 
@@ -368,6 +419,8 @@ int ls_cmd_experiment(int argc, char **argv)
     a.init_smooth = 10;
     a.cap = 3;
     a.forms = 3;
+    a.means = 3;
+    a.step = 1e-3;
     if (argc < 2) return usage(stderr);
     if (strcmp(argv[1], "texture") == 0) return ls_cmd_experiment_texture(argc - 1, argv + 1);
     a.name = argv[1];
@@ -384,7 +437,7 @@ int ls_cmd_experiment(int argc, char **argv)
         if (strcmp(opt, "-o") != 0 && strcmp(opt, "--iters") != 0 && strcmp(opt, "--res") != 0 &&
             strcmp(opt, "--views") != 0 && strcmp(opt, "--level") != 0 && strcmp(opt, "--init-smooth") != 0 &&
             strcmp(opt, "--init-coarse") != 0 && strcmp(opt, "--remesh") != 0 && strcmp(opt, "--form") != 0 &&
-            strcmp(opt, "--cap") != 0) {
+            strcmp(opt, "--cap") != 0 && strcmp(opt, "--step") != 0 && strcmp(opt, "--mean") != 0) {
             fprintf(stderr, "largesteps experiment: unknown option '%s'\n", opt);
             return usage(stderr);
         }
@@ -398,6 +451,12 @@ int ls_cmd_experiment(int argc, char **argv)
         else if (strcmp(opt, "--init-smooth") == 0) ok = ls_arg_u32("experiment", opt, v, 0, 10000, &a.init_smooth);
         else if (strcmp(opt, "--init-coarse") == 0) ok = ls_arg_real("experiment", opt, v, 0, 1, LS_ARG_LO_OPEN, &a.init_edge);
         else if (strcmp(opt, "--cap") == 0) ok = ls_arg_real("experiment", opt, v, 1, 1000, LS_ARG_CLOSED, &a.cap);
+        else if (strcmp(opt, "--step") == 0) ok = ls_arg_real("experiment", opt, v, 0, 10, LS_ARG_LO_OPEN, &a.step);
+        else if (strcmp(opt, "--mean") == 0) {
+            ok = strcmp(v, "keep") == 0 || strcmp(v, "project") == 0 || strcmp(v, "both") == 0;
+            if (ok) a.means = strcmp(v, "keep") == 0 ? 1u : strcmp(v, "project") == 0 ? 2u : 3u;
+            else fprintf(stderr, "largesteps experiment: --mean: '%s' is not keep, project or both\n", v);
+        }
         else if (strcmp(opt, "--remesh") == 0) {
             ok = ls_job_parse_remesh(v, a.remesh_at, &a.remesh_count);
             if (!ok) fprintf(stderr, "largesteps experiment: --remesh: '%s' is not 'none' or increasing iterations I,J,... below 1000000\n", v);
