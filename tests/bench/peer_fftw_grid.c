@@ -12,7 +12,6 @@
  * usage: peer_fftw_grid REPEAT LAMBDA SIZE...
  * prints per size: | grid | ours ms | FFTW ms | ours / FFTW | difference |
  * (CPU time, the minimum of REPEAT solves each, alternated). */
-#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
