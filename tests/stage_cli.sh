@@ -209,17 +209,23 @@ if [ "$(grep -c '^| bunny | ' "$out/trade/tradeoffs.md" 2>/dev/null)" = 7 ] && g
     [ "$(wc -l < "$out/trade/tradeoffs.tsv")" = 6 ]; then ok "experiment_tradeoffs_tables_plot_rows"; else bad "experiment_tradeoffs_tables_plot_rows"; fi
 
 # 6. the texture experiment (tiny; its runs are timed, so only the outputs are checked)
-check experiment_texture "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 -o "$out/tex"
+check experiment_texture "$ls" experiment texture --side 32 --res 24 --res-hi 48 --views 2 --tune 0.1 --time 0.2 -o "$out/tex"
 if grep -q '^| large steps' "$out/tex/texture.md" 2>/dev/null && [ -s "$out/tex/texture.png" ]; then
     ok "experiment_texture_table_and_figure"; else bad "experiment_texture_table_and_figure"; fi
-# the tuning grid from the command line: large steps only, 2 lambdas x 1 rate = 2 tuning rows and 1 final row
-check experiment_texture_grid "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
+# at equal iterations every method ran the large-steps run's count (the 5th column), named in the heading
+eq_iters=$(sed -n 's/^## equal iterations (\([0-9]*\) each.*/\1/p' "$out/tex/texture.md" 2>/dev/null)
+if [ -n "$eq_iters" ] && [ "$(sed -n '/^## equal iterations/,$p' "$out/tex/texture.md" | grep '^| [nrl]' | cut -d'|' -f6 | tr -d ' ' | sort -u)" = "$eq_iters" ] &&
+    [ "$(sed -n '/^## equal iterations/,$p' "$out/tex/texture.md" | grep -c '^| [nrl]')" = 3 ]; then
+    ok "experiment_texture_equal_iterations ($eq_iters each)"; else bad "experiment_texture_equal_iterations"; fi
+# the tuning grid from the command line: large steps only, 2 lambdas x 1 rate = 2 tuning rows and 2 final rows
+# (equal time, equal iterations)
+check experiment_texture_grid "$ls" experiment texture --side 32 --res 24 --res-hi 48 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
     --methods ls --lambda-ls 4,16 --lr-ls 0.3 -o "$out/texgrid"
-if [ "$(grep -c '^| large steps' "$out/texgrid/texture.md" 2>/dev/null)" = 3 ] && ! grep -q '^| naive' "$out/texgrid/texture.md"; then
+if [ "$(grep -c '^| large steps' "$out/texgrid/texture.md" 2>/dev/null)" = 4 ] && ! grep -q '^| naive' "$out/texgrid/texture.md"; then
     ok "experiment_texture_grid_rows"; else bad "experiment_texture_grid_rows"; fi
-check experiment_texture_ls_adam "$ls" experiment texture --side 32 --res 24 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
+check experiment_texture_ls_adam "$ls" experiment texture --side 32 --res 24 --res-hi 48 --views 2 --tune 0.1 --time 0.2 --fit-ss 1 \
     --methods ls --ls-optimizer adam --lambda-ls 4 --lr-ls 0.3 -o "$out/texadam"
-if [ "$(grep -c '^| large steps (Adam on u' "$out/texadam/texture.md" 2>/dev/null)" = 2 ]; then
+if [ "$(grep -c '^| large steps (Adam on u' "$out/texadam/texture.md" 2>/dev/null)" = 3 ]; then
     ok "experiment_texture_ls_adam_rows"; else bad "experiment_texture_ls_adam_rows"; fi
 expect experiment_texture_bad_method 2 "usage" "$ls" experiment texture --methods ls,foo -o "$out/x"
 expect experiment_texture_bad_grid 2 "usage" "$ls" experiment texture --lr-ls 0.1,0 -o "$out/x"

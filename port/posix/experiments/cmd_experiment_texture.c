@@ -65,6 +65,7 @@
 #define TX_VAL 2u
 #define TX_TEST 4u
 #define TX_MAX_VIEWS 64u
+#define TX_RES_HI 512u /* default of --res-hi: the held-out views again at 512^2, detail the training resolution cannot show */
 
 #define TX_GRID_MAX 8u
 #define M_NAIVE 0
@@ -79,7 +80,7 @@ typedef struct tx_grid {
 
 typedef struct tx_args {
     const char *out, *image, *scene;
-    uint32_t res, views, side, full, fit_ss, own_targets, ls_adam;
+    uint32_t res, res_hi, views, side, full, fit_ss, own_targets, ls_adam;
     double tune_s, run_s;
     uint32_t methods;                   /* bit m: run method m */
     tx_grid lr[3], weight[3];           /* per method; weight: w (regularized) or lambda (large steps) */
@@ -93,6 +94,9 @@ typedef struct tx_problem {
     ls_real mvp[TX_MAX_VIEWS][16];
     ls_vis vis1[TX_MAX_VIEWS];  /* S = fit_ss, for the fit */
     ls_vis vis4;                /* S = 4, re-rasterized per evaluation view */
+    uint32_t res_hi;            /* the held-out views again at res_hi^2 (S = 4) */
+    ls_vis vis_hi;              /* S = 4 at res_hi, for the held-out views at high resolution */
+    ls_real *targets_hi[TX_TEST]; /* RGBA, S = 4 renders of the true texture at res_hi */
     ls_real *targets[TX_MAX_VIEWS]; /* RGBA, S = 4 renders of the true texture */
     ls_real *truth;             /* the true texture, 1024^2 */
     uint32_t truth_side;
@@ -187,6 +191,7 @@ static int usage(FILE *f)
                "  --image PNG   target image (default %s)\n"
                "  --scene S     quad (default) or sphere\n"
                "  --res R       render size R x R (default 108)\n"
+               "  --res-hi R    the held-out views measured again at R x R (8..2048; default 512)\n"
                "  --views N     training views (default 8)\n"
                "  --fit-ss S    samples per pixel side of the fit's renders: 4 (default, as the targets), 2 or 1\n"
                "  --ls-optimizer O   uniform (default: UniformAdam, the method's) or adam (per-texel Adam on u)\n"
@@ -339,44 +344,72 @@ static void box_down(const ls_real *t, uint32_t side, uint32_t f, double *out)
 
 static double psnr(double mse) { return mse > 0 ? 10 * log10(1 / mse) : 99; }
 
-/* Renders texels (side^2) from view k with S = 4 into rgba. */
-static int render4(tx_problem *p, const ls_real *texels, uint32_t side, uint32_t k, ls_real *rgba)
+/* Renders texels (side^2) from view k into rgba through vis (S = 4: vis4 or vis_hi). */
+static int render_in(tx_problem *p, ls_vis *vis, const ls_real *texels, uint32_t side, uint32_t k, ls_real *rgba)
 {
     ls_texture tex;
     ls_shade_opts o = p->opts;
     if (ls_texture_init(&tex, side, side, p->wrap, texels) != LS_OK) return 0;
     o.texture = &tex;
-    if (ls_raster(&p->vis4, &(ls_view){.positions = p->pos, .indices = p->idx, .triangle_count = p->nt,
+    if (ls_raster(vis, &(ls_view){.positions = p->pos, .indices = p->idx, .triangle_count = p->nt,
             .vertex_count = p->nv, .mvp = p->mvp[k]}, p->arena, NULL) != LS_OK) return 0;
-    return ls_shade(&(ls_view){.vis = &p->vis4, .indices = p->idx, .triangle_count = p->nt, .vertex_count = p->nv,
+    return ls_shade(&(ls_view){.vis = vis, .indices = p->idx, .triangle_count = p->nt, .vertex_count = p->nv,
             .normals = p->nrm, .opts = &o}, rgba, NULL) == LS_OK;
+}
+
+/* Renders texels (side^2) from view k with S = 4 at the training resolution into rgba. */
+static int render4(tx_problem *p, const ls_real *texels, uint32_t side, uint32_t k, ls_real *rgba)
+{
+    return render_in(p, &p->vis4, texels, side, k, rgba);
+}
+
+/* Adds the squared error over the covered pixels of one render to *se, their values to *cnt. */
+static void covered_error(const ls_real *img, const ls_real *target, size_t np, double *se, size_t *cnt)
+{
+    size_t i;
+    for (i = 0; i < np; i++) {
+        int c;
+        if (!(target[4 * i + 3] > 0)) continue;
+        for (c = 0; c < 3; c++) {
+            double d = (double)img[4 * i + (size_t)c] - (double)target[4 * i + (size_t)c];
+            *se += d * d;
+        }
+        *cnt += 3;
+    }
 }
 
 /* PSNR over the covered pixels of views [k0, k1) of the S = 4 renders. */
 static double views_psnr(tx_problem *p, const ls_real *texels, uint32_t side, uint32_t k0, uint32_t k1, ls_real *buf)
 {
     double se = 0;
-    size_t cnt = 0, i, np = (size_t)p->res * p->res;
+    size_t cnt = 0;
     uint32_t k;
     for (k = k0; k < k1; k++) {
         if (!render4(p, texels, side, k, buf)) return -1;
-        for (i = 0; i < np; i++) {
-            int c;
-            if (!(p->targets[k][4 * i + 3] > 0)) continue;
-            for (c = 0; c < 3; c++) {
-                double d = (double)buf[4 * i + (size_t)c] - (double)p->targets[k][4 * i + (size_t)c];
-                se += d * d;
-            }
-            cnt += 3;
-        }
+        covered_error(buf, p->targets[k], (size_t)p->res * p->res, &se, &cnt);
     }
     return cnt > 0 ? psnr(se / (double)cnt) : -1;
 }
 
-/* PSNR of a side^2 texture against the truth, both box-filtered to the footprint. */
-static double texture_psnr(const tx_problem *p, const ls_real *texels, uint32_t side)
+/* PSNR over the covered pixels of the held-out views at res_hi (buf: res_hi^2 RGBA). */
+static double views_psnr_hi(tx_problem *p, const ls_real *texels, uint32_t side, ls_real *buf)
 {
-    uint32_t fs = side / p->footprint > 0 ? p->footprint : side, ft = p->truth_side / (side / fs);
+    double se = 0;
+    size_t cnt = 0;
+    uint32_t t;
+    for (t = 0; t < TX_TEST; t++) {
+        if (!render_in(p, &p->vis_hi, texels, side, p->ntrain + TX_VAL + t, buf)) return -1;
+        covered_error(buf, p->targets_hi[t], (size_t)p->res_hi * p->res_hi, &se, &cnt);
+    }
+    return cnt > 0 ? psnr(se / (double)cnt) : -1;
+}
+
+/* PSNR of a side^2 texture against the truth, both box-filtered to blocks
+ * of `block` texels of the fitted texture (1: texel by texel, the truth
+ * box-filtered to the fitted side). */
+static double texture_psnr(const tx_problem *p, const ls_real *texels, uint32_t side, uint32_t block)
+{
+    uint32_t fs = side / block > 0 ? block : side, ft = p->truth_side / (side / fs);
     uint32_t os = side / fs;
     double *a = (double *)malloc(sizeof(double) * 3 * os * os), *b = (double *)malloc(sizeof(double) * 3 * os * os);
     double se = 0;
@@ -405,16 +438,16 @@ static const char *method_label(const tx_problem *p, int m)
 }
 
 typedef struct tx_run {
-    double lr, weight, seconds, setup, loss, val, test, tex;
+    double lr, weight, seconds, setup, loss, val, test, test_hi, tex, tex_full;
     uint32_t iters;
     int ok;
 } tx_run;
 
-/* One run of method m for `seconds` from grey; the texels stay in x
- * (side^2 x 3). Large steps uses par (built by make_param, its setup timed
- * there and reported apart). */
-static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds, ls_real *x, ls_real *buf,
-                  ls_param *par)
+/* One run of method m for `seconds` (or, iters > 0, that many iterations)
+ * from grey; the texels stay in x (side^2 x 3). Large steps uses par (built
+ * by make_param, its setup timed there and reported apart). */
+static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds, uint32_t iters, ls_real *x,
+                  ls_real *buf, ls_param *par)
 {
     ls_arena *a = p->arena;
     ls_arena_mark mark = ls_arena_save(a);
@@ -490,7 +523,7 @@ static tx_run fit(tx_problem *p, int m, double lr, double weight, double seconds
         }
         r.iters++;
         r.seconds = now_s() - t0;
-        if (r.seconds >= seconds) break;
+        if (iters > 0 ? r.iters >= iters : r.seconds >= seconds) break;
     }
     r.ok = 1;
 done:
@@ -527,7 +560,9 @@ static void evaluate(tx_problem *p, tx_run *r, const ls_real *x, ls_real *buf, i
     r->val = views_psnr(p, x, p->side, v0, v0 + TX_VAL, buf);
     if (test) {
         r->test = views_psnr(p, x, p->side, v0 + TX_VAL, v0 + TX_VAL + TX_TEST, buf);
-        r->tex = texture_psnr(p, x, p->side);
+        r->test_hi = views_psnr_hi(p, x, p->side, buf);
+        r->tex = texture_psnr(p, x, p->side, p->footprint);
+        r->tex_full = texture_psnr(p, x, p->side, 1);
     }
 }
 
@@ -592,6 +627,7 @@ static int setup(tx_problem *p, const tx_args *a)
     p->side = a->side;
     p->ls_adam = a->ls_adam;
     p->res = a->res;
+    p->res_hi = a->res_hi;
     p->ntrain = a->views;
     p->nviews = a->views + TX_VAL + TX_TEST;
     if (!make_scene(p, a->scene) || !load_truth(p, a->image, 1024)) return 0;
@@ -600,7 +636,9 @@ static int setup(tx_problem *p, const tx_args *a)
     p->opts.mode = LS_SHADE_COLOR;
     p->opts.uvs = p->uv;
     p->opts.background[0] = p->opts.background[1] = p->opts.background[2] = (ls_real)0.1;
-    if (ls_vis_init(&p->vis4, p->arena, a->res, a->res, TX_SS_TARGET, p->nv) != LS_OK) return 0;
+    if (ls_vis_init(&p->vis4, p->arena, a->res, a->res, TX_SS_TARGET, p->nv) != LS_OK ||
+        ls_vis_init(&p->vis_hi, p->arena, p->res_hi, p->res_hi, TX_SS_TARGET, p->nv) != LS_OK)
+        return 0;
     for (k = 0; k < p->nviews; k++) {
         uint32_t cov = 0;
         size_t i;
@@ -625,6 +663,12 @@ static int setup(tx_problem *p, const tx_args *a)
         cov /= a->fit_ss * a->fit_ss;
         if (cov > maxcov) maxcov = cov;
     }
+    for (k = 0; k < TX_TEST; k++) {
+        p->targets_hi[k] = (ls_real *)ls_arena_alloc(p->arena, 4u * p->res_hi * p->res_hi, sizeof(ls_real));
+        if (p->targets_hi[k] == NULL ||
+            !render_in(p, &p->vis_hi, p->truth, p->truth_side, p->ntrain + TX_VAL + k, p->targets_hi[k]))
+            return 0;
+    }
     /* footprint: texels per pixel along the quad (sphere: along the equator's visible half) */
     {
         double px = sqrt((double)maxcov) * (sphere ? 3.14159265358979323846 : 1.0), f = a->side / (px > 1 ? px : 1);
@@ -641,7 +685,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     ls_arena arena;
     unsigned char *work;
     size_t work_bytes;
-    ls_real *fitted[3], *buf;
+    ls_real *fitted[3], *fitted_eq, *buf;
     tx_run best[3];
     FILE *f;
     char path[4096], tmp[4096];
@@ -650,6 +694,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     a.image = TX_DEFAULT_IMAGE;
     a.scene = "quad";
     a.res = 108;
+    a.res_hi = TX_RES_HI;
     a.fit_ss = 4;
     a.own_targets = 0;
     a.views = 8;
@@ -676,6 +721,8 @@ int ls_cmd_experiment_texture(int argc, char **argv)
             if (a.fit_ss == 3) return fprintf(stderr, "largesteps " TX_CMD ": --fit-ss: '3' is not 1, 2 or 4\n"), 2;
         } else if (strcmp(opt, "--res") == 0) {
             if (!ls_arg_u32(TX_CMD, opt, v, 8, 1024, &a.res)) return 2;
+        } else if (strcmp(opt, "--res-hi") == 0) {
+            if (!ls_arg_u32(TX_CMD, opt, v, 8, 2048, &a.res_hi)) return 2;
         } else if (strcmp(opt, "--views") == 0) {
             if (!ls_arg_u32(TX_CMD, opt, v, 1, TX_MAX_VIEWS - TX_VAL - TX_TEST, &a.views)) return 2;
         } else if (strcmp(opt, "--side") == 0) {
@@ -707,9 +754,13 @@ int ls_cmd_experiment_texture(int argc, char **argv)
     p.arena = &arena;
     if (ls_posix_mkdir_p(a.out) != 0) return fprintf(stderr, "largesteps experiment texture: cannot create %s\n", a.out), 1;
     if (!setup(&p, &a)) return fprintf(stderr, "largesteps experiment texture: setup failed\n"), 1;
-    buf = (ls_real *)ls_arena_alloc(&arena, 16u * a.res * a.res * TX_SS_TARGET * TX_SS_TARGET / 16u, sizeof(ls_real));
+    /* one render: S = 4 samples of a view at the training resolution, or the RGBA of one at TX_RES_HI */
+    buf = (ls_real *)ls_arena_alloc(&arena, 16u * a.res * a.res > 4u * a.res_hi * a.res_hi ? 16u * a.res * a.res
+                                                                                       : 4u * a.res_hi * a.res_hi,
+                                    sizeof(ls_real));
     for (m = 0; m < 3; m++) fitted[m] = (ls_real *)ls_arena_alloc(&arena, 3u * a.side * a.side, sizeof(ls_real));
-    if (buf == NULL || fitted[0] == NULL || fitted[1] == NULL || fitted[2] == NULL) return fprintf(stderr, "out of memory\n"), 1;
+    fitted_eq = (ls_real *)ls_arena_alloc(&arena, 3u * a.side * a.side, sizeof(ls_real));
+    if (buf == NULL || fitted_eq == NULL || fitted[0] == NULL || fitted[1] == NULL || fitted[2] == NULL) return fprintf(stderr, "out of memory\n"), 1;
     for (m = 0; m < 3; m++) { /* grey: what the figure shows for a method not run */
         size_t q;
         for (q = 0; q < 3u * (size_t)a.side * a.side; q++) fitted[m][q] = (ls_real)0.5;
@@ -745,7 +796,7 @@ int ls_cmd_experiment_texture(int argc, char **argv)
             }
             for (gi = 0; gi < a.lr[m].n; gi++) {
                 double lr = a.lr[m].v[gi];
-                tx_run r = fit(&p, m, lr, w, a.tune_s, fitted[m], buf, m == M_LS ? &par : NULL);
+                tx_run r = fit(&p, m, lr, w, a.tune_s, 0, fitted[m], buf, m == M_LS ? &par : NULL);
                 if (!r.ok) {
                     fprintf(stderr, "largesteps experiment texture: %s lr %g failed\n", method_label(&p, m), lr);
                     continue;
@@ -759,22 +810,43 @@ int ls_cmd_experiment_texture(int argc, char **argv)
             ls_arena_restore(&arena, pm);
         }
     }
-    fprintf(f, "\n## equal time (%.0f s of iterations each), tuned settings\n\n| method | lr | w or lambda | setup (s) | iterations | seconds | train loss | held-out PSNR (dB) | texture PSNR, low-passed (dB) |\n|---|---|---|---|---|---|---|---|---|\n",
-            a.run_s);
-    for (m = 0; m < 3; m++) {
-        ls_arena_mark pm = ls_arena_save(&arena);
-        ls_param par;
-        double setup = 0;
-        tx_run r;
-        if (!best[m].ok) continue;
-        if (m == M_LS && (setup = make_param(&p, best[m].weight, &par)) < 0) continue;
-        r = fit(&p, m, best[m].lr, best[m].weight, a.run_s, fitted[m], buf, m == M_LS ? &par : NULL);
-        ls_arena_restore(&arena, pm);
-        if (!r.ok) continue;
-        evaluate(&p, &r, fitted[m], buf, 1);
-        fprintf(f, "| %s | %g | %g | %.2f | %u | %.1f | %.3g | %.2f | %.2f |\n", method_label(&p, m), r.lr, r.weight, setup,
-                (unsigned)r.iters, r.seconds, r.loss, r.test, r.tex);
-        fflush(f);
+    /* equal time, then equal iterations (the iterations of the large-steps
+     * run, else of the slowest): the tuned settings from grey each time; the
+     * figure shows the equal-time results */
+    {
+        uint32_t equal_iters = 0, pass;
+        for (pass = 0; pass < 2; pass++) {
+            if (pass == 0)
+                fprintf(f, "\n## equal time (%g s of iterations each), tuned settings\n\n", a.run_s);
+            else
+                fprintf(f, "\n## equal iterations (%u each: the large-steps run's at equal time, else the slowest's), tuned "
+                           "settings\n\n",
+                        (unsigned)equal_iters);
+            fprintf(f, "| method | lr | w or lambda | setup (s) | iterations | seconds | train loss | held-out PSNR %u^2 "
+                       "(dB) | held-out PSNR %u^2 (dB) | texture PSNR (dB) | texture PSNR, low-passed (dB) |\n"
+                       "|---|---|---|---|---|---|---|---|---|---|---|\n",
+                    (unsigned)a.res, (unsigned)a.res_hi);
+            for (m = 2; m >= 0; m--) { /* large steps first: its iterations set the second pass */
+                ls_arena_mark pm = ls_arena_save(&arena);
+                ls_real *x = pass == 0 ? fitted[m] : fitted_eq;
+                ls_param par;
+                double setup = 0;
+                tx_run r;
+                if (!best[m].ok || (pass == 1 && equal_iters == 0)) continue;
+                if (m == M_LS && (setup = make_param(&p, best[m].weight, &par)) < 0) continue;
+                r = fit(&p, m, best[m].lr, best[m].weight, pass == 0 ? a.run_s : 1e30, pass == 0 ? 0 : equal_iters, x,
+                        buf, m == M_LS ? &par : NULL);
+                ls_arena_restore(&arena, pm);
+                if (!r.ok) continue;
+                if (pass == 0 && (m == M_LS || !best[M_LS].ok) && (equal_iters == 0 || r.iters < equal_iters))
+                    equal_iters = r.iters;
+                evaluate(&p, &r, x, buf, 1);
+                fprintf(f, "| %s | %g | %g | %.2f | %u | %.1f | %.3g | %.2f | %.2f | %.2f | %.2f |\n", method_label(&p, m),
+                        r.lr, r.weight, setup, (unsigned)r.iters, r.seconds, r.loss, r.test, r.test_hi, r.tex_full,
+                        r.tex);
+                fflush(f);
+            }
+        }
     }
     {
         ls_real *grey = (ls_real *)ls_arena_alloc(&arena, 3u * a.side * a.side, sizeof(ls_real));
@@ -783,7 +855,10 @@ int ls_cmd_experiment_texture(int argc, char **argv)
         if (grey == NULL) return fprintf(stderr, "out of memory\n"), 1;
         for (q = 0; q < 3u * (size_t)a.side * a.side; q++) grey[q] = (ls_real)0.5;
         tp = views_psnr(&p, grey, a.side, p.ntrain + TX_VAL, p.nviews, buf);
-        fprintf(f, "\n(The start, grey 0.5: held-out PSNR %.2f dB, texture PSNR %.2f dB.)\n", tp, texture_psnr(&p, grey, a.side));
+        fprintf(f, "\n(The start, grey 0.5: held-out PSNR %.2f dB at %u^2, %.2f dB at %u^2; texture PSNR %.2f dB, "
+                   "low-passed %.2f dB.)\n",
+                tp, (unsigned)a.res, views_psnr_hi(&p, grey, a.side, buf), (unsigned)a.res_hi, texture_psnr(&p, grey, a.side, 1),
+                texture_psnr(&p, grey, a.side, p.footprint));
     }
     if (!write_figure(&p, a.out, fitted, buf)) fprintf(stderr, "largesteps experiment texture: cannot write the figure\n");
     else fprintf(f, "\nFigure: %s/texture.png (target texture | held-out target render | naive | regularized | large steps).\n", a.out);
