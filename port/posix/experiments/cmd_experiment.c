@@ -178,48 +178,6 @@ static double initial_radius(const ls_mesh *m)
     return r > 0 ? r : 1;
 }
 
-/* mu_1, the smallest nonzero eigenvalue of the initial mesh's uniform
- * Laplacian (0 when it cannot be computed): inverse iteration on
- * I + 1e4 L with the constant mode taken out, the Rayleigh quotient of L.
- * It sets how far M^-1 amplifies the mean mode over the smoothest shape
- * mode: (1 - alpha + alpha mu_1) / (1 - alpha). */
-static double smallest_mode(const ls_mesh *m, ls_arena *arena)
-{
-    const double w = 1e4;
-    ls_arena_mark mark = ls_arena_save(arena);
-    const uint32_t n = m->vertex_count;
-    ls_param_config c;
-    ls_param p;
-    ls_real *x, *u;
-    double mu = 0;
-    uint32_t i, it;
-    ls_param_config_default(&c);
-    c.form = LS_SYSTEM_LAMBDA;
-    c.weight = (ls_real)w;
-    c.k = 1;
-    x = (ls_real *)ls_arena_alloc(arena, n, sizeof(ls_real));
-    u = (ls_real *)ls_arena_alloc(arena, n, sizeof(ls_real));
-    if (n < 4 || x == NULL || u == NULL || ls_param_init_mesh(&p, m, &c, arena, NULL) != LS_OK) {
-        ls_arena_restore(arena, mark);
-        return 0;
-    }
-    for (i = 0; i < n; i++) x[i] = (ls_real)((double)((i * 2654435761u) % 1000u) / 1000.0 - 0.5);
-    for (it = 0; it < 100; it++) {
-        double mean = 0, norm = 0, num = 0;
-        if (ls_param_from_differential(&p, x, u) != LS_OK) break;
-        for (i = 0; i < n; i++) mean += (double)u[i];
-        mean /= n;
-        for (i = 0; i < n; i++) norm += ((double)u[i] - mean) * ((double)u[i] - mean);
-        if (!(norm > 0)) break;
-        for (i = 0; i < n; i++) x[i] = (ls_real)(((double)u[i] - mean) / sqrt(norm));
-        if (ls_param_to_differential(&p, x, u) != LS_OK) break;
-        for (i = 0; i < n; i++) num += (double)x[i] * ((double)u[i] - (double)x[i]) / w;
-        mu = num;
-    }
-    ls_arena_restore(arena, mark);
-    return mu;
-}
-
 /* The alpha form at the paper's fixed step, with the mean of dL/du kept
  * and/or projected out. */
 static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
@@ -227,7 +185,7 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
     static const double alphas[8] = {0, 0.25, 0.5, 0.75, 0.95, 0.98, 0.99, 0.999};
     static const char *paper[8] = {"0.78-0.91", "0.78-0.91", "0.78-0.91", "0.156-0.158", "0.156-0.158",
                                    "0.156-0.158", "0.156-0.158", "0.127"};
-    const double radius = initial_radius(&p->initial), mu = smallest_mode(&p->initial, arena);
+    const double radius = initial_radius(&p->initial), mu = ls_job_smallest_mode(&p->initial, arena);
     ls_fit_config c;
     char label[96], cell[64];
     uint32_t mean;

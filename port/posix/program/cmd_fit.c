@@ -577,6 +577,19 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         fprintf(stderr, "largesteps fit: warning: the target has %s%u components; the icosphere is one genus-0 surface "
                         "and cannot match it (--init-coarse 0.03 starts from the target's own topology)\n",
                 p.target_genus > 0 ? "genus > 0 and " : "", (unsigned)p.target_components);
+    if (a.cfg.method == LS_FIT_LARGE_STEPS && a.cfg.mean_mode == LS_FIT_MEAN_KEEP) {
+        /* M^-1 moves the mesh's translation 1 + lambda mu_1 times as far as its smoothest shape; far above
+           that shape, UniformAdam's one scale turns the steps into translation jitter (docs/experiments.md) */
+        const double w = (double)a.cfg.weight, lambda = a.cfg.form == LS_SYSTEM_ALPHA ? w / (1 - w) : w;
+        const double mu = ls_job_smallest_mode(&p.initial, &arena), ratio = 1 + lambda * mu;
+        if (ratio > LS_JOB_MEAN_RATIO_WARN)
+            fprintf(stderr, "largesteps fit: warning: with lambda %g (alpha %g) the initial mesh's translation moves %.0f "
+                            "times as far per step as its smoothest shape (its smallest Laplacian eigenvalue is %.3g); "
+                            "the fit may jitter or leave the views (measured: it left them at 68 and converged at 5). A "
+                            "finer start (--level: each level divides the eigenvalue by about 4) or a lower --alpha "
+                            "brings it below %g\n",
+                    lambda, lambda / (1 + lambda), ratio, mu, (double)LS_JOB_MEAN_RATIO_WARN);
+    }
     printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
            p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
            (unsigned)p.initial.vertex_count, (unsigned)p.views, (unsigned)p.width, (unsigned)p.height);

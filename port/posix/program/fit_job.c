@@ -19,6 +19,47 @@ const ls_real ls_job_default_sh[27] = {
     (ls_real)1.55, (ls_real)0.60, (ls_real)0.35, (ls_real)-0.25, (ls_real)0.05, (ls_real)0.04, (ls_real)-0.06, (ls_real)0.02, (ls_real)-0.05,
 };
 
+double ls_job_smallest_mode(const ls_mesh *m, ls_arena *arena)
+{
+    const double w = 1e3;
+    ls_arena_mark mark = ls_arena_save(arena);
+    const uint32_t n = m->vertex_count;
+    ls_param_config c;
+    ls_param p;
+    ls_real *x, *u;
+    double mu = 0;
+    uint32_t i, it;
+    ls_param_config_default(&c);
+    c.form = LS_SYSTEM_LAMBDA;
+    c.weight = (ls_real)w;
+    c.k = 1;
+    x = (ls_real *)ls_arena_alloc(arena, n, sizeof(ls_real));
+    u = (ls_real *)ls_arena_alloc(arena, n, sizeof(ls_real));
+    if (n < 4 || x == NULL || u == NULL || ls_param_init_mesh(&p, m, &c, arena, NULL) != LS_OK) {
+        ls_arena_restore(arena, mark);
+        return 0;
+    }
+    for (i = 0; i < n; i++) x[i] = (ls_real)((double)((i * 2654435761u) % 1000u) / 1000.0 - 0.5);
+    for (it = 0; it < 100; it++) {
+        double mean = 0, norm = 0, num = 0;
+        if (ls_param_from_differential(&p, x, u) != LS_OK) break;
+        for (i = 0; i < n; i++) mean += (double)u[i];
+        mean /= n;
+        for (i = 0; i < n; i++) norm += ((double)u[i] - mean) * ((double)u[i] - mean);
+        if (!(norm > 0)) break;
+        for (i = 0; i < n; i++) x[i] = (ls_real)(((double)u[i] - mean) / sqrt(norm));
+        if (ls_param_to_differential(&p, x, u) != LS_OK) break;
+        for (i = 0; i < n; i++) num += (double)x[i] * ((double)u[i] - (double)x[i]) / w;
+        if (it > 0 && fabs(num - mu) <= 1e-6 * mu) {
+            mu = num;
+            break;
+        }
+        mu = num;
+    }
+    ls_arena_restore(arena, mark);
+    return mu;
+}
+
 int ls_job_parse_remesh(const char *text, uint32_t *at, uint32_t *count)
 {
     const char *p = text;

@@ -175,6 +175,19 @@ int ls_job_metrics(const ls_job_problem *p, const ls_mesh *result, ls_arena *are
  * success; 0 (and *count unspecified) when malformed. */
 int ls_job_parse_remesh(const char *text, uint32_t *at, uint32_t *count);
 
+/* mu_1, the smallest nonzero eigenvalue of the mesh's uniform Laplacian (0
+ * when it cannot be computed: fewer than 4 vertices, no memory). With the
+ * large-steps weight lambda (alpha form: alpha / (1 - alpha)), M^-1 moves
+ * the mesh's mean (its translation) 1 + lambda mu_1 times as far per unit
+ * step as its smoothest shape mode. Inverse iteration on I + 1000 L with the
+ * constant taken out, at most 100 solves (in `arena`, released). */
+double ls_job_smallest_mode(const ls_mesh *m, ls_arena *arena);
+
+/* largesteps fit warns when 1 + lambda mu_1 of its start exceeds this: the
+ * default fit left the views at alpha 0.999 from the 642-vertex icosphere
+ * (68) and the paper's sweep converged from the 10242-vertex one (5.2). */
+#define LS_JOB_MEAN_RATIO_WARN 10
+
 /* Wall clock in milliseconds. */
 double ls_job_now_ms(void);
 
