@@ -151,12 +151,13 @@ expect fit_bad_alpha 2 "--alpha: '1' is not a number in \[0, 1)" "$ls" fit --alp
 expect fit_missing_target 1 "nothing.obj" "$ls" fit "$out/nothing.obj" -o "$out/x"
 # alpha 0.999 from the 642-vertex icosphere (smallest Laplacian eigenvalue 0.0675, computed apart by
 # inverse iteration): the translation moves 1 + 999 x 0.0675 = 68 times as far as the smoothest shape, a warning;
-# the default (1 + 19 x 0.0675 = 2.3) and the 10242-vertex start at alpha 0.999 (5.2) have none
+# the default (1 + 19 x 0.0675 = 2.3) and alpha 0.98 from the 2562-vertex start (1 + 49 x 0.0170 = 1.8) have none
 expect fit_mean_ratio_warning 0 "moves 68 times as far per step as its smoothest shape (its smallest Laplacian eigenvalue is 0.0675)" \
     "$ls" fit --alpha 0.999 --iters 0 --res 16 --views 1 --quiet -o "$out/meanwarn"
 if "$ls" fit --iters 0 --res 16 --views 1 --quiet -o "$out/meanwarn0" 2>&1 | grep -q "smoothest shape" ||
-    "$ls" fit --alpha 0.999 --level 5 --iters 0 --res 16 --views 1 --quiet -o "$out/meanwarn5" 2>&1 | grep -q "smoothest shape"; then
-    bad "fit_mean_ratio_no_warning"; else ok "fit_mean_ratio_no_warning (alpha 0.95 from level 3, alpha 0.999 from level 5)"; fi
+    "$ls" fit --alpha 0.98 --level 4 --iters 0 --res 16 --views 1 --quiet -o "$out/meanwarn4" 2>&1 | grep -q "smoothest shape"; then
+    bad "fit_mean_ratio_no_warning"; else ok "fit_mean_ratio_no_warning (alpha 0.95 from level 3, alpha 0.98 from level 4)"; fi
+expect fit_mean_ratio_warning_098 0 "moves 4.3 times as far" "$ls" fit --alpha 0.98 --iters 0 --res 16 --views 1 --quiet -o "$out/meanwarn98"
 printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' > "$out/broken.obj"
 expect fit_malformed_mesh 1 "broken.obj" "$ls" fit "$out/broken.obj" -o "$out/x"
 printf 'largesteps-scene 1\nresolution 32 32\ncamera 0 0 3 0 0 0\nlighting sun\ntarget mesh bunny.obj\n' > "$out/scene/bad.txt"

@@ -583,12 +583,12 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         const double w = (double)a.cfg.weight, lambda = a.cfg.form == LS_SYSTEM_ALPHA ? w / (1 - w) : w;
         const double mu = ls_job_smallest_mode(&p.initial, &arena), ratio = 1 + lambda * mu;
         if (ratio > LS_JOB_MEAN_RATIO_WARN)
-            fprintf(stderr, "largesteps fit: warning: with lambda %g (alpha %g) the initial mesh's translation moves %.0f "
+            fprintf(stderr, "largesteps fit: warning: with lambda %g (alpha %g) the initial mesh's translation moves %.2g "
                             "times as far per step as its smoothest shape (its smallest Laplacian eigenvalue is %.3g); "
-                            "the fit may jitter or leave the views (measured: it left them at 68 and converged at 5). A "
-                            "finer start (--level: each level divides the eigenvalue by about 4) or a lower --alpha "
-                            "brings it below %g\n",
-                    lambda, lambda / (1 + lambda), ratio, mu, (double)LS_JOB_MEAN_RATIO_WARN);
+                            "from %g up the default fit was measured to jitter or leave the views at every learning "
+                            "rate tried. A finer start (--level: each level divides the eigenvalue by about 4) or a "
+                            "lower --alpha brings it below %g\n",
+                    lambda, lambda / (1 + lambda), ratio, mu, (double)LS_JOB_MEAN_RATIO_WARN, (double)LS_JOB_MEAN_RATIO_WARN);
     }
     printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
            p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
