@@ -181,7 +181,7 @@ check experiment_lambda_sweep "$ls" experiment lambda-sweep --form alpha --mean 
 sweep_rows() { grep '^| alpha' "$out/sweep/lambda-sweep.md" | sed -n "$1" | cut -d'|' -f3-7; }
 if [ "$(grep -c '^| alpha .* | 0\.[0-9.-]* |$' "$out/sweep/lambda-sweep.md" 2>/dev/null)" = 16 ] &&
     grep -q 'step 0.001 in the target' "$out/sweep/lambda-sweep.md" && grep -q 'projected out' "$out/sweep/lambda-sweep.md" &&
-    [ "$(sweep_rows 1,8p)" != "$(sweep_rows 9,16p)" ]; then
+    [ "$(sweep_rows 1,8p)" != "$(sweep_rows 9,16p)" ] && [ -s "$out/sweep/lambda-sweep.png" ]; then
     ok "experiment_lambda_sweep_both_means"; else bad "experiment_lambda_sweep_both_means"; fi
 expect experiment_sweep_bad_mean 2 "--mean: 'foo' is not keep, project or both" "$ls" experiment lambda-sweep --mean foo -o "$out/x"
 expect experiment_sweep_bad_step 2 "--step: '0' is not a number in (0, 10\]" "$ls" experiment lambda-sweep --step 0 -o "$out/x"

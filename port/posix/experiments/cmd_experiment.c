@@ -61,7 +61,8 @@ static int usage(FILE *f)
                "       largesteps experiment tradeoffs [TARGET] [options] -o DIR   (--help for its options)\n"
                "       largesteps experiment texture [options] -o DIR   (texture reconstruction; --help)\n"
                "  TARGET      a mesh (OBJ, PLY, OFF) or a scene (default: the embedded bunny)\n"
-               "  -o DIR      output directory (required): NAME.md, compare.png for compare\n"
+               "  -o DIR      output directory (required): NAME.md, compare.png for compare, lambda-sweep.png\n"
+               "              for lambda-sweep (a contact sheet of the results)\n"
                "  --iters N   iterations per run (1..1000000; default 400)\n"
                "  --res R     render size R x R (8..4096; default 64)\n"
                "  --views N   views (1..1024; default 16; the views experiment sets its own)\n"
@@ -160,6 +161,43 @@ static void config(ls_fit_config *c, uint32_t method, ls_real lr)
     c->optim.lr = lr;
 }
 
+/* Renders of every view of a result (S = 1), for the contact sheet. */
+typedef struct view_set {
+    ls_real **v;
+    size_t bytes; /* of one view */
+} view_set;
+
+static int views_alloc(const ls_job_problem *p, ls_arena *arena, view_set *s)
+{
+    uint32_t k;
+    s->bytes = 4u * (size_t)p->width * p->height * sizeof(ls_real);
+    s->v = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
+    for (k = 0; s->v != NULL && k < p->views; k++) {
+        s->v[k] = (ls_real *)ls_arena_alloc(arena, s->bytes / sizeof(ls_real), sizeof(ls_real));
+        if (s->v[k] == NULL) s->v = NULL;
+    }
+    return s->v != NULL;
+}
+
+/* DIR/NAME: a contact sheet, a row per mesh, a column for each of the
+ * first `cols` views. */
+static void write_sheet(const ls_job_problem *p, const exp_args *a, const char *name, const view_set *rows,
+                        uint32_t nrows, uint32_t cols, ls_arena *arena)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
+    ls_contact sheet;
+    uint32_t r, v;
+    ls_status st;
+    if (cols > p->views) cols = p->views;
+    st = ls_contact_init(&sheet, arena, nrows * cols, p->width, p->height, cols, 1, NULL);
+    for (r = 0; r < nrows && st == LS_OK; r++)
+        for (v = 0; v < cols && st == LS_OK; v++) st = ls_contact_put_rgba(&sheet, r * cols + v, rows[r].v[v]);
+    if ((st != LS_OK || !ls_posix_write_image_in(a->out, name, &sheet.image, &png, arena, &st)) && st != LS_OK)
+        fprintf(stderr, "largesteps experiment: cannot encode %s/%s: %s\n", a->out, name, ls_status_str(st)); /* a file error: reported by the writer */
+    ls_arena_restore(arena, mark);
+}
+
 /* R, the unit of the fit's learning rate (fit.h): half the largest side of
  * the initial mesh's bounding box (1 for a mesh collapsed to a point). */
 static double initial_radius(const ls_mesh *m)
@@ -186,10 +224,18 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
     static const char *paper[8] = {"0.78-0.91", "0.78-0.91", "0.78-0.91", "0.156-0.158", "0.156-0.158",
                                    "0.156-0.158", "0.156-0.158", "0.127"};
     const double radius = initial_radius(&p->initial), mu = ls_job_smallest_mode(&p->initial, arena);
+    ls_arena_mark mark = ls_arena_save(arena);
+    view_set rows[18]; /* target, initial, then each alpha's result with the mean kept, then projected */
+    uint32_t nrows = 2, r;
     ls_fit_config c;
     char label[96], cell[64];
     uint32_t mean;
-    int i;
+    int i, ok = 1;
+    ls_diag d;
+    ls_diag_clear(&d);
+    for (r = 0; r < 18 && ok; r++) ok = views_alloc(p, arena, &rows[r]);
+    ok = ok && ls_job_render(p, &p->target, 1, rows[0].v, arena, &d) == LS_OK &&
+         ls_job_render(p, &p->initial, 1, rows[1].v, arena, &d) == LS_OK;
     for (mean = 0; mean < 2; mean++) {
         if ((a->means & (1u << mean)) == 0) continue;
         fprintf(f, "## alpha form, step %g in the target's units (lr %.6g R, R = %.6g), %u iterations, L1, the mean "
@@ -210,7 +256,9 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
             c.form = LS_SYSTEM_ALPHA;
             c.weight = (ls_real)alphas[i];
             c.mean_mode = mean == 0 ? LS_FIT_MEAN_KEEP : LS_FIT_MEAN_PROJECT;
-            e = run_one(p, &c, a->iters, 0, NULL, 0, arena, NULL);
+            e = run_one(p, &c, a->iters, 0, NULL, 0, arena, ok ? rows[nrows].v : NULL);
+            if (ok && !e.ok) ok = 0;
+            nrows++;
             snprintf(label, sizeof label, "alpha %g (lambda %.3g)", alphas[i], alphas[i] / (1 - alphas[i]));
             snprintf(cell, sizeof cell, "%.3g | %s", (1 - alphas[i] + alphas[i] * mu) / (1 - alphas[i]), paper[i]);
             row_end(f, label, &e, cell);
@@ -218,6 +266,13 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
         }
         fprintf(f, "\n");
     }
+    if (ok) {
+        write_sheet(p, a, "lambda-sweep.png", rows, nrows, 4, arena);
+        fprintf(f, "Contact sheet: lambda-sweep.png (rows: target, initial, then each alpha from 0 to 0.999%s; the "
+                   "first %u views).\n\n",
+                a->means == 3 ? ", the mean kept, then projected" : "", (unsigned)(p->views < 4 ? p->views : 4));
+    }
+    ls_arena_restore(arena, mark);
 }
 
 /* The lambda form, the learning rate tuned per lambda. */
@@ -245,24 +300,6 @@ static void sweep_lambda(FILE *f, const ls_job_problem *p, const exp_args *a, ls
         row(f, label, &best);
         fflush(f);
     }
-}
-
-/* Renders of every view of a result (S = 1), for the contact sheet. */
-typedef struct view_set {
-    ls_real **v;
-    size_t bytes; /* of one view */
-} view_set;
-
-static int views_alloc(const ls_job_problem *p, ls_arena *arena, view_set *s)
-{
-    uint32_t k;
-    s->bytes = 4u * (size_t)p->width * p->height * sizeof(ls_real);
-    s->v = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
-    for (k = 0; s->v != NULL && k < p->views; k++) {
-        s->v[k] = (ls_real *)ls_arena_alloc(arena, s->bytes / sizeof(ls_real), sizeof(ls_real));
-        if (s->v[k] == NULL) s->v = NULL;
-    }
-    return s->v != NULL;
 }
 
 /* The best (lowest H) of a grid of learning rates and weights for one
@@ -301,23 +338,6 @@ static void method_label(char *label, size_t cap, const char *name, double lr, d
     int n = w > 0 ? snprintf(label, cap, "%s, lr %g, weight %g", name, lr, w) : snprintf(label, cap, "%s, lr %g", name, lr);
     if (n > 0 && (size_t)n < cap && e->ok && e->iterations < iters)
         snprintf(label + n, cap - (size_t)n, ", %u iterations", (unsigned)e->iterations);
-}
-
-/* DIR/compare.png: a row per mesh (target, initial, then each method's
- * equal-time result), a column per view. */
-static void compare_sheet(const ls_job_problem *p, const exp_args *a, const view_set *rows, uint32_t nrows,
-                          ls_arena *arena)
-{
-    ls_arena_mark mark = ls_arena_save(arena);
-    ls_image_format png = {LS_IMAGE_PNG, 4, 8, 0};
-    ls_contact sheet;
-    uint32_t r, v;
-    ls_status st = ls_contact_init(&sheet, arena, nrows * p->views, p->width, p->height, p->views, 1, NULL);
-    for (r = 0; r < nrows && st == LS_OK; r++)
-        for (v = 0; v < p->views && st == LS_OK; v++) st = ls_contact_put_rgba(&sheet, r * p->views + v, rows[r].v[v]);
-    if ((st != LS_OK || !ls_posix_write_image_in(a->out, "compare.png", &sheet.image, &png, arena, &st)) && st != LS_OK)
-        fprintf(stderr, "largesteps experiment: cannot encode %s/compare.png: %s\n", a->out, ls_status_str(st)); /* a file error: reported by the writer */
-    ls_arena_restore(arena, mark);
 }
 
 static void compare(FILE *f, const ls_job_problem *p, const exp_args *a, ls_arena *arena)
@@ -360,7 +380,7 @@ static void compare(FILE *f, const ls_job_problem *p, const exp_args *a, ls_aren
     method_label(label, sizeof label, names[3], large_lr, 0, &large, a->iters);
     row(f, label, &large);
     if (ok) {
-        compare_sheet(p, a, rows, 6, arena);
+        write_sheet(p, a, "compare.png", rows, 6, p->views, arena);
         fprintf(f, "\nContact sheet: compare.png (rows: target, initial, naive, Laplacian, bilaplacian, large steps at "
                    "equal time; a column per view).\n");
     }
