@@ -202,17 +202,12 @@ static void write_sheet(const ls_job_problem *p, const exp_args *a, const char *
  * the initial mesh's bounding box (1 for a mesh collapsed to a point). */
 static double initial_radius(const ls_mesh *m)
 {
-    double lo[3], hi[3], r = 0;
-    uint32_t v, k;
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->vertex_count > 0 ? (double)m->positions[k] : 0;
-    for (v = 0; v < m->vertex_count; v++)
-        for (k = 0; k < 3; k++) {
-            double x = (double)m->positions[3u * v + k];
-            if (x < lo[k]) lo[k] = x;
-            if (x > hi[k]) hi[k] = x;
-        }
+    ls_real lo[3], hi[3];
+    double r = 0;
+    int k;
+    if (ls_mesh_bounds(m, lo, hi) != LS_OK) return 1;
     for (k = 0; k < 3; k++)
-        if ((hi[k] - lo[k]) / 2 > r) r = (hi[k] - lo[k]) / 2;
+        if ((double)(hi[k] - lo[k]) / 2 > r) r = (double)(hi[k] - lo[k]) / 2;
     return r > 0 ? r : 1;
 }
 
@@ -226,6 +221,7 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
     const double radius = initial_radius(&p->initial), mu = ls_job_smallest_mode(&p->initial, arena);
     ls_arena_mark mark = ls_arena_save(arena);
     view_set rows[18]; /* target, initial, then each alpha's result with the mean kept, then projected */
+    const uint32_t rows_used = 2u + (a->means & 1u ? 8u : 0u) + (a->means & 2u ? 8u : 0u);
     uint32_t nrows = 2, r;
     ls_fit_config c;
     char label[96], cell[64];
@@ -233,7 +229,7 @@ static void sweep_alpha(FILE *f, const ls_job_problem *p, const exp_args *a, ls_
     int i, ok = 1;
     ls_diag d;
     ls_diag_clear(&d);
-    for (r = 0; r < 18 && ok; r++) ok = views_alloc(p, arena, &rows[r]);
+    for (r = 0; r < rows_used && ok; r++) ok = views_alloc(p, arena, &rows[r]);
     ok = ok && ls_job_render(p, &p->target, 1, rows[0].v, arena, &d) == LS_OK &&
          ls_job_render(p, &p->initial, 1, rows[1].v, arena, &d) == LS_OK;
     for (mean = 0; mean < 2; mean++) {

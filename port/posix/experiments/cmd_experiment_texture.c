@@ -815,6 +815,9 @@ int ls_cmd_experiment_texture(int argc, char **argv)
      * figure shows the equal-time results */
     {
         uint32_t equal_iters = 0, pass;
+        tx_run first[3];     /* the equal-time runs: one that ran equal_iters is the equal-iterations run too */
+        double first_setup[3];
+        memset(first, 0, sizeof first);
         for (pass = 0; pass < 2; pass++) {
             if (pass == 0)
                 fprintf(f, "\n## equal time (%g s of iterations each), tuned settings\n\n", a.run_s);
@@ -833,14 +836,20 @@ int ls_cmd_experiment_texture(int argc, char **argv)
                 double setup = 0;
                 tx_run r;
                 if (!best[m].ok || (pass == 1 && equal_iters == 0)) continue;
-                if (m == M_LS && (setup = make_param(&p, best[m].weight, &par)) < 0) continue;
-                r = fit(&p, m, best[m].lr, best[m].weight, pass == 0 ? a.run_s : 1e30, pass == 0 ? 0 : equal_iters, x,
-                        buf, m == M_LS ? &par : NULL);
-                ls_arena_restore(&arena, pm);
-                if (!r.ok) continue;
+                if (pass == 1 && first[m].ok && first[m].iters == equal_iters) {
+                    r = first[m]; /* the same iterations from the same start: the same texels */
+                    setup = first_setup[m];
+                } else {
+                    if (m == M_LS && (setup = make_param(&p, best[m].weight, &par)) < 0) continue;
+                    r = fit(&p, m, best[m].lr, best[m].weight, pass == 0 ? a.run_s : 1e30, pass == 0 ? 0 : equal_iters,
+                            x, buf, m == M_LS ? &par : NULL);
+                    ls_arena_restore(&arena, pm);
+                    if (!r.ok) continue;
+                    evaluate(&p, &r, x, buf, 1);
+                }
+                if (pass == 0) first[m] = r, first_setup[m] = setup;
                 if (pass == 0 && (m == M_LS || !best[M_LS].ok) && (equal_iters == 0 || r.iters < equal_iters))
                     equal_iters = r.iters;
-                evaluate(&p, &r, x, buf, 1);
                 fprintf(f, "| %s | %g | %g | %.2f | %u | %.1f | %.3g | %.2f | %.2f | %.2f | %.2f |\n", method_label(&p, m),
                         r.lr, r.weight, setup, (unsigned)r.iters, r.seconds, r.loss, r.test, r.test_hi, r.tex_full,
                         r.tex);
