@@ -345,12 +345,13 @@ static void taubin(const ls_csc *lap, ls_real *x, ls_real *y, uint32_t n)
  * arena's bottom. */
 static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge, uint32_t smooth, ls_arena *arena)
 {
-    ls_real lo[3], hi[3], diag2 = 0, *y;
+    ls_real lo[3], hi[3], diag2 = 0, *y, *keep;
     ls_remesh_params rp;
     ls_arena_mark mark;
+    ls_tangle_report t;
     ls_csc lap;
     ls_diag d;
-    uint32_t i, c;
+    uint32_t i, c, k, pairs;
     ls_status st;
     ls_diag_clear(&d);
     for (c = 0; c < 3; c++) lo[c] = hi[c] = source->positions[c];
@@ -367,11 +368,26 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
     mark = ls_arena_save(arena);
     st = ls_laplacian_uniform(&p->initial, LS_LAP_FULL, arena, &lap, &d);
     y = st == LS_OK ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
-    if (y == NULL) {
+    keep = y != NULL ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
+    if (keep != NULL && smooth > 0) st = ls_tangle(&p->initial, NULL, arena, &t, &d);
+    if (keep == NULL || st != LS_OK) {
         ls_arena_restore(arena, mark);
         return ls_job_fail("smoothing the initial mesh", st != LS_OK ? st : LS_ERR_NOMEM, &d);
     }
-    taubin(&lap, p->initial.positions, y, smooth);
+    /* One Taubin step at a time: a step after which the mesh self-intersects
+     * more than the remeshed one did is undone and the smoothing stops (the
+     * genus-2 femur at 0.03 of its diagonal folds after 3 steps, and a
+     * tangled start ends tangled). */
+    pairs = t.intersecting_pairs;
+    for (k = 0; k < smooth; k++) {
+        memcpy(keep, p->initial.positions, 3u * (size_t)p->initial.vertex_count * sizeof(ls_real));
+        taubin(&lap, p->initial.positions, y, 1);
+        st = ls_tangle(&p->initial, NULL, arena, &t, &d);
+        if (st != LS_OK || t.intersecting_pairs > pairs) {
+            memcpy(p->initial.positions, keep, 3u * (size_t)p->initial.vertex_count * sizeof(ls_real));
+            break;
+        }
+    }
     ls_arena_restore(arena, mark);
     return 1;
 }
