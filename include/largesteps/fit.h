@@ -105,11 +105,6 @@ extern "C" {
  * M^-1 amplifies it the most (1 / (1 - alpha), or 1 in the lambda form
  * against 1 + lambda mu for the other modes), so under UniformAdam's one
  * maximum it can take the whole step and the mesh jitters as a block. */
-/* The fit's spike clipping (config.optim.clip, see optim.h): a gradient
- * element above LS_FIT_CLIP times its block's running scale is clamped.
- * ls_optim_config_default leaves it off (the reference's optimizer). */
-#define LS_FIT_CLIP 10
-
 #define LS_FIT_MEAN_KEEP    0u /* the paper's: u moves the mean like any other mode */
 #define LS_FIT_MEAN_PROJECT 1u /* its per-axis mean taken out of dL/du: the translation block
                                   (use_translation, required) alone moves the mesh as a whole */

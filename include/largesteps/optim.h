@@ -27,16 +27,6 @@
  * With eps = 0, an element (Adam) or a block (UniformAdam) whose denominator
  * is exactly zero does not move, instead of dividing by zero.
  *
- * Spike clipping (config.clip = K > 0; 0, the reference's, is off): from the
- * second step on, each element's gradient is clamped to [-K s, K s] before it
- * enters the moments, s = the block's max sqrt(m2^) of the state before the
- * step (no clamp while that is 0). Why: one sample of a sliver triangle seen
- * edge-on can give a gradient 10^6 times the others; UniformAdam's one
- * maximum then takes it into m2 and every later step of the block is that
- * much smaller for thousands of steps (the fit stops where the spike left
- * it). A gradient that grows steadily passes: s follows it within steps.
- * Not with ls_optim_step_mapped (a clamp does not commute with the map).
- *
  * A non-finite gradient (NaN, infinity) is rejected before anything changes:
  * the step returns LS_ERR_NONFINITE naming the element, and parameters and
  * state are as before the call - the fit loop reports the iteration.
@@ -71,8 +61,6 @@ typedef struct ls_optim_config {
     ls_real beta1;   /* first-moment decay; SGD: the momentum (0 = plain gradient descent) */
     ls_real beta2;   /* second-moment decay (Adam methods) */
     ls_real eps;     /* added to the denominator (Adam methods) */
-    ls_real clip;    /* spike clipping at clip x the block's scale (Adam methods; 0 = off,
-                        the reference's; see above) */
 } ls_optim_config;
 
 typedef struct ls_optim {
@@ -91,7 +79,7 @@ typedef struct ls_optim {
 /* ls_optim_config_default: the reference's defaults for a method:
  * UniformAdam lr 0.1, betas (0.9, 0.999), eps 1e-8 (large-steps-pytorch);
  * Adam lr 1e-3, betas (0.9, 0.999), eps 1e-8 (PyTorch); SGD lr 1e-2, momentum
- * 0.9; no clipping. Errors: LS_ERR_INVALID (NULL or unknown method: *config unchanged). O(1). */
+ * 0.9. Errors: LS_ERR_INVALID (NULL or unknown method: *config unchanged). O(1). */
 ls_status ls_optim_config_default(uint32_t method, ls_optim_config *config);
 
 /* ls_optim_config_check: LS_OK when *config is in range for ls_optim_init,
@@ -108,7 +96,7 @@ ls_status ls_optim_bytes(uint32_t capacity, size_t *bytes);
  * reset for `block_count` blocks of the given sizes (see ls_optim_reset).
  * Memory: ls_optim_bytes(capacity) from the arena's bottom. Errors:
  * LS_ERR_INVALID (NULL, unknown method, lr <= 0 or not finite, beta1 outside
- * [0, 1), beta2 outside [0, 1) for the Adam methods, eps or clip < 0 or not finite,
+ * [0, 1), beta2 outside [0, 1) for the Adam methods, eps < 0 or not finite,
  * block_count 0 or above LS_OPTIM_MAX_BLOCKS, a block of size 0, the sizes'
  * sum above capacity), LS_ERR_NOMEM, LS_ERR_TOO_LARGE; on failure the arena
  * and *opt are unchanged. O(capacity). */
@@ -135,9 +123,9 @@ ls_status ls_optim_step(ls_optim *opt, ls_real *params, const ls_real *grad, ls_
  * (it drives m1, which then holds A m1). Because UniformAdam's normalization
  * is one scalar per block and SGD's momentum is linear, params move exactly
  * as A u would, up to rounding; per-element Adam does not commute with A and
- * is refused, as is config.clip > 0. The state must only ever be stepped one
- * way. Cost as ls_optim_step. Errors: LS_ERR_INVALID (as ls_optim_step; also
- * Adam, clip > 0, a NULL mapped), LS_ERR_NONFINITE (in grad or mapped; nothing changed). */
+ * is refused. The state must only ever be stepped one way. Cost as
+ * ls_optim_step. Errors: LS_ERR_INVALID (as ls_optim_step; also Adam, a NULL
+ * mapped), LS_ERR_NONFINITE (in grad or mapped; nothing changed). */
 ls_status ls_optim_step_mapped(ls_optim *opt, ls_real *params, const ls_real *grad, const ls_real *mapped,
                                ls_diag *diag);
 

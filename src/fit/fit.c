@@ -70,7 +70,6 @@ void ls_fit_config_default(ls_fit_config *c)
     c->solver = LS_PARAM_LDLT;
     (void)ls_optim_config_default(LS_OPTIM_UNIFORM_ADAM, &c->optim);
     c->optim.lr = (ls_real)1e-2;
-    c->optim.clip = (ls_real)LS_FIT_CLIP;
     c->use_translation = 1;
     c->loss = LS_LOSS_L1;
     c->boost = (ls_real)3;

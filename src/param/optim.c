@@ -39,9 +39,6 @@ static const char *config_error(const ls_optim_config *c, ls_real *value)
     if (!valid_beta(c->beta2)) return "config->beta2: allowed [0, 1) (the reference: 0.999)";
     *value = c->eps;
     if (!is_finite(c->eps) || c->eps < (ls_real)0) return "config->eps: allowed finite and >= 0 (the reference: 1e-8)";
-    *value = c->clip;
-    if (!is_finite(c->clip) || c->clip < (ls_real)0)
-        return "config->clip: allowed finite and >= 0 (0: no spike clipping, the reference's)";
     return NULL;
 }
 
@@ -118,7 +115,6 @@ ls_status ls_optim_config_default(uint32_t method, ls_optim_config *config)
     config->beta1 = (ls_real)0.9;
     config->beta2 = method == LS_OPTIM_SGD ? (ls_real)0 : (ls_real)0.999;
     config->eps = method == LS_OPTIM_SGD ? (ls_real)0 : (ls_real)1e-8;
-    config->clip = (ls_real)0;
     return LS_OK;
 }
 
@@ -170,44 +166,17 @@ ls_status ls_optim_reset(ls_optim *opt, uint32_t block_count, const uint32_t *bl
     return LS_OK;
 }
 
-/* The spike clipping's bound per block, before the step that is about to
- * be taken: clip x the block's max sqrt(m2^) of the state so far; 0 (no
- * clamp) when clipping is off, before the first step, or while every m2 of
- * the block is 0 (nothing to compare with). */
-static void clip_bounds(const ls_optim *opt, ls_real bound[LS_OPTIM_MAX_BLOCKS])
-{
-    uint32_t b, i, first = 0;
-    ls_real bc2;
-    for (b = 0; b < LS_OPTIM_MAX_BLOCKS; b++) bound[b] = (ls_real)0;
-    if (opt->config.clip == (ls_real)0 || opt->step == 0) return;
-    bc2 = (ls_real)1 - LS_RPOW(opt->config.beta2, (ls_real)opt->step);
-    for (b = 0; b < opt->block_count; b++) {
-        ls_real m2max = (ls_real)0;
-        for (i = first; i < first + opt->block_size[b]; i++)
-            if (opt->m2[i] > m2max) m2max = opt->m2[i];
-        bound[b] = opt->config.clip * LS_RSQRT(m2max / bc2);
-        first += opt->block_size[b];
-    }
-}
-
 /* Both moments of Adam and UniformAdam, element by element: m1 from g1,
- * m2 from g2 (the same array for a plain step), each gradient clamped to
- * its block's bound when that is above 0 (clipping is refused with a map, so
- * then g1 = g2). */
-static void update_moments(ls_optim *opt, const ls_real *g1, const ls_real *g2, const ls_real bound[LS_OPTIM_MAX_BLOCKS])
+ * m2 from g2 (the same array for a plain step). */
+static void update_moments(ls_optim *opt, const ls_real *g1, const ls_real *g2)
 {
     const ls_real b1 = opt->config.beta1, b2 = opt->config.beta2;
     const ls_real a1 = (ls_real)1 - b1, a2 = (ls_real)1 - b2;
-    uint32_t b, i, first = 0;
-    for (b = 0; b < opt->block_count; b++) {
-        const ls_real lim = bound[b];
-        for (i = first; i < first + opt->block_size[b]; i++) {
-            ls_real g = g2[i], h = g1[i];
-            if (lim > (ls_real)0 && (g > lim || g < -lim)) h = g = g > (ls_real)0 ? lim : -lim;
-            opt->m1[i] = b1 * opt->m1[i] + a1 * h;
-            opt->m2[i] = b2 * opt->m2[i] + a2 * (g * g);
-        }
-        first += opt->block_size[b];
+    uint32_t i;
+    for (i = 0; i < opt->count; i++) {
+        const ls_real g = g2[i];
+        opt->m1[i] = b1 * opt->m1[i] + a1 * g1[i];
+        opt->m2[i] = b2 * opt->m2[i] + a2 * (g * g);
     }
 }
 
@@ -269,17 +238,15 @@ static int grad_finite(const ls_optim *opt, const ls_real *grad, ls_diag *diag)
 /* The step with m1 driven by g1 and m2 by g2 (g1 = g2: ls_optim_step). */
 static ls_status step(ls_optim *opt, ls_real *params, const ls_real *g1, const ls_real *g2, ls_diag *diag)
 {
-    ls_real bc1, bc2, t, bound[LS_OPTIM_MAX_BLOCKS];
+    ls_real bc1, bc2, t;
     uint32_t b, first;
     if (!grad_finite(opt, g1, diag) || (g2 != g1 && !grad_finite(opt, g2, diag))) return LS_ERR_NONFINITE;
+    if (opt->step < UINT32_MAX) opt->step++;
     if (opt->config.method == LS_OPTIM_SGD) {
-        if (opt->step < UINT32_MAX) opt->step++;
         sgd(opt, params, g1);
         return LS_OK;
     }
-    clip_bounds(opt, bound);
-    if (opt->step < UINT32_MAX) opt->step++;
-    update_moments(opt, g1, g2, bound);
+    update_moments(opt, g1, g2);
     t = (ls_real)opt->step;
     bc1 = (ls_real)1 - LS_RPOW(opt->config.beta1, t);
     bc2 = (ls_real)1 - LS_RPOW(opt->config.beta2, t);
@@ -326,12 +293,6 @@ ls_status ls_optim_step_mapped(ls_optim *opt, ls_real *params, const ls_real *gr
         (void)ls_diag_set(diag, LS_ERR_INVALID,
                           "opt->config.method: LS_OPTIM_ADAM does not commute with the map; allowed "
                           "LS_OPTIM_UNIFORM_ADAM or LS_OPTIM_SGD",
-                          LS_DIAG_NO_INDEX);
-        return LS_ERR_INVALID;
-    }
-    if (st == LS_OK && opt->config.clip != (ls_real)0) {
-        (void)ls_diag_set(diag, LS_ERR_INVALID,
-                          "opt->config.clip: spike clipping does not commute with the map; allowed 0",
                           LS_DIAG_NO_INDEX);
         return LS_ERR_INVALID;
     }

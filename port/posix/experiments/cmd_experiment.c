@@ -95,7 +95,6 @@ static exp_result run_one(const ls_job_problem *p, const ls_fit_config *cfg, uin
     ls_fit_config c = *cfg;
     exp_result e;
     memset(&e, 0, sizeof e);
-    c.optim.clip = 0; /* the paper's optimizer, as the loop below is the paper's */
     /* learning rates are in units of the initial mesh's radius (fit.h): the
      * icosphere on the target's bounding sphere, as largesteps fit */
     ls_job_schedule s;

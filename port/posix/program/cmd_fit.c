@@ -40,6 +40,7 @@ typedef struct fit_args {
     const char *target, *out;
     uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
+    uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -73,9 +74,10 @@ static int usage(FILE *f)
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
-            "  --clip K           clamp each gradient to K x its block's running scale before the\n"
-            "                     optimizer takes it (0..1e6; default 10; 0: off, the paper's):\n"
-            "                     one sliver seen edge-on can otherwise stop the fit\n"
+            "  --grad-limit K     scale a gradient block down to K x the optimizer's scale of the last\n"
+            "                     step when an element exceeds it (0..1e6; default 10, 3 with estimated\n"
+            "                     lighting; 0: off, the paper's): one sample of a sliver seen edge-on\n"
+            "                     can otherwise freeze the fit\n"
             "  --settle F         the last F of the iterations run at a lower learning rate (0..1;\n"
             "                     default 0.125; 0: off)\n"
             "  --settle-lr X      that rate's factor (0 < X <= 1; default 0.5)\n"
@@ -157,7 +159,7 @@ static int ranged(const char *o)
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
                                         "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost",
-                                        "--clip", "--threads"};
+                                        "--grad-limit", "--threads"};
     size_t k;
     for (k = 0; k < sizeof names / sizeof names[0]; k++)
         if (strcmp(o, names[k]) == 0) return 1;
@@ -169,7 +171,6 @@ static int parse_args(int argc, char **argv, fit_args *a)
     int i, optimizer_set = 0;
     uint32_t optimizer = LS_OPTIM_UNIFORM_ADAM;
     ls_real lr = (ls_real)0.01;
-    ls_real clip = (ls_real)LS_FIT_CLIP;
     int lr_set = 0, lambda_set = 0, alpha_set = 0;
     uint32_t perturb = 0;
     memset(a, 0, sizeof *a);
@@ -257,7 +258,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
         else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
         else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost);
-        else if (strcmp(o, "--clip") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &clip);
+        else if (strcmp(o, "--grad-limit") == 0)
+            ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.grad_limit), a->grad_limit_given = 1;
         else if (strcmp(o, "--method") == 0) {
             a->cfg.method = strcmp(v, "large") == 0 ? LS_FIT_LARGE_STEPS : strcmp(v, "naive") == 0 ? LS_FIT_NAIVE
                           : strcmp(v, "laplacian") == 0 ? LS_FIT_LAPLACIAN : strcmp(v, "bilaplacian") == 0 ? LS_FIT_BILAPLACIAN : 99u;
@@ -292,7 +294,6 @@ static int parse_args(int argc, char **argv, fit_args *a)
     if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
     if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
     (void)ls_optim_config_default(optimizer, &a->cfg.optim);
-    a->cfg.optim.clip = optimizer == LS_OPTIM_SGD ? (ls_real)0 : clip;
     /* in units of the initial mesh's radius (fit.h); --perturb moves it in the 6th digit */
     a->cfg.optim.lr = lr * ((ls_real)1 + (ls_real)perturb * (ls_real)1e-6);
     (void)lr_set;
@@ -569,6 +570,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
     p.workers = a.cfg.workers;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
+    if (!a.grad_limit_given)
+        a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
         fprintf(stderr, "largesteps fit: --albedo vertex is estimated with the lighting, from a camera dataset that "
                         "does not record its lighting (its transforms.json without largesteps_sh); this target's "

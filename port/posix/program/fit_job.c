@@ -704,7 +704,6 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     c.guard = s->guard_every > 0 ? 1u : 0u;
     c.shading = p->shading;
     c.light = p->light;
-    if (p->light == LS_FIT_LIGHT_ESTIMATE && c.grad_limit == (ls_real)0) c.grad_limit = (ls_real)LS_JOB_GRAD_LIMIT;
     r->loss = (ls_real *)ls_arena_alloc(arena, iterations + 1u, sizeof(ls_real));
     r->ms = (double *)ls_arena_alloc(arena, iterations + 1u, sizeof(double));
     if (r->ms == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);

@@ -32,12 +32,23 @@ typedef struct ls_job_options {
                                LS_JOB_HULL_EDGE) and smoothed by init_smooth Taubin steps */
 } ls_job_options;
 
-/* The fit's config.grad_limit with estimated lighting (fit.h): without it one
- * iteration's outlier gradient (an almost edge-on sample of the interior
- * shading gradient, 1e4 times the usual) threw the translation of a fit of
- * the bunny's Mesa dataset 3 % of the diagonal away (one run of 18); with it
- * scaled to 3 x the block's scale, the same run ends at 1.7 %. */
-#define LS_JOB_GRAD_LIMIT 3.0
+/* largesteps fit's config.grad_limit (fit.h). The interior shading
+ * gradient has rare outliers: one sample of a triangle seen almost edge-on
+ * divides by its tiny screen area. One such iteration gave a vertex
+ * gradient 10^6 times the others; UniformAdam's one maximum took it into its
+ * second moments and every later step was that much shorter: a fandisk fit
+ * stood still from iteration 763 on, 1.6 % RMS instead of 0.37 %. Limited
+ * to 10 x the block's scale (the usual ratio is 1.5-2) the spike passes as
+ * a large step: on the fit suite the runs without a spike keep their bits and
+ * the worst of three runs went 6.9 -> 2.0 % (armadillo), 4.6 -> 3.6 %
+ * (fandisk), 1.24 -> 0.73 % (bunny). 3 limits more iterations: better on
+ * the camel, worse on the hand (3.0 -> 3.7 %). */
+#define LS_JOB_GRAD_LIMIT 10.0
+/* With estimated lighting, which shades with more contrast: without a limit
+ * one iteration's outlier threw the translation of a fit of the bunny's Mesa
+ * dataset 3 % of the diagonal away (one run of 18); limited to 3 x the
+ * block's scale, the same run ends at 1.7 %. */
+#define LS_JOB_GRAD_LIMIT_ESTIMATE 3.0
 
 /* The coarse start's edge (x the target's bounding-box diagonal) when the
  * target's genus asks for it. */
