@@ -149,6 +149,7 @@ expect num_texture_res_overflow 2 "largesteps experiment texture: --res: '429496
 expect num_texture_time_nan 2 "largesteps experiment texture: --time: 'nan' is not a number in (0, 1000000]" "$ls" experiment texture --time nan -o "$out/x"
 expect num_boost_huge_negative 2 "largesteps fit: --boost: '-1e308' is not a number in [0, 1000000]" "$ls" fit --boost -1e308 -o "$out/x"
 expect num_grad_limit_negative 2 "largesteps fit: --grad-limit: '-0.5' is not a number in [0, 1000000]" "$ls" fit --grad-limit -0.5 -o "$out/x"
+expect num_mask_pull_nan 2 "largesteps fit: --mask-pull: 'nan' is not a number in [0, 1e+12]" "$ls" fit --mask-pull nan -o "$out/x"
 expect num_lambda_negative 2 "largesteps fit: --lambda: '-1' is not a number in [0, 1e+12]" "$ls" fit --lambda -1 -o "$out/x"
 expect num_lr_zero 2 "largesteps fit: --lr: '0' is not a number in (0, 1000000]" "$ls" fit --lr 0 -o "$out/x"
 expect num_samples_sign 2 "largesteps metrics: --samples: '+5' is not a whole number in [0, 4294967295]" "$ls" metrics "$mesh" "$mesh" --samples +5

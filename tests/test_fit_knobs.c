@@ -360,6 +360,130 @@ static void fit_adaptive_supersampling(void)
     }
 }
 
+
+/* The mask pull (config.mask_pull): from a sphere of radius 1.2 around the
+ * 1 x 0.7 x 1 ellipsoid many vertices project outside the targets' masks.
+ * Its value is recomputed here with a brute-force distance transform (the
+ * nearest covered pixel centre by a search over all of them) and the same
+ * bilinear sampling; its gradient (dL/dx with the pull minus without) is
+ * checked against central differences of that independent value. */
+static double pull_dist(const ls_real *t, uint32_t px, uint32_t py)
+{
+    double best = 1e300;
+    uint32_t x, y;
+    for (y = 0; y < RES; y++)
+        for (x = 0; x < RES; x++)
+            if (t[4u * (y * RES + x) + 3u] > 0) {
+                double dx = (double)x - (double)px, dy = (double)y - (double)py, d = dx * dx + dy * dy;
+                if (d < best) best = d;
+            }
+    return sqrt(best);
+}
+
+static double *pull_fields(void)
+{
+    double *g = (double *)malloc((size_t)NV * RES * RES * sizeof(double));
+    uint32_t v, x, y;
+    if (g == NULL) return NULL;
+    for (v = 0; v < NV; v++)
+        for (y = 0; y < RES; y++)
+            for (x = 0; x < RES; x++) g[((size_t)v * RES + y) * RES + x] = pull_dist(targets[v], x, y);
+    return g;
+}
+
+/* w / (NV n) sum of max(0, d - 1)^2 over the views and the positions p. */
+static double pull_value(const double *g, const double *p, uint32_t n, double w)
+{
+    double sum = 0;
+    uint32_t v, i;
+    for (v = 0; v < NV; v++)
+        for (i = 0; i < n; i++) {
+            const ls_real *m = mvps[v];
+            double c[4], fx, fy, tx, ty, d;
+            const double *f = g + (size_t)v * RES * RES;
+            uint32_t r, ix, iy;
+            for (r = 0; r < 4; r++)
+                c[r] = (double)m[4 * r] * p[3 * i] + (double)m[4 * r + 1] * p[3 * i + 1] + (double)m[4 * r + 2] * p[3 * i + 2] +
+                       (double)m[4 * r + 3];
+            if (!(c[3] > 0)) continue;
+            fx = (c[0] / c[3] + 1) * 0.5 * RES - 0.5;
+            fy = (1 - c[1] / c[3]) * 0.5 * RES - 0.5;
+            if (!(fx >= 0 && fy >= 0 && fx < RES - 1 && fy < RES - 1)) continue;
+            ix = (uint32_t)fx, iy = (uint32_t)fy;
+            tx = fx - ix, ty = fy - iy;
+            d = (1 - ty) * ((1 - tx) * f[iy * RES + ix] + tx * f[iy * RES + ix + 1]) +
+                ty * ((1 - tx) * f[(iy + 1) * RES + ix] + tx * f[(iy + 1) * RES + ix + 1]);
+            if (d > 1) sum += (d - 1) * (d - 1);
+        }
+    return sum * w / ((double)NV * n);
+}
+
+static void fit_mask_pull(void)
+{
+    ls_arena arena;
+    ls_fit_config c;
+    ls_fit_views v;
+    ls_fit fit;
+    ls_mesh init;
+    const double w = 0.5, h = 1e-6;
+    double *g = pull_fields(), *p, value, worst = 0, largest = 0;
+    ls_real *with, *without, reg;
+    size_t bytes_off = 0, bytes_on = 0;
+    uint32_t n, i, outside = 0;
+    REQUIRE(g != NULL);
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    n = init.vertex_count;
+    for (i = 0; i < 3u * n; i++) init.positions[i] *= (ls_real)1.5; /* radius 1.2 */
+    views_of(&v);
+    config(&c);
+    with = (ls_real *)malloc(3u * n * sizeof(ls_real));
+    without = (ls_real *)malloc(3u * n * sizeof(ls_real));
+    p = (double *)malloc(3u * n * sizeof(double));
+    REQUIRE(with != NULL && without != NULL && p != NULL);
+    REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &bytes_off, NULL) == LS_OK);
+    REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+    REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+    memcpy(without, fit.gx, 3u * n * sizeof(ls_real));
+    CHECK(fit.reg_loss == 0);
+    REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+    sphere(&arena, &init);
+    for (i = 0; i < 3u * n; i++) init.positions[i] *= (ls_real)1.5;
+    c.mask_pull = (ls_real)w;
+    REQUIRE(ls_fit_bytes(&c, &v, &init, &arena, &bytes_on, NULL) == LS_OK);
+    REQUIRE(ls_fit_init(&fit, &c, &v, &init, &arena, NULL) == LS_OK);
+    REQUIRE(ls_fit_step(&fit, NULL, NULL) == LS_OK);
+    memcpy(with, fit.gx, 3u * n * sizeof(ls_real));
+    reg = fit.reg_loss;
+    for (i = 0; i < 3u * n; i++) p[i] = (double)init.positions[i];
+    value = pull_value(g, p, n, w);
+    for (i = 0; i < 3u * n; i++) {
+        double keep = p[i], fd, got;
+        p[i] = keep + h;
+        fd = pull_value(g, p, n, w);
+        p[i] = keep - h;
+        fd = (fd - pull_value(g, p, n, w)) / (2 * h);
+        p[i] = keep;
+        got = (double)(with[i] - without[i]) / (double)fit.scale; /* gx is in the fit's frame: S dL/dx */
+        if (fabs(fd - got) > worst) worst = fabs(fd - got);
+        if (fabs(fd) > largest) largest = fabs(fd);
+        outside += fd != 0;
+    }
+    printf("     mask pull: value %.6g (here %.6g), %u coordinates pulled, largest gradient %.3g, worst difference "
+           "to central differences %.3g; bytes %lu -> %lu\n",
+           (double)reg, value, (unsigned)outside, largest, worst, (unsigned long)bytes_off, (unsigned long)bytes_on);
+    CHECK(value > 0 && outside > 20);
+    CHECK(fabs((double)reg - value) <= 1e-9 * value + TEST_EPS(64));
+    CHECK(worst <= 1e-5 * largest + TEST_EPS(1e6));
+    CHECK(bytes_on >= bytes_off + (size_t)NV * RES * RES * sizeof(ls_real));
+    c.mask_pull = (ls_real)-1;
+    CHECK_STATUS(ls_fit_init(&fit, &c, &v, &init, &arena, NULL), LS_ERR_INVALID);
+    free(g);
+    free(p);
+    free(with);
+    free(without);
+}
+
 int main(void)
 {
     uint32_t v;
@@ -372,6 +496,7 @@ int main(void)
     TEST_RUN(fit_cg_tolerance);
     TEST_RUN(fit_knob_errors_and_memory);
     TEST_RUN(fit_adaptive_supersampling);
+    TEST_RUN(fit_mask_pull);
     for (v = 0; v < NV; v++) free(targets[v]);
     free(buf);
     return TEST_END();

@@ -215,6 +215,14 @@ typedef struct ls_fit_config {
                                * triangle seen almost edge-on divides by its tiny screen area
                                * (render_backward.h). `largesteps fit` uses 3 with estimated lighting,
                                * whose shading varies more with the normal than its default SH */
+    ls_real mask_pull;        /* w > 0 pulls every vertex that projects outside a target's mask in a
+                               * view of the batch back into it: w / (B n) times the sum of
+                               * max(0, d - 1)^2, d its distance in pixels to the nearest covered
+                               * pixel (an exact distance transform of each target's alpha > 0,
+                               * bilinear), added to reg_loss and to dL/dx. The silhouette
+                               * gradient moves only a render's outline; a part covering pixels
+                               * the target leaves empty inside it (the web between two legs grown
+                               * from one sphere) recedes from its border alone. 0 (default): off */
     uint32_t albedo;          /* LS_FIT_ALBEDO_UNIFORM (default) or LS_FIT_ALBEDO_VERTEX (with
                                * LS_FIT_LIGHT_ESTIMATE; above) */
     uint32_t workers;         /* W: the caller's workers the memory is sized for (0 or 1: one;
@@ -289,7 +297,8 @@ typedef struct ls_fit {
     ls_real radius;           /* R: half the initial mesh's largest bounding-box side (caller units); lr unit */
     ls_real *mvp;             /* [16 views] the views' transforms in the frame */
     ls_real loss;             /* image loss of the last iteration (before its step) */
-    ls_real reg_loss;         /* regularizer value of the last iteration (baselines) */
+    ls_real reg_loss;         /* regularizer value of the last iteration (baselines), plus the
+                                 mask pull's (config.mask_pull) */
     ls_fit_timing timing;
     uint32_t remeshes;        /* remeshes done */
     ls_fit_capacity capacity; /* ls_fit_init_job: the job's capacity (zeros after ls_fit_init) */
@@ -309,6 +318,9 @@ typedef struct ls_fit {
     uint32_t saved_step;      /* guard: the optimizer's step count and the iteration saved */
     uint32_t saved_iteration;
     ls_real saved_last_scale[LS_OPTIM_MAX_BLOCKS];
+    ls_real *mask_dist;       /* config.mask_pull: [views W H] each target's distance field in pixels,
+                                 then a line's work (else NULL) */
+    uint32_t *mask_index;     /* config.mask_pull: a line's work (else NULL) */
     /* LS_FIT_LIGHT_ESTIMATE; the last fields: a remesh's rebuild keeps them */
     ls_real sh[27];           /* the lighting in use (zeros before the first estimate) */
     uint32_t sh_valid;        /* 1 once an estimate has been made */

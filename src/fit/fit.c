@@ -117,6 +117,8 @@ static const char *config_error(const ls_fit_config *c, const ls_fit_views *v, c
         return "config->aa: the pair silhouette mode allows aa <= ss only";
     if (c->guard > 1u) return "config->guard: allowed 0 or 1";
     if (c->mean_mode > LS_FIT_MEAN_PROJECT) return "config->mean_mode: allowed LS_FIT_MEAN_KEEP or LS_FIT_MEAN_PROJECT";
+    if (!finite_r(c->mask_pull) || c->mask_pull < (ls_real)0)
+        return "config->mask_pull: allowed finite and >= 0 (0: off)";
     if (c->mean_mode == LS_FIT_MEAN_PROJECT && !c->use_translation)
         return "config->mean_mode: LS_FIT_MEAN_PROJECT needs use_translation = 1";
     if (c->view_batch > v->count) return "config->view_batch: allowed 0 (all views) .. views->count";
@@ -210,6 +212,14 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         ls_size_add(&s, px, sizeof(ls_real)); /* pair_gimage */
     }
     ls_size_add(&s, 16u * (size_t)views, sizeof(ls_real)); /* mvp */
+    {
+        size_t mr, mi;
+        ls_fit_impl_mask_sizes(c, views, &mr, &mi);
+        if (mr > 0) {
+            ls_size_add(&s, mr, sizeof(ls_real));   /* mask_dist */
+            ls_size_add(&s, mi, sizeof(uint32_t)); /* mask_index */
+        }
+    }
     if (c->guard) ls_size_add(&s, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real)); /* saved */
     if (c->albedo == LS_FIT_ALBEDO_VERTEX) {
         ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* albedo */
@@ -462,6 +472,17 @@ static int take_arrays(ls_fit *fit, uint32_t n, uint32_t f)
         if (fit->pair_gimage == NULL) return 0;
     }
     fit->mvp = (ls_real *)ls_arena_alloc(a, 16u * (size_t)fit->views.count, sizeof(ls_real));
+    fit->mask_dist = NULL;
+    fit->mask_index = NULL;
+    {
+        size_t mr, mi;
+        ls_fit_impl_mask_sizes(&fit->config, fit->views.count, &mr, &mi);
+        if (mr > 0) {
+            fit->mask_dist = (ls_real *)ls_arena_alloc(a, mr, sizeof(ls_real));
+            fit->mask_index = (uint32_t *)ls_arena_alloc(a, mi, sizeof(uint32_t));
+            if (fit->mask_index == NULL) return 0;
+        }
+    }
     if (fit->config.guard) {
         fit->saved = (ls_real *)ls_arena_alloc(a, 3u * (3u * (size_t)n + 3u) + 3u * (size_t)n, sizeof(ls_real));
         if (fit->saved == NULL) return 0;
@@ -511,6 +532,7 @@ ls_status ls_fit_impl_fit_init_frame(ls_fit *fit, const ls_fit_config *config, c
     if (st == LS_OK && !take_arrays(fit, n, nf)) st = LS_ERR_NOMEM;
     if (st == LS_OK) st = frame_positions(initial, scale, fit->x, diag);
     if (st == LS_OK) st = frame_views(views, scale, fit->mvp, diag);
+    if (st == LS_OK) ls_fit_impl_mask_init(fit);
     if (st == LS_OK) {
         memcpy(fit->triangles, initial->triangles, 3u * (size_t)nf * sizeof(uint32_t));
         ls_fit_impl_incidence(fit);
@@ -679,6 +701,7 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
         if (st != LS_OK) return st;
         for (i = 0; i < 3u * n; i++) fit->gx[i] += fit->grad[i];
     }
+    ls_fit_impl_mask_pull(fit);
     /* the translation's gradient: the sum over the vertices, in order */
     for (k = 0; k < 3; k++) {
         ls_real s = (ls_real)0;

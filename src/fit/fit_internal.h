@@ -134,4 +134,11 @@ ls_status ls_fit_impl_rebuild(ls_fit *fit, ls_real lr_factor, const ls_mesh *mes
 ls_status ls_fit_impl_init_args_ok(const ls_fit_config *config, const ls_fit_views *views, const ls_mesh *initial,
                               ls_diag *diag);
 
+/* fit_mask_pull.c: config.mask_pull. The arrays' counts (0 when off), the
+ * distance fields from the targets (at set-up), and the term of an
+ * iteration (its value added to reg_loss, its gradient to gx). */
+void ls_fit_impl_mask_sizes(const ls_fit_config *c, uint32_t views, size_t *reals, size_t *indices);
+void ls_fit_impl_mask_init(ls_fit *fit);
+void ls_fit_impl_mask_pull(ls_fit *fit);
+
 #endif

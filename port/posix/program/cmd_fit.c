@@ -74,6 +74,8 @@ static int usage(FILE *f)
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
+            "  --mask-pull W      pull vertices that project outside a target's mask back into it,\n"
+            "                     along the mask's distance field, weight W (0..1e12; default 0: off)\n"
             "  --grad-limit K     scale a gradient block down to K x the optimizer's scale of the last\n"
             "                     step when an element exceeds it (0..1e6; default 10, 3 with estimated\n"
             "                     lighting; 0: off, the paper's): one sample of a sliver seen edge-on\n"
@@ -159,7 +161,7 @@ static int ranged(const char *o)
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
                                         "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost",
-                                        "--grad-limit", "--threads"};
+                                        "--grad-limit", "--mask-pull", "--threads"};
     size_t k;
     for (k = 0; k < sizeof names / sizeof names[0]; k++)
         if (strcmp(o, names[k]) == 0) return 1;
@@ -258,6 +260,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
         else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
         else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost);
+        else if (strcmp(o, "--mask-pull") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.mask_pull);
         else if (strcmp(o, "--grad-limit") == 0)
             ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.grad_limit), a->grad_limit_given = 1;
         else if (strcmp(o, "--method") == 0) {

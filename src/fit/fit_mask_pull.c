@@ -1,0 +1,155 @@
+/* fit_mask_pull.c - config.mask_pull: every vertex is pulled into the
+ * targets' masks.
+ *
+ * The silhouette gradient moves only the edges of a render's outline. A part
+ * that covers pixels the target leaves empty inside its outline - the web
+ * between two legs grown from one sphere, seen face-on - has no gradient in
+ * its interior and recedes only from its border, a pixel at a time. Every
+ * point of the target's surface projects into the target's mask in every
+ * view, so a vertex that projects outside a mask is outside the target's
+ * visual hull: the term pulls it back along the mask's distance field,
+ *
+ *     E = w / (B n) sum over the batch's B views and the n vertices of
+ *         max(0, d(v, i) - margin)^2,
+ *
+ * d the distance in pixels from the vertex's projection to the nearest pixel
+ * the target covers (alpha > 0), bilinear between pixel centres, margin one
+ * pixel (a vertex on the true surface projects into a covered pixel, at most
+ * half a pixel from a covered centre). Vertices behind the camera or outside
+ * the image are not pulled. The distance fields are exact Euclidean distance
+ * transforms of the targets' masks (Felzenszwalb and Huttenlocher's lower
+ * envelope of parabolas, columns then rows), made when the fit is built. */
+#include <largesteps/math.h>
+#include "fit_internal.h"
+
+/* A distance larger than any in an image (squared pixels). */
+#define MASK_FAR ((ls_real)1e20)
+
+/* The 1D squared distance transform of f[0..n) into d: d[q] = min over p of
+ * (q - p)^2 + f[p] (f: 0 or MASK_FAR). v: n indices, z: n + 1 reals. */
+static void dt_line(const ls_real *f, uint32_t n, ls_real *d, uint32_t *v, ls_real *z)
+{
+    uint32_t q, k = 0;
+    v[0] = 0;
+    z[0] = -(ls_real)2 * MASK_FAR; /* below every intersection: s >= -MASK_FAR / 2 */
+    z[1] = (ls_real)2 * MASK_FAR;
+    for (q = 1; q < n; q++) {
+        const ls_real qq = (ls_real)q;
+        ls_real s;
+        for (;;) {
+            const ls_real p = (ls_real)v[k];
+            s = ((f[q] + qq * qq) - (f[v[k]] + p * p)) / ((ls_real)2 * (qq - p));
+            if (s > z[k] || k == 0) break;
+            k--;
+        }
+        k++;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1u] = (ls_real)2 * MASK_FAR;
+    }
+    k = 0;
+    for (q = 0; q < n; q++) {
+        ls_real t;
+        while (z[k + 1u] < (ls_real)q) k++;
+        t = (ls_real)q - (ls_real)v[k];
+        d[q] = t * t + f[v[k]];
+    }
+}
+
+void ls_fit_impl_mask_sizes(const ls_fit_config *c, uint32_t views, size_t *reals, size_t *indices)
+{
+    const size_t side = c->width > c->height ? c->width : c->height;
+    *reals = *indices = 0;
+    if (!(c->mask_pull > (ls_real)0)) return;
+    *reals = (size_t)views * c->width * c->height + 3u * (side + 1u); /* the fields; a line's f, d, z */
+    *indices = side + 1u;                                             /* a line's v */
+}
+
+void ls_fit_impl_mask_init(ls_fit *fit)
+{
+    const uint32_t w = fit->config.width, h = fit->config.height;
+    const uint32_t side = w > h ? w : h;
+    uint32_t view, x, y;
+    ls_real *f, *d, *z;
+    uint32_t *v;
+    if (fit->mask_dist == NULL) return;
+    f = fit->mask_dist + (size_t)fit->views.count * w * h;
+    d = f + side + 1u;
+    z = d + side + 1u;
+    v = fit->mask_index;
+    for (view = 0; view < fit->views.count; view++) {
+        const ls_real *t = fit->views.targets[view];
+        ls_real *g = fit->mask_dist + (size_t)view * w * h;
+        size_t covered = 0, i;
+        for (i = 0; i < (size_t)w * h; i++) covered += t[4u * i + 3u] > (ls_real)0;
+        if (covered == 0) { /* an empty mask says nothing about where the object is: no pull */
+            memset(g, 0, (size_t)w * h * sizeof(ls_real));
+            continue;
+        }
+        for (x = 0; x < w; x++) { /* columns */
+            for (y = 0; y < h; y++) f[y] = t[4u * ((size_t)y * w + x) + 3u] > (ls_real)0 ? (ls_real)0 : MASK_FAR;
+            dt_line(f, h, d, v, z);
+            for (y = 0; y < h; y++) g[(size_t)y * w + x] = d[y];
+        }
+        for (y = 0; y < h; y++) { /* rows */
+            memcpy(f, g + (size_t)y * w, w * sizeof(ls_real));
+            dt_line(f, w, d, v, z);
+            for (x = 0; x < w; x++) g[(size_t)y * w + x] = LS_RSQRT(d[x]);
+        }
+    }
+}
+
+/* The term of one view: its value, and its gradient added to gx. */
+static ls_real pull_view(ls_fit *fit, uint32_t view, ls_real scale)
+{
+    const uint32_t w = fit->config.width, h = fit->config.height, n = fit->vertex_count;
+    const ls_real *m = fit->mvp + 16u * (size_t)view, *g = fit->mask_dist + (size_t)view * w * h;
+    const ls_real margin = (ls_real)1, hw = (ls_real)0.5 * (ls_real)w, hh = (ls_real)0.5 * (ls_real)h;
+    ls_real sum = (ls_real)0;
+    uint32_t i, k;
+    for (i = 0; i < n; i++) {
+        const ls_real *p = fit->xr + 3u * (size_t)i;
+        const ls_real cx = ((m[0] * p[0] + m[1] * p[1]) + m[2] * p[2]) + m[3];
+        const ls_real cy = ((m[4] * p[0] + m[5] * p[1]) + m[6] * p[2]) + m[7];
+        const ls_real cw = ((m[12] * p[0] + m[13] * p[1]) + m[14] * p[2]) + m[15];
+        ls_real fx, fy, tx, ty, d, e, gd, gfx, gfy, gX, gY, gW;
+        uint32_t ix, iy;
+        size_t at;
+        if (!(cw > (ls_real)0)) continue;
+        fx = (cx / cw + (ls_real)1) * hw - (ls_real)0.5; /* pixel centres at integers */
+        fy = ((ls_real)1 - cy / cw) * hh - (ls_real)0.5;
+        if (!(fx >= (ls_real)0 && fy >= (ls_real)0 && fx < (ls_real)(w - 1u) && fy < (ls_real)(h - 1u))) continue;
+        ix = (uint32_t)fx;
+        iy = (uint32_t)fy;
+        tx = fx - (ls_real)ix;
+        ty = fy - (ls_real)iy;
+        at = (size_t)iy * w + ix;
+        d = ((ls_real)1 - ty) * (((ls_real)1 - tx) * g[at] + tx * g[at + 1u]) +
+            ty * (((ls_real)1 - tx) * g[at + w] + tx * g[at + w + 1u]);
+        if (!(d > margin)) continue;
+        e = d - margin;
+        sum += e * e;
+        gd = (ls_real)2 * e * scale;
+        gfx = gd * (((ls_real)1 - ty) * (g[at + 1u] - g[at]) + ty * (g[at + w + 1u] - g[at + w]));
+        gfy = gd * (((ls_real)1 - tx) * (g[at + w] - g[at]) + tx * (g[at + w + 1u] - g[at + 1u]));
+        /* fx = (X / W + 1) w / 2 - 1/2, fy = (1 - Y / W) h / 2 - 1/2 */
+        gX = gfx * hw / cw;
+        gY = -gfy * hh / cw;
+        gW = -(gX * cx + gY * cy) / cw;
+        for (k = 0; k < 3; k++) fit->gx[3u * (size_t)i + k] += (gX * m[k] + gY * m[4 + k]) + gW * m[12 + k];
+    }
+    return sum;
+}
+
+void ls_fit_impl_mask_pull(ls_fit *fit)
+{
+    const ls_fit_config *c = &fit->config;
+    const uint32_t count = fit->views.count;
+    const uint32_t batch = c->view_batch > 0u && c->view_batch < count ? c->view_batch : count;
+    const ls_real scale = c->mask_pull / ((ls_real)batch * (ls_real)fit->vertex_count);
+    ls_real sum = (ls_real)0;
+    uint32_t j;
+    if (fit->mask_dist == NULL) return;
+    for (j = 0; j < batch; j++) sum += pull_view(fit, ls_fit_view_of(c, count, fit->iteration, j), scale);
+    fit->reg_loss += sum * scale;
+}
