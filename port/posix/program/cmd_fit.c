@@ -75,7 +75,8 @@ static int usage(FILE *f)
             "  --loss L           l1 (default) | l2\n"
             "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
             "  --mask-pull W      pull vertices that project outside a target's mask back into it,\n"
-            "                     along the mask's distance field, weight W (0..1e12; default 0: off)\n"
+            "                     along the mask's distance field, weight W (0..1e12; default 3e-5;\n"
+            "                     0: off, the paper's)\n"
             "  --grad-limit K     scale a gradient block down to K x the optimizer's scale of the last\n"
             "                     step when an element exceeds it (0..1e6; default 10, 3 with estimated\n"
             "                     lighting; 0: off, the paper's): one sample of a sliver seen edge-on\n"
@@ -189,6 +190,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     a->cfg.reg_weight = 1;
     a->cfg.shading.mode = LS_SHADE_SH;
     a->cfg.view_batch = 16; /* 16 of the 32 views each iteration: twice the coverage for the same time */
+    a->cfg.mask_pull = (ls_real)LS_JOB_MASK_PULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int ok = 1;
