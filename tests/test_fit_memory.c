@@ -39,6 +39,8 @@ static void make_problem(void)
 static uint32_t guard_on;
 /* 1: the runs below estimate the lighting and a per-vertex albedo. */
 static uint32_t albedo_on;
+/* 1: the runs below pull the vertices into the masks (config.mask_pull). */
+static uint32_t mask_on;
 
 static void config(ls_fit_config *c, uint32_t method, uint32_t solver)
 {
@@ -50,6 +52,7 @@ static void config(ls_fit_config *c, uint32_t method, uint32_t solver)
     c->shading.mode = LS_SHADE_SH;
     c->shading.sh = sh;
     c->optim.lr = (ls_real)0.05;
+    if (mask_on) c->mask_pull = (ls_real)1e-3;
     if (albedo_on) {
         c->shading.sh = NULL;
         c->light = LS_FIT_LIGHT_ESTIMATE;
@@ -190,6 +193,14 @@ static void job_with_vertex_albedo(void)
     guard_on = albedo_on = 1;
     job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
     guard_on = albedo_on = 0;
+}
+/* The masks' distance fields inside the job's bytes, made again by every
+ * remesh's rebuild. */
+static void job_with_mask_pull(void)
+{
+    guard_on = mask_on = 1;
+    job_runs_in_exactly_its_bytes(LS_FIT_LARGE_STEPS, LS_PARAM_LDLT);
+    guard_on = mask_on = 0;
 }
 /* A capacity from LS_FIT_AUTO_ORDER_VERTICES on sizes the job for the
  * AUTO ordering (nested dissection's scratch too); the small meshes of the
@@ -463,6 +474,7 @@ int main(void)
     TEST_RUN(job_cg_and_baseline);
     TEST_RUN(job_with_guard);
     TEST_RUN(job_with_vertex_albedo);
+    TEST_RUN(job_with_mask_pull);
     TEST_RUN(job_sized_for_the_auto_ordering);
     TEST_RUN(large_mesh_takes_the_auto_ordering);
     TEST_RUN(job_one_byte_less_fails_at_init);
