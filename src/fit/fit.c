@@ -701,7 +701,9 @@ static ls_status step_gradient(ls_fit *fit, ls_real *xs, const ls_monitor *monit
         if (st != LS_OK) return st;
         for (i = 0; i < 3u * n; i++) fit->gx[i] += fit->grad[i];
     }
+    t0 = fit_now(monitor);
     ls_fit_impl_mask_pull(fit);
+    fit->timing.render_ns += fit_now(monitor) - t0; /* a loss term: with the images' */
     /* the translation's gradient: the sum over the vertices, in order */
     for (k = 0; k < 3; k++) {
         ls_real s = (ls_real)0;

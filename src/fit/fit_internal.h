@@ -30,6 +30,12 @@ static inline uint64_t fit_now(const ls_monitor *m) { return (m != NULL && m->cl
 
 static inline int fit_pair_mode(const ls_fit_config *c) { return c->silhouette == LS_FIT_SILHOUETTE_PAIR; }
 
+/* The views an iteration renders: config.view_batch of the pool's count, or all of them. */
+static inline uint32_t fit_batch(const ls_fit_config *c, uint32_t count)
+{
+    return c->view_batch > 0u && c->view_batch < count ? c->view_batch : count;
+}
+
 /* The block's layout, mirrored by ls_fit_bytes and ls_fit_init: the arrays,
  * the Laplacian (with its build scratch), M and its solver, the optimizer,
  * the edge table, the visibility buffer, then the scratch of one iteration. */

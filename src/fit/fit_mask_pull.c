@@ -145,7 +145,7 @@ void ls_fit_impl_mask_pull(ls_fit *fit)
 {
     const ls_fit_config *c = &fit->config;
     const uint32_t count = fit->views.count;
-    const uint32_t batch = c->view_batch > 0u && c->view_batch < count ? c->view_batch : count;
+    const uint32_t batch = fit_batch(c, count);
     const ls_real scale = c->mask_pull / ((ls_real)batch * (ls_real)fit->vertex_count);
     ls_real sum = (ls_real)0;
     uint32_t j;

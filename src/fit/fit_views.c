@@ -185,7 +185,7 @@ ls_status ls_fit_impl_views_pass(ls_fit *fit, const ls_monitor *monitor, ls_diag
         st = ls_fit_impl_normals(fit, diag);
         if (st != LS_OK) return st;
     }
-    batch = c->view_batch > 0u && c->view_batch < fit->views.count ? c->view_batch : fit->views.count;
+    batch = fit_batch(c, fit->views.count);
     if (estimate) {
         st = first_estimate(fit, view, batch, diag);
         if (st == LS_OK && fit->albedo != NULL) st = first_albedo(fit, view, batch, diag);

@@ -376,8 +376,8 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
     }
     /* One Taubin step at a time: a step after which the mesh self-intersects
      * more than the remeshed one did is undone and the smoothing stops (the
-     * genus-2 femur at 0.03 of its diagonal folds after 3 steps, and a
-     * tangled start ends tangled). */
+     * genus-2 femur at 0.03 of its diagonal has 11 pairs after its first step,
+     * 24 after ten, and a tangled start ends tangled). */
     pairs = t.intersecting_pairs;
     for (k = 0; k < smooth; k++) {
         memcpy(keep, p->initial.positions, 3u * (size_t)p->initial.vertex_count * sizeof(ls_real));
