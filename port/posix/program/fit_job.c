@@ -747,39 +747,10 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     ls_report_eta_init(&eta_est, remesh_at, remesh_count, (double)s->remesh_h);
     t0 = ls_job_now_ms();
     for (it = 0; it < iterations; it++) {
-        if (next < remesh_count && remesh_at[next] == it) {
-            ls_remesh_info ri;
-            double tr = ls_job_now_ms();
-            uint32_t before = fit.vertex_count;
-            size_t held = fit.block.capacity;
-            if (capacity != NULL) ls_arena_reset_peak(&fit.job);
-            int done;
-            st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &done, &d);
-            if (st != LS_OK) return capacity_fail("remeshing", st, &d);
-            if (done) ref_vertices = fit.vertex_count;
-            if (!done) {
-                fit.optim.config.lr *= s->remesh_lr;
-                r->remeshes_refused++;
-            }
-            next++;
-            ls_report_eta_remesh(&eta_est, it, tr - t0, ls_job_now_ms() - t0);
-            if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
-            /* the old fit and the remesher's work at once */
-            held += capacity != NULL ? fit.job.peak - fit.job_fit_bytes : 0u;
-            if (held > r->peak_used) r->peak_used = held;
-            if (fit.block.capacity > r->peak_used) r->peak_used = fit.block.capacity;
-            if (progress)
-                printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
-                       (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
-        }
-        if (it == settle_at && settle_at < iterations) fit.optim.config.lr *= s->settle_lr;
-        if (track_cap > 0 && it % track_every == 0) {
-            double t1 = ls_job_now_ms();
-            if (!track(p, &fit, it, t1 - t0, arena, r)) return 0;
-            r->track_total_ms += ls_job_now_ms() - t1;
-            t0 += ls_job_now_ms() - t1; /* the measurement is not the fit's time */
-        }
-        if (s->guard_every > 0 && (it % s->guard_every == 0 || !fit.saved_valid)) {
+        /* the guard's check, and always one before a scheduled remesh: the remesh starts
+           from a checked mesh, and one that adds self-intersections to it is refused */
+        if (s->guard_every > 0 &&
+            (it % s->guard_every == 0 || !fit.saved_valid || (next < remesh_count && remesh_at[next] == it))) {
             uint32_t pairs = 0;
             if (!fit_pairs(&fit, &pairs)) return 0;
             if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
@@ -810,6 +781,42 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                 (void)ls_fit_save(&fit);
                 saved_pairs = pairs;
             }
+        }
+        if (next < remesh_count && remesh_at[next] == it) {
+            ls_remesh_info ri;
+            double tr = ls_job_now_ms();
+            uint32_t before = fit.vertex_count;
+            size_t held = fit.block.capacity;
+            if (capacity != NULL) ls_arena_reset_peak(&fit.job);
+            int done;
+            st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &done, &d);
+            if (st != LS_OK) return capacity_fail("remeshing", st, &d);
+            if (done) ref_vertices = fit.vertex_count;
+            if (done && s->guard_every > 0) { /* the remeshed mesh is the checkpoint */
+                if (!fit_pairs(&fit, &saved_pairs)) return 0;
+                (void)ls_fit_save(&fit);
+            }
+            if (!done) {
+                fit.optim.config.lr *= s->remesh_lr;
+                r->remeshes_refused++;
+            }
+            next++;
+            ls_report_eta_remesh(&eta_est, it, tr - t0, ls_job_now_ms() - t0);
+            if (ri.max_vertices > r->remesh_live_max) r->remesh_live_max = ri.max_vertices;
+            /* the old fit and the remesher's work at once */
+            held += capacity != NULL ? fit.job.peak - fit.job_fit_bytes : 0u;
+            if (held > r->peak_used) r->peak_used = held;
+            if (fit.block.capacity > r->peak_used) r->peak_used = fit.block.capacity;
+            if (progress)
+                printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
+                       (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
+        }
+        if (it == settle_at && settle_at < iterations) fit.optim.config.lr *= s->settle_lr;
+        if (track_cap > 0 && it % track_every == 0) {
+            double t1 = ls_job_now_ms();
+            if (!track(p, &fit, it, t1 - t0, arena, r)) return 0;
+            r->track_total_ms += ls_job_now_ms() - t1;
+            t0 += ls_job_now_ms() - t1; /* the measurement is not the fit's time */
         }
         st = ls_fit_step(&fit, &mon, &d);
         if (st != LS_OK) {
