@@ -136,7 +136,22 @@ if [ "$got" = 1 ] && grep -q "the gradient has been zero for 20 iterations (iter
         [ ! -e "$out/scene/still" ]; then ok "fit_zero_gradient_stops"
 else bad "fit_zero_gradient_stops (status $got)"; cat "$build/fit_still.log"; fi
 
-# 3. errors: exit status 2 for usage, 1 for bad input, a message, no output
+
+# 2c. the start for a target a sphere cannot reach: two unit cubes (two
+# components) start from themselves; a fin (two faces on the same three
+# vertices, turning opposite ways: the edge they share with the cube has four
+# faces) is dropped before the remesh, which refuses non-manifold edges; with
+# a third face on an edge instead, or two cubes through each other (the
+# remesher runs out of capacity), the icosphere with a warning that says why;
+# a result that self-intersects where the target does says so
+cube() { awk -v dx="$1" 'BEGIN { for (i = 0; i < 8; i++) printf "v %g %g %g\n", (i % 2) + dx, int(i / 2) % 2, int(i / 4) }'; }
+cube_faces() {
+    awk -v o="$1" 'BEGIN { split("1 3 4 2|5 6 8 7|1 2 6 5|3 7 8 4|1 5 7 3|2 4 8 6", q, "|")
+        for (k = 1; k <= 6; k++) { n = split(q[k], v, " "); printf "f"; for (j = 1; j <= n; j++) printf " %d", v[j] + o; printf "\n" } }'
+}
+{ cube 0; cube 3; echo "v 0.5 -1 0"; cube_faces 0; cube_faces 8; echo "f 1 2 17"; echo "f 2 1 17"; } > "$out/cubes_fin.obj"
+{ cube 0; cube 3; echo "v 0.5 -1 0"; cube_faces 0; cube_faces 8; echo "f 1 2 17"; } > "$out/cubes_nonmanifold.obj"
+{ cube 0; cube 0.5; cube_faces 0; cube_faces 8; } > "$out/cubes_through.obj"
 expect() { # name, status, pattern, command...
     name=$1 want=$2 pattern=$3
     shift 3
@@ -144,6 +159,20 @@ expect() { # name, status, pattern, command...
     got=$?
     if [ "$got" = "$want" ] && grep -q -e "$pattern" "$build/$name.log"; then ok "$name"; else bad "$name (status $got, wanted $want)"; cat "$build/$name.log"; fi
 }
+small="--iters 5 --res 32 --views 4 --remesh none --quiet"
+# shellcheck disable=SC2086 # $small: a list of options
+expect fit_components_start_from_the_target 0 "the target has 2 components, which a sphere cannot reach: starting from the target remeshed" \
+    "$ls" fit "$out/cubes_fin.obj" $small -o "$out/cubes_fin"
+# shellcheck disable=SC2086
+expect fit_nonmanifold_target_falls_back 0 "could not make a start of it (non-manifold edge (three or more faces); index = its first vertex): starting from the icosphere" \
+    "$ls" fit "$out/cubes_nonmanifold.obj" $small -o "$out/cubes_nonmanifold"
+# shellcheck disable=SC2086
+expect fit_remesh_failure_falls_back 0 "could not make a start of it (remesh vertex capacity exceeded): starting from the icosphere" \
+    "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
+expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
+    "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"
+
+# 3. errors: exit status 2 for usage, 1 for bad input, a message, no output
 expect fit_unknown_option 2 "unknown option" "$ls" fit --frobnicate -o "$out/x"
 expect fit_bad_value 2 "--views: '0' is not a whole number in \[1, 1024\]" "$ls" fit --views 0 -o "$out/x"
 expect fit_needs_output 2 "-o DIR" "$ls" fit --iters 3

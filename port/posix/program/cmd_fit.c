@@ -112,8 +112,9 @@ static int usage(FILE *f)
             "  --init-coarse E    initial mesh: the target remeshed to edge E x its bounding-box diagonal\n"
             "                     and smoothed (keeps the target's genus; e.g. 0.05); default: the icosphere\n"
             "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
-            "                     a target of genus > 0 starts this way by itself (--init-coarse 0.03)\n"
-            "  --init-sphere      start from the icosphere whatever the target's genus\n"
+            "                     a target of genus > 0 or of several components starts this way by\n"
+            "                     itself (--init-coarse 0.03)\n"
+            "  --init-sphere      start from the icosphere whatever the target's genus and components\n"
             "  --init-hull N      initial mesh: the visual hull of the target images on a grid of N cells\n"
             "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
             "                     E sets it), not smoothed (--init-smooth N smooths it)\n"
@@ -583,14 +584,27 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                         "shading is %s\n", p.shading.mode == LS_SHADE_MASK ? "the masks alone" : "given");
         return 2;
     }
-    if (p.auto_coarse)
-        printf("the target has genus %d, which a sphere cannot reach: starting from the target remeshed to %g of its "
-               "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
-               (int)p.target_genus, LS_JOB_AUTO_EDGE, LS_JOB_AUTO_EDGE);
-    else if (p.have_mesh && a.init_edge == 0 && (p.target_genus > 0 || p.target_components > 1))
-        fprintf(stderr, "largesteps fit: warning: the target has %s%u components; the icosphere is one genus-0 surface "
-                        "and cannot match it (--init-coarse 0.03 starts from the target's own topology)\n",
-                p.target_genus > 0 ? "genus > 0 and " : "", (unsigned)p.target_components);
+    if (p.have_mesh && (p.target_genus > 0 || p.target_components > 1)) {
+        char what[64];
+        if (p.target_genus > 0 && p.target_components > 1)
+            snprintf(what, sizeof what, "genus %d and %u components", (int)p.target_genus, (unsigned)p.target_components);
+        else if (p.target_genus > 0)
+            snprintf(what, sizeof what, "genus %d", (int)p.target_genus);
+        else
+            snprintf(what, sizeof what, "%u components", (unsigned)p.target_components);
+        if (p.auto_coarse > 0)
+            printf("the target has %s, which a sphere cannot reach: starting from the target remeshed to %g of its "
+                   "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
+                   what, LS_JOB_AUTO_EDGE, LS_JOB_AUTO_EDGE);
+        else if (p.auto_coarse < 0)
+            fprintf(stderr, "largesteps fit: warning: the target has %s, which a sphere cannot reach, but the "
+                            "remesher could not make a start of it (%s): starting from the icosphere all the same "
+                            "(repair the mesh, or --init-hull 128 starts from the targets' visual hull)\n",
+                    what, p.coarse_failure);
+        else if (a.init_edge == 0 && a.init_hull == 0)
+            fprintf(stderr, "largesteps fit: warning: the target has %s; the icosphere is one genus-0 surface and "
+                            "cannot match it (--init-coarse 0.03 starts from the target's own topology)\n", what);
+    }
     if (a.cfg.method == LS_FIT_LARGE_STEPS && a.cfg.mean_mode == LS_FIT_MEAN_KEEP) {
         /* M^-1 moves the mesh's translation 1 + lambda mu_1 times as far as its smoothest shape; far above
            that shape, UniformAdam's one scale turns the steps into translation jitter (docs/experiments.md) */
@@ -707,10 +721,18 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
            run.iterations > 0 ? (double)run.loss[run.iterations - 1] : 0.0, (unsigned)run.iterations, a.out,
            run.albedo != NULL ? ",albedo.ply" : "");
     if (tangle.intersecting_pairs > 0) { /* never a silent tangle: the last line and the exit status */
-        fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
-                        "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
-                (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0], (unsigned)tangle.first_pair[1],
-                a.sched.guard_every > 0 ? a.sched.guard_every / 2u + 1u : 25u);
+        ls_tangle_report own;
+        if (p.have_mesh && ls_tangle(&p.target, NULL, &arena, &own, &d) == LS_OK && own.intersecting_pairs > 0)
+            fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
+                            "written all the same. The target itself self-intersects (%u face pairs), and a result "
+                            "that follows it can too (exit status 3)\n",
+                    (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0],
+                    (unsigned)tangle.first_pair[1], (unsigned)own.intersecting_pairs);
+        else
+            fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
+                            "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
+                    (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0],
+                    (unsigned)tangle.first_pair[1], a.sched.guard_every > 0 ? a.sched.guard_every / 2u + 1u : 25u);
         return 3;
     }
     return 0;

@@ -338,19 +338,83 @@ static void taubin(const ls_csc *lap, ls_real *x, ls_real *y, uint32_t n)
         }
 }
 
+/* 1 when face t (the same three vertices as t0) goes round them as t0 does. */
+static int same_turn(const uint32_t *t, const uint32_t *t0)
+{
+    const uint32_t at = t[0] == t0[0] ? 0u : t[1] == t0[0] ? 1u : 2u;
+    return t[(at + 1u) % 3u] == t0[1];
+}
+
+/* `src` without its fins into *out (its positions shared, its triangles in
+ * the arena's scratch): faces on the same three vertices cancel in pairs of
+ * opposite orientation (a zero-thickness fin, whose edges are non-manifold:
+ * Suzanne has one where two quads share a diagonal), and of what is left of
+ * such a group one face is kept. The remesher refuses a non-manifold edge;
+ * the surface is the same without them. *out is src itself when it has none. */
+static int without_fins(const ls_mesh *src, ls_arena *arena, ls_mesh *out)
+{
+    const uint32_t nf = src->face_count;
+    uint32_t *tri, *high, *idx, *keep, f, g, h, kept = 0;
+    uint64_t *low;
+    *out = *src;
+    tri = (uint32_t *)ls_arena_scratch(arena, 3u * (size_t)nf, sizeof(uint32_t));
+    high = (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
+    low = (uint64_t *)ls_arena_scratch(arena, nf, sizeof(uint64_t));
+    idx = (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
+    keep = (uint32_t *)ls_arena_scratch(arena, nf, sizeof(uint32_t));
+    if (keep == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    for (f = 0; f < nf; f++) { /* the corners sorted: the two smaller in low, the largest in high */
+        const uint32_t *t = src->triangles + 3u * (size_t)f;
+        uint32_t a = t[0], b = t[1], c = t[2], x;
+        if (a > b) x = a, a = b, b = x;
+        if (b > c) x = b, b = c, c = x;
+        if (a > b) x = a, a = b, b = x;
+        low[f] = (uint64_t)a << 32 | b;
+        high[f] = c;
+        idx[f] = f;
+    }
+    /* by the largest corner, then (stably) by the two others: equal faces side by side */
+    (void)ls_sort_u32(high, idx, nf, keep);
+    (void)ls_sort_u64(low, idx, nf, keep);
+    for (f = 0; f < nf; f++) keep[f] = 1u;
+    for (g = 0; g < nf; g = h) {
+        const uint32_t *t0 = src->triangles + 3u * (size_t)idx[g];
+        int turn = 0; /* faces turning as the group's first, minus those turning the other way */
+        for (h = g; h < nf && low[idx[h]] == low[idx[g]] && high[idx[h]] == high[idx[g]]; h++)
+            turn += same_turn(src->triangles + 3u * (size_t)idx[h], t0) ? 1 : -1;
+        if (h - g == 1u) continue;
+        for (f = g; f < h; f++) keep[idx[f]] = 0u;
+        for (f = g; f < h && turn != 0; f++) /* one face of the orientation left over */
+            if (same_turn(src->triangles + 3u * (size_t)idx[f], t0) == (turn > 0)) {
+                keep[idx[f]] = 1u;
+                break;
+            }
+    }
+    for (f = 0; f < nf; f++)
+        if (keep[f]) memcpy(tri + 3u * (size_t)kept++, src->triangles + 3u * (size_t)f, 3u * sizeof(uint32_t));
+    if (kept < nf) {
+        out->triangles = tri;
+        out->face_count = kept;
+    }
+    return 1;
+}
+
 /* The initial mesh from `source` (the target, or its visual hull): remeshed
  * to edge `edge` x the source's bounding-box diagonal (projected onto it:
  * same genus), then `smooth` Taubin steps take its detail away. For targets
  * a sphere cannot reach (the elephant has genus 3). The mesh stays at the
  * arena's bottom. */
-static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge, uint32_t smooth, ls_arena *arena)
+static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge, uint32_t smooth, int required,
+                          ls_arena *arena)
 {
     ls_real lo[3], hi[3], diag2 = 0, *y, *keep;
     ls_remesh_params rp;
     ls_arena_mark mark;
     ls_tangle_report t;
+    ls_mesh clean;
     ls_csc lap;
     ls_diag d;
+    size_t top;
     uint32_t i, c, k, pairs;
     ls_status st;
     ls_diag_clear(&d);
@@ -363,9 +427,19 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
         }
     for (c = 0; c < 3; c++) diag2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
     ls_remesh_params_default(&rp, (ls_real)edge * LS_RSQRT(diag2));
-    st = ls_remesh(source, &rp, arena, &p->initial, NULL, &d);
-    if (st != LS_OK) return ls_job_fail("remeshing into the initial mesh", st, &d);
     mark = ls_arena_save(arena);
+    if (!without_fins(source, arena, &clean)) return 0;
+    st = ls_remesh(&clean, &rp, arena, &p->initial, NULL, &d);
+    if (st != LS_OK && !required) { /* the caller's other start; why, for its warning */
+        ls_arena_restore(arena, mark);
+        p->coarse_failure = d.what != NULL ? d.what : ls_status_str(st);
+        return -1;
+    }
+    if (st != LS_OK) return ls_job_fail("remeshing into the initial mesh", st, &d);
+    top = mark.top; /* the fins' scratch released, the remeshed mesh kept */
+    mark = ls_arena_save(arena);
+    mark.top = top;
+    ls_arena_restore(arena, mark);
     st = ls_laplacian_uniform(&p->initial, LS_LAP_FULL, arena, &lap, &d);
     y = st == LS_OK ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
     keep = y != NULL ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
@@ -420,7 +494,7 @@ static int hull_initial(ls_job_problem *p, uint32_t resolution, double edge, uin
     hv.height = p->height;
     st = ls_visual_hull(&hv, &hp, arena, &hull, &d);
     if (st != LS_OK) return ls_job_fail("the visual hull of the targets", st, &d);
-    return coarse_initial(p, &hull, edge, smooth, arena);
+    return coarse_initial(p, &hull, edge, smooth, 1, arena);
 }
 
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
@@ -528,17 +602,22 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         if (!hull_initial(p, o->init_hull, o->init_edge > 0 ? o->init_edge : LS_JOB_HULL_EDGE, o->init_smooth, arena))
             return 0;
     } else if (o->init_edge > 0 && p->have_mesh) {
-        if (!coarse_initial(p, &p->target, o->init_edge, o->init_smooth, arena)) return 0;
-    } else if (o->init_auto && p->have_mesh && !is_scene && p->target_genus > 0) {
-        p->auto_coarse = 1;
-        if (!coarse_initial(p, &p->target, LS_JOB_AUTO_EDGE, o->init_smooth, arena)) return 0;
+        if (!coarse_initial(p, &p->target, o->init_edge, o->init_smooth, 1, arena)) return 0;
     } else {
-        /* an icosphere on the target's bounding sphere */
-        st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);
-        if (st != LS_OK) return ls_job_fail("initial icosphere", st, NULL);
-        for (i = 0; i < p->initial.vertex_count; i++)
-            for (v = 0; v < 3; v++)
-                p->initial.positions[3u * i + v] = p->framing.center[v] + p->framing.radius * p->initial.positions[3u * i + v];
+        int got = -1;
+        if (o->init_auto && p->have_mesh && !is_scene && (p->target_genus > 0 || p->target_components > 1)) {
+            got = coarse_initial(p, &p->target, LS_JOB_AUTO_EDGE, o->init_smooth, 0, arena);
+            if (got == 0) return 0;
+            p->auto_coarse = got > 0 ? 1 : -1;
+        }
+        if (got < 0) { /* an icosphere on the target's bounding sphere */
+            st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);
+            if (st != LS_OK) return ls_job_fail("initial icosphere", st, NULL);
+            for (i = 0; i < p->initial.vertex_count; i++)
+                for (v = 0; v < 3; v++)
+                    p->initial.positions[3u * i + v] =
+                        p->framing.center[v] + p->framing.radius * p->initial.positions[3u * i + v];
+        }
     }
     return 1;
 }

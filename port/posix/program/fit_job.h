@@ -25,8 +25,9 @@ typedef struct ls_job_options {
                                edge length (x its bounding-box diagonal) and smoothed by init_smooth
                                Taubin steps, of the target's genus; 0: the icosphere */
     uint32_t init_smooth;
-    uint32_t init_auto;     /* 1 (mesh targets, init_edge 0): a target of genus > 0 starts from
-                               the target remeshed coarse (LS_JOB_AUTO_EDGE), as init_edge would */
+    uint32_t init_auto;     /* 1 (mesh targets, init_edge 0): a target of genus > 0 or of several
+                               components starts from the target remeshed coarse
+                               (LS_JOB_AUTO_EDGE), as init_edge would, where the remesher takes it */
     uint32_t init_hull;     /* > 0: the initial mesh is the targets' visual hull on a grid of this
                                many cells across (ls_visual_hull), remeshed to init_edge (0:
                                LS_JOB_HULL_EDGE) and smoothed by init_smooth Taubin steps */
@@ -87,7 +88,9 @@ typedef struct ls_job_problem {
     const char *name;        /* for reports */
     int32_t target_genus;    /* mesh targets: the genus (-1: not an oriented 2-manifold) */
     uint32_t target_components;
-    int auto_coarse;         /* the coarse start was chosen for the target's genus */
+    int auto_coarse;         /* 1: the coarse start was chosen for the target's genus or components;
+                                -1: it was, but the remesher failed on the target (the icosphere) */
+    const char *coarse_failure; /* auto_coarse -1: the remesher's reason (static text) */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
                                 fit (sh then zeros until the fit's estimate is copied in) */
     ls_parallel parallel;    /* the metrics' workers (the caller sets them after ls_job_load; none: 0) */
