@@ -722,17 +722,15 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
            run.albedo != NULL ? ",albedo.ply" : "");
     if (tangle.intersecting_pairs > 0) { /* never a silent tangle: the last line and the exit status */
         ls_tangle_report own;
+        fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
+                        "written all the same. ",
+                (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0], (unsigned)tangle.first_pair[1]);
         if (p.have_mesh && ls_tangle(&p.target, NULL, &arena, &own, &d) == LS_OK && own.intersecting_pairs > 0)
-            fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
-                            "written all the same. The target itself self-intersects (%u face pairs), and a result "
-                            "that follows it can too (exit status 3)\n",
-                    (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0],
-                    (unsigned)tangle.first_pair[1], (unsigned)own.intersecting_pairs);
+            fprintf(stderr, "The target itself self-intersects (%u face pairs), and a result that follows it can too "
+                            "(exit status 3)\n", (unsigned)own.intersecting_pairs);
         else
-            fprintf(stderr, "largesteps fit: the result self-intersects (%u face pairs, faces %u and %u first); it is "
-                            "written all the same. Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
-                    (unsigned)tangle.intersecting_pairs, (unsigned)tangle.first_pair[0],
-                    (unsigned)tangle.first_pair[1], a.sched.guard_every > 0 ? a.sched.guard_every / 2u + 1u : 25u);
+            fprintf(stderr, "Try a smaller --lr, more --views or --guard %u (exit status 3)\n",
+                    a.sched.guard_every > 0 ? a.sched.guard_every / 2u + 1u : 25u);
         return 3;
     }
     return 0;

@@ -373,7 +373,8 @@ static int without_fins(const ls_mesh *src, ls_arena *arena, ls_mesh *out)
         high[f] = c;
         idx[f] = f;
     }
-    /* by the largest corner, then (stably) by the two others: equal faces side by side */
+    /* by the largest corner, then (stably) by the two others: equal faces side by side
+       (keep is the sorts' scratch until it holds the verdicts) */
     (void)ls_sort_u32(high, idx, nf, keep);
     (void)ls_sort_u64(low, idx, nf, keep);
     for (f = 0; f < nf; f++) keep[f] = 1u;
@@ -826,10 +827,10 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     ls_report_eta_init(&eta_est, remesh_at, remesh_count, (double)s->remesh_h);
     t0 = ls_job_now_ms();
     for (it = 0; it < iterations; it++) {
+        const int remesh_due = next < remesh_count && remesh_at[next] == it;
         /* the guard's check, and always one before a scheduled remesh: the remesh starts
            from a checked mesh, and one that adds self-intersections to it is refused */
-        if (s->guard_every > 0 &&
-            (it % s->guard_every == 0 || !fit.saved_valid || (next < remesh_count && remesh_at[next] == it))) {
+        if (s->guard_every > 0 && (it % s->guard_every == 0 || !fit.saved_valid || remesh_due)) {
             uint32_t pairs = 0;
             if (!fit_pairs(&fit, &pairs)) return 0;
             if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
@@ -861,7 +862,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                 saved_pairs = pairs;
             }
         }
-        if (next < remesh_count && remesh_at[next] == it) {
+        if (remesh_due) {
             ls_remesh_info ri;
             double tr = ls_job_now_ms();
             uint32_t before = fit.vertex_count;

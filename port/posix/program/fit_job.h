@@ -59,7 +59,7 @@ typedef struct ls_job_options {
 #define LS_JOB_MASK_PULL 3e-5
 
 /* The coarse start's edge (x the target's bounding-box diagonal) when the
- * target's genus asks for it. */
+ * target's genus or components ask for it. */
 #define LS_JOB_AUTO_EDGE 0.03
 
 /* The visual hull start's edge (x its bounding-box diagonal): at 0.03 a
