@@ -2,8 +2,8 @@
  * (fit.h: config.workers, config.parallel): 1, 2, 3 and 4 workers give the
  * same bits (positions, losses, estimated lighting and albedo), with the
  * tasks run in orders and on worker numbers that change from call to call,
- * through the batch's chunks, remeshes, a roll-back, the pair silhouettes
- * and the adaptive supersampling; the memory for W workers is exact (the
+ * through the batch's chunks, remeshes, a roll-back, the masks' pull, the
+ * pair silhouettes and the adaptive supersampling; the memory for W workers is exact (the
  * job runs in exactly ls_fit_job_bytes) and grows with W by the per-worker
  * cost. A sphere fitted to an ellipsoid seen from 7 views at 24 x 24. */
 #include "test.h"
@@ -42,6 +42,7 @@ static void scrambled_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
 typedef struct run_out {
     uint64_t hash;      /* positions, losses, lighting, albedo */
     uint32_t vertices;
+    uint32_t pulled;    /* steps whose masks' pull had a value */
     size_t job_bytes;
 } run_out;
 
@@ -56,6 +57,7 @@ static void configure(ls_fit_config *c, int which, scrambler *s, uint32_t worker
     c->optim.lr = (ls_real)0.05;
     c->guard = 1;
     c->view_batch = 5; /* 5 of the 7 views: chunks of every size */
+    c->mask_pull = (ls_real)0.01; /* its value and gradient summed over blocks of vertices */
     if (which == CASE_ESTIMATE) {
         c->shading.sh = NULL;
         c->light = LS_FIT_LIGHT_ESTIMATE;
@@ -100,7 +102,7 @@ static void run(int which, uint32_t workers, run_out *result)
     cap.max_factor_nnz = 3000u * 64u;
     REQUIRE(ls_arena_init(&mesh_arena, buf, 1u << 20) == LS_OK);
     REQUIRE(ls_icosphere(2, &mesh_arena, &init) == LS_OK);
-    for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.6;
+    for (i = 0; i < 3u * init.vertex_count; i++) init.positions[i] *= (ls_real)0.85; /* beyond the ellipsoid in y: the masks pull */
     REQUIRE(ls_arena_init(&scratch, buf + (1u << 20), BUF_BYTES - (1u << 20)) == LS_OK);
     REQUIRE(ls_fit_job_bytes(&c, &v, &init, &cap, &scratch, &out.job_bytes, &d) == LS_OK);
     mem = (unsigned char *)malloc(out.job_bytes);
@@ -117,6 +119,8 @@ static void run(int which, uint32_t workers, run_out *result)
             return;
         }
         h = test_hash_reals(&fit.loss, 1, h);
+        h = test_hash_reals(&fit.reg_loss, 1, h);
+        out.pulled += fit.reg_loss > (ls_real)0;
     }
     CHECK_EQ(arena.peak, out.job_bytes); /* exactly the job's bytes, and not one more */
     CHECK(fit.job.peak <= fit.job.capacity);
@@ -138,6 +142,7 @@ static void same_bits_for_every_worker_count(void)
         uint32_t w;
         run(which, 1, &one);
         CHECK(one.hash != 0 && one.vertices > 162u); /* it ran and remeshed */
+        CHECK(one.pulled > 0u);                      /* some vertices were outside the masks */
         for (w = 2; w <= 4; w++) {
             run(which, w, &many);
             CHECK_MSG(many.hash == one.hash && many.vertices == one.vertices,

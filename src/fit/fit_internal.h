@@ -64,6 +64,10 @@ struct ls_fit_slot {
     ls_diag diag;
 };
 
+/* The mask pull's blocks of vertices (fit_mask_pull.c): a fixed count, so
+ * its value is the same sum for every worker count. */
+#define LS_FIT_MASK_PARTS 32u
+
 /* One iteration's views pass (fit_views.c): what its tasks share, in the
  * fit's memory rather than on the stack under the tasks' deep chains. */
 struct ls_fit_pass {
@@ -74,6 +78,7 @@ struct ls_fit_pass {
     uint32_t first;  /* the chunk's first view in the batch */
     uint32_t batch, sums, shaded, albedo;
     uint32_t count, parts; /* the chunk's views; the sum's and the normals' parts */
+    ls_real mask_scale, mask_sums[LS_FIT_MASK_PARTS]; /* config.mask_pull: its scale, each block's value */
     /* W > 1 (fit_normals.c), else NULL: each vertex's corners (3 t + k) in
      * face order, [vf_start[v], vf_start[v + 1]); the sums of its faces'
      * normals; per face, its terms (3 normal, or 9 gradient reals) and

@@ -21,6 +21,7 @@
  * envelope of parabolas, columns then rows), made when the fit is built. */
 #include <largesteps/math.h>
 #include "fit_internal.h"
+#include "../base/parallel.h"
 
 /* A distance larger than any in an image (squared pixels). */
 #define MASK_FAR ((ls_real)1e20)
@@ -99,15 +100,16 @@ void ls_fit_impl_mask_init(ls_fit *fit)
     }
 }
 
-/* The term of one view: its value, and its gradient added to gx. */
-static ls_real pull_view(ls_fit *fit, uint32_t view, ls_real scale)
+/* The term of one view on vertices [lo, hi): its value, and its gradient
+ * added to gx. */
+static ls_real pull_view(ls_fit *fit, uint32_t view, uint32_t lo, uint32_t hi, ls_real scale)
 {
-    const uint32_t w = fit->config.width, h = fit->config.height, n = fit->vertex_count;
+    const uint32_t w = fit->config.width, h = fit->config.height;
     const ls_real *m = fit->mvp + 16u * (size_t)view, *g = fit->mask_dist + (size_t)view * w * h;
     const ls_real margin = (ls_real)1, hw = (ls_real)0.5 * (ls_real)w, hh = (ls_real)0.5 * (ls_real)h;
     ls_real sum = (ls_real)0;
     uint32_t i, k;
-    for (i = 0; i < n; i++) {
+    for (i = lo; i < hi; i++) {
         const ls_real *p = fit->xr + 3u * (size_t)i;
         const ls_real cx = ((m[0] * p[0] + m[1] * p[1]) + m[2] * p[2]) + m[3];
         const ls_real cy = ((m[4] * p[0] + m[5] * p[1]) + m[6] * p[2]) + m[7];
@@ -141,15 +143,35 @@ static ls_real pull_view(ls_fit *fit, uint32_t view, ls_real scale)
     return sum;
 }
 
+/* A block of vertices for every view of the batch, in view order: each
+ * vertex's gradient gathers its views' terms in the order one worker would. */
+static void pull_task(void *arg, uint32_t part, uint32_t worker)
+{
+    struct ls_fit_pass *p = (struct ls_fit_pass *)arg;
+    ls_fit *fit = p->fit;
+    const ls_fit_config *c = &fit->config;
+    const uint32_t count = fit->views.count, batch = fit_batch(c, count);
+    const uint64_t n = fit->vertex_count;
+    const uint32_t lo = (uint32_t)(n * part / LS_FIT_MASK_PARTS), hi = (uint32_t)(n * (part + 1u) / LS_FIT_MASK_PARTS);
+    ls_real sum = (ls_real)0;
+    uint32_t j;
+    (void)worker;
+    for (j = 0; j < batch; j++) sum += pull_view(fit, ls_fit_view_of(c, count, fit->iteration, j), lo, hi, p->mask_scale);
+    p->mask_sums[part] = sum;
+}
+
+/* The vertices in LS_FIT_MASK_PARTS blocks whatever the worker count, the
+ * blocks' values added in block order: the same bits for every W. */
 void ls_fit_impl_mask_pull(ls_fit *fit)
 {
     const ls_fit_config *c = &fit->config;
-    const uint32_t count = fit->views.count;
-    const uint32_t batch = fit_batch(c, count);
-    const ls_real scale = c->mask_pull / ((ls_real)batch * (ls_real)fit->vertex_count);
+    struct ls_fit_pass *p = fit->pass;
     ls_real sum = (ls_real)0;
-    uint32_t j;
+    uint32_t b;
     if (fit->mask_dist == NULL) return;
-    for (j = 0; j < batch; j++) sum += pull_view(fit, ls_fit_view_of(c, count, fit->iteration, j), scale);
-    fit->reg_loss += sum * scale;
+    p->fit = fit;
+    p->mask_scale = c->mask_pull / ((ls_real)fit_batch(c, fit->views.count) * (ls_real)fit->vertex_count);
+    ls_parallel_run(&c->parallel, fit_workers(c), LS_FIT_MASK_PARTS, pull_task, p);
+    for (b = 0; b < LS_FIT_MASK_PARTS; b++) sum += p->mask_sums[b];
+    fit->reg_loss += sum * p->mask_scale;
 }
