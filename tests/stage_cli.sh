@@ -141,9 +141,12 @@ else bad "fit_zero_gradient_stops (status $got)"; cat "$build/fit_still.log"; fi
 # components) start from themselves; a fin (two faces on the same three
 # vertices, turning opposite ways: the edge they share with the cube has four
 # faces) is dropped before the remesh, which refuses non-manifold edges; with
-# a third face on an edge instead, or two cubes through each other (the
-# remesher runs out of capacity), the icosphere with a warning that says why;
-# a result that self-intersects where the target does says so
+# two cubes through each other outgrow the remesher's capacity bound and are
+# remeshed again with four times the room (without it they fell back to the
+# icosphere); with a third face on an edge instead, or two needles far thinner
+# than the start's edge (their splits outgrow even that), the icosphere with a
+# warning that says why; a result that self-intersects where the target does
+# says so
 cube() { awk -v dx="$1" 'BEGIN { for (i = 0; i < 8; i++) printf "v %g %g %g\n", (i % 2) + dx, int(i / 2) % 2, int(i / 4) }'; }
 cube_faces() {
     awk -v o="$1" 'BEGIN { split("1 3 4 2|5 6 8 7|1 2 6 5|3 7 8 4|1 5 7 3|2 4 8 6", q, "|")
@@ -152,6 +155,12 @@ cube_faces() {
 { cube 0; cube 3; echo "v 0.5 -1 0"; cube_faces 0; cube_faces 8; echo "f 1 2 17"; echo "f 2 1 17"; } > "$out/cubes_fin.obj"
 { cube 0; cube 3; echo "v 0.5 -1 0"; cube_faces 0; cube_faces 8; echo "f 1 2 17"; } > "$out/cubes_nonmanifold.obj"
 { cube 0; cube 0.5; cube_faces 0; cube_faces 8; } > "$out/cubes_through.obj"
+prism() { awk -v dy="$1" 'BEGIN { printf "v 0 %g 0\nv 0 %g 0.001\nv 0 %g 0\nv 1 %g 0\nv 1 %g 0.001\nv 1 %g 0\n", dy, dy + 0.0005, dy + 0.001, dy, dy + 0.0005, dy + 0.001 }'; }
+prism_faces() {
+    awk -v o="$1" 'BEGIN { split("1 3 2|4 5 6|1 4 6 3|1 2 5 4|2 3 6 5", q, "|")
+        for (k = 1; k <= 5; k++) { n = split(q[k], v, " "); printf "f"; for (j = 1; j <= n; j++) printf " %d", v[j] + o; printf "\n" } }'
+}
+{ prism 0; prism 0.5; prism_faces 0; prism_faces 6; } > "$out/needles.obj"
 expect() { # name, status, pattern, command...
     name=$1 want=$2 pattern=$3
     shift 3
@@ -168,6 +177,9 @@ expect fit_nonmanifold_target_falls_back 0 "could not make a start of it (non-ma
     "$ls" fit "$out/cubes_nonmanifold.obj" $small -o "$out/cubes_nonmanifold"
 # shellcheck disable=SC2086
 expect fit_remesh_failure_falls_back 0 "could not make a start of it (remesh vertex capacity exceeded): starting from the icosphere" \
+    "$ls" fit "$out/needles.obj" $small -o "$out/needles"
+# shellcheck disable=SC2086
+expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to 0.02 of its diagonal" \
     "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
 expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
     "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"

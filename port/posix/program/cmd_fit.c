@@ -41,6 +41,7 @@ typedef struct fit_args {
     uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
+    uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -97,7 +98,8 @@ static int usage(FILE *f)
             "                     albedo per vertex, estimated with the lighting: objects whose colour varies)\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
             "                     default 200,500; 'none' for no remeshing)\n"
-            "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5)\n"
+            "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5, and 0.62 after a\n"
+            "                     start from the target itself: --init-coarse and the automatic start)\n"
             "  --remesh-lr F      learning rate x F at each remesh (0 < F <= 1; default 0.8)\n"
             "  --mean M           keep (default: the paper's) | project: the mean of dL/du taken out, the\n"
             "                     translation alone moves the mesh as a whole\n"
@@ -113,7 +115,7 @@ static int usage(FILE *f)
             "                     and smoothed (keeps the target's genus; e.g. 0.05); default: the icosphere\n"
             "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
             "                     a target of genus > 0 or of several components starts this way by\n"
-            "                     itself (--init-coarse 0.03)\n"
+            "                     itself (--init-coarse 0.02)\n"
             "  --init-sphere      start from the icosphere whatever the target's genus and components\n"
             "  --init-hull N      initial mesh: the visual hull of the target images on a grid of N cells\n"
             "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
@@ -246,7 +248,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
             ok = a->cfg.silhouette != 99u;
         }
         else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->sched.remesh_at, &a->sched.remesh_count);
-        else if (strcmp(o, "--remesh-h") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_h);
+        else if (strcmp(o, "--remesh-h") == 0)
+            ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_h), a->remesh_h_given = 1;
         else if (strcmp(o, "--remesh-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_lr);
         else if (strcmp(o, "--mean") == 0) {
             a->cfg.mean_mode = strcmp(v, "keep") == 0 ? LS_FIT_MEAN_KEEP : strcmp(v, "project") == 0 ? LS_FIT_MEAN_PROJECT : 99u;
@@ -576,6 +579,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
     p.workers = a.cfg.workers;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
+    if (!a.remesh_h_given && (p.auto_coarse > 0 || (a.init_edge > 0 && a.init_hull == 0 && p.have_mesh)))
+        a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
@@ -603,7 +608,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                     what, p.coarse_failure);
         else if (a.init_edge == 0 && a.init_hull == 0)
             fprintf(stderr, "largesteps fit: warning: the target has %s; the icosphere is one genus-0 surface and "
-                            "cannot match it (--init-coarse 0.03 starts from the target's own topology)\n", what);
+                            "cannot match it (--init-coarse %g starts from the target's own topology)\n",
+                    what, LS_JOB_AUTO_EDGE);
     }
     if (a.cfg.method == LS_FIT_LARGE_STEPS && a.cfg.mean_mode == LS_FIT_MEAN_KEEP) {
         /* M^-1 moves the mesh's translation 1 + lambda mu_1 times as far as its smoothest shape; far above

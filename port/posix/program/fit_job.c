@@ -431,6 +431,18 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
     mark = ls_arena_save(arena);
     if (!without_fins(source, arena, &clean)) return 0;
     st = ls_remesh(&clean, &rp, arena, &p->initial, NULL, &d);
+    if (st == LS_ERR_NOMEM) { /* long needle faces (a CAD part's) outgrow the bound (remesh.h): 4 x the room */
+        ls_arena_mark m2 = ls_arena_save(arena);
+        ls_mesh_report rep;
+        uint32_t cap = 0;
+        if (ls_mesh_validate(&clean, arena, &rep) == LS_OK && ls_remesh_capacity(&clean, &rep, rp.h, &cap) != LS_OK) cap = 0;
+        ls_arena_restore(arena, m2);
+        if (cap > 0 && cap <= UINT32_MAX / 4u) {
+            rp.vertex_cap = 4u * cap;
+            ls_diag_clear(&d);
+            st = ls_remesh(&clean, &rp, arena, &p->initial, NULL, &d);
+        }
+    }
     if (st != LS_OK && !required) { /* the caller's other start; why, for its warning */
         ls_arena_restore(arena, mark);
         p->coarse_failure = d.what != NULL ? d.what : ls_status_str(st);
