@@ -140,8 +140,8 @@ else bad "fit_zero_gradient_stops (status $got)"; cat "$build/fit_still.log"; fi
 # 2c. the start for a target a sphere cannot reach: two unit cubes (two
 # components) start from themselves; a fin (two faces on the same three
 # vertices, turning opposite ways: the edge they share with the cube has four
-# faces) is dropped before the remesh, which refuses non-manifold edges; with
-# two cubes through each other outgrow the remesher's capacity bound and are
+# faces) is dropped before the remesh, which refuses non-manifold edges; two
+# cubes through each other outgrow the remesher's capacity bound and are
 # remeshed again with four times the room (without it they fell back to the
 # icosphere); with a third face on an edge instead, or two needles far thinner
 # than the start's edge (their splits outgrow even that), the icosphere with a

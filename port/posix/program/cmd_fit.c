@@ -579,7 +579,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
     p.workers = a.cfg.workers;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
-    if (!a.remesh_h_given && (p.auto_coarse > 0 || (a.init_edge > 0 && a.init_hull == 0 && p.have_mesh)))
+    if (!a.remesh_h_given && p.from_target)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);

@@ -435,7 +435,7 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
         ls_arena_mark m2 = ls_arena_save(arena);
         ls_mesh_report rep;
         uint32_t cap = 0;
-        if (ls_mesh_validate(&clean, arena, &rep) == LS_OK && ls_remesh_capacity(&clean, &rep, rp.h, &cap) != LS_OK) cap = 0;
+        if (ls_mesh_validate(&clean, arena, &rep) != LS_OK || ls_remesh_capacity(&clean, &rep, rp.h, &cap) != LS_OK) cap = 0;
         ls_arena_restore(arena, m2);
         if (cap > 0 && cap <= UINT32_MAX / 4u) {
             rp.vertex_cap = 4u * cap;
@@ -616,12 +616,14 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
             return 0;
     } else if (o->init_edge > 0 && p->have_mesh) {
         if (!coarse_initial(p, &p->target, o->init_edge, o->init_smooth, 1, arena)) return 0;
+        p->from_target = 1;
     } else {
         int got = -1;
         if (o->init_auto && p->have_mesh && !is_scene && (p->target_genus > 0 || p->target_components > 1)) {
             got = coarse_initial(p, &p->target, LS_JOB_AUTO_EDGE, o->init_smooth, 0, arena);
             if (got == 0) return 0;
             p->auto_coarse = got > 0 ? 1 : -1;
+            p->from_target = got > 0;
         }
         if (got < 0) { /* an icosphere on the target's bounding sphere */
             st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);

@@ -98,6 +98,7 @@ typedef struct ls_job_problem {
     int auto_coarse;         /* 1: the coarse start was chosen for the target's genus or components;
                                 -1: it was, but the remesher failed on the target (the icosphere) */
     const char *coarse_failure; /* auto_coarse -1: the remesher's reason (static text) */
+    int from_target;         /* 1: the initial mesh is the target remeshed (--init-coarse or automatic) */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
                                 fit (sh then zeros until the fit's estimate is copied in) */
     ls_parallel parallel;    /* the metrics' workers (the caller sets them after ls_job_load; none: 0) */
