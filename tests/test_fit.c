@@ -345,6 +345,15 @@ static void fit_guard_rolls_back_and_counts(void)
     CHECK(ref.intersecting_pairs > 0);
     CHECK_EQ(mine.intersecting_pairs, ref.intersecting_pairs);
     CHECK_EQ(mine.intersecting_faces, ref.intersecting_faces);
+    {   /* the pairs alone: the same pair fields, no statistics */
+        ls_tangle_report pairs;
+        memset(&pairs, 0xab, sizeof pairs);
+        CHECK_STATUS(ls_fit_tangle_pairs(&fit, &pairs, &d), LS_OK);
+        CHECK_EQ(pairs.intersecting_pairs, ref.intersecting_pairs);
+        CHECK_EQ(pairs.intersecting_faces, ref.intersecting_faces);
+        CHECK(pairs.first_pair[0] == ref.first_pair[0] && pairs.first_pair[1] == ref.first_pair[1]);
+        CHECK(pairs.angle_p50 == 0 && pairs.quality_mean == 0 && mine.angle_p50 > 0);
+    }
     /* save, 5 steps, rollback: the saved state; 5 steps again: the same bits */
     REQUIRE(ls_fit_save(&fit) == LS_OK);
     at_save = test_hash_reals(fit.params, 3u * fit.vertex_count + 3u, TEST_HASH_SEED) ^

@@ -247,6 +247,16 @@ static void parallel_same_report(void)
                   "%u workers: %u pairs, %u faces, first (%u, %u); one: %u, %u, (%u, %u)", (unsigned)w,
                   rw.intersecting_pairs, rw.intersecting_faces, rw.first_pair[0], rw.first_pair[1],
                   r1.intersecting_pairs, r1.intersecting_faces, r1.first_pair[0], r1.first_pair[1]);
+        /* the pairs alone: the same pair fields in the same memory, no statistics */
+        memset(&rw, 0xab, sizeof rw);
+        CHECK_STATUS(ls_tangle_pairs(&m, &par, w, &t, &rw, NULL), LS_OK);
+        CHECK(t.peak <= bytes);
+        CHECK_MSG(rw.intersecting_pairs == r1.intersecting_pairs && rw.intersecting_faces == r1.intersecting_faces &&
+                      rw.first_pair[0] == r1.first_pair[0] && rw.first_pair[1] == r1.first_pair[1] &&
+                      rw.face_count == r1.face_count && rw.inverted_faces == 0 && rw.has_reference == 0 &&
+                      rw.first_inverted == LS_MESH_NONE && rw.angle_max == 0 && rw.quality_mean == 0,
+                  "%u workers, pairs alone: %u pairs, %u faces", (unsigned)w, rw.intersecting_pairs,
+                  rw.intersecting_faces);
         free(mem);
     }
     printf("     %u faces, %u intersecting pairs: the same report for 1 to 5 workers\n", m.face_count,

@@ -446,6 +446,12 @@ ls_status ls_fit_remesh(ls_fit *fit, ls_arena *arena, ls_real h_factor, ls_real 
  * Errors: LS_ERR_INVALID (NULL, no guard), the solve's. */
 ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
 
+/* ls_fit_tangle_pairs: ls_fit_tangle's self-intersections alone
+ * (ls_tangle_pairs: the pair fields, the shape statistics left 0), for a
+ * check at intervals such as the program's guard. As ls_fit_tangle
+ * otherwise. */
+ls_status ls_fit_tangle_pairs(ls_fit *fit, ls_tangle_report *out, ls_diag *diag);
+
 /* ls_fit_save: the checkpoint takes what ls_fit_step changes: x, the
  * parameters (u or x, and the translation), the optimizer's moments and step
  * count, the iteration count and the estimated lighting (sh, sh_valid).

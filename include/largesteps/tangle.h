@@ -80,6 +80,14 @@ ls_status ls_tangle_parallel_bytes(uint32_t face_count, uint32_t workers, size_t
 ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
                              ls_arena *arena, ls_tangle_report *out, ls_diag *diag);
 
+/* ls_tangle_pairs: ls_tangle_parallel's self-intersections alone
+ * (intersecting_pairs, intersecting_faces, first_pair and face_count; the
+ * rest 0, first_inverted LS_MESH_NONE): the check of a fit that needs no more, in about two
+ * thirds of the time (no sorts of the angles and qualities). Memory: at
+ * most ls_tangle_parallel_bytes. Errors as ls_tangle_parallel. */
+ls_status ls_tangle_pairs(const ls_mesh *mesh, const ls_parallel *par, uint32_t workers, ls_arena *arena,
+                          ls_tangle_report *out, ls_diag *diag);
+
 /* ls_tangle_pair: 1 when faces f and g of `mesh` intersect by the rules
  * above, else 0 (also for f == g or an index out of range). O(1); no memory.
  * The brute-force check of ls_tangle's count (all pairs) uses it. */

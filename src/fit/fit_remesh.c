@@ -39,7 +39,9 @@ static ls_status frame_mesh(ls_fit *fit, ls_real *positions)
     return LS_OK;
 }
 
-static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+/* The current mesh's self-intersections: all of ls_tangle's report, or
+ * (whole 0) the pairs alone. */
+static ls_status fit_tangle_call(ls_fit *fit, int whole, ls_tangle_report *out, ls_diag *diag)
 {
     ls_arena_mark mark;
     ls_real *pos;
@@ -55,7 +57,8 @@ static ls_status fit_tangle_call(ls_fit *fit, ls_tangle_report *out, ls_diag *di
         m.triangles = fit->triangles;
         m.vertex_count = fit->vertex_count;
         m.face_count = fit->face_count;
-        st = ls_tangle_parallel(&m, NULL, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag);
+        st = whole ? ls_tangle_parallel(&m, NULL, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag)
+                   : ls_tangle_pairs(&m, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag);
     }
     ls_arena_restore(&fit->block, mark);
     return st;
@@ -134,8 +137,8 @@ LS_NOINLINE static ls_status no_new_tangles(const ls_fit *fit, const ls_mesh *cu
     ls_tangle_report before, after;
     const ls_parallel *par = &fit->config.parallel;
     const uint32_t w = fit_workers(&fit->config);
-    ls_status st = ls_tangle_parallel(cur, NULL, par, w, work, &before, diag);
-    if (st == LS_OK) st = ls_tangle_parallel(out, NULL, par, w, work, &after, diag);
+    ls_status st = ls_tangle_pairs(cur, par, w, work, &before, diag);
+    if (st == LS_OK) st = ls_tangle_pairs(out, par, w, work, &after, diag);
     if (st == LS_OK && after.intersecting_pairs > before.intersecting_pairs) {
         diag_set(diag, LS_ERR_MESH, "remesh: the result self-intersects more than the mesh (try another h)",
                  fit->iteration);
@@ -288,7 +291,14 @@ static ls_status remesh_in_job(ls_fit *fit, ls_real h_factor, ls_real lr_factor,
 
 ls_status ls_fit_tangle(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
 {
-    ls_status st = fit_tangle_call(fit, out, diag);
+    ls_status st = fit_tangle_call(fit, 1, out, diag);
+    if (st == LS_OK) ls_diag_clear(diag);
+    return st;
+}
+
+ls_status ls_fit_tangle_pairs(ls_fit *fit, ls_tangle_report *out, ls_diag *diag)
+{
+    ls_status st = fit_tangle_call(fit, 0, out, diag);
     if (st == LS_OK) ls_diag_clear(diag);
     return st;
 }

@@ -610,8 +610,10 @@ static void all_intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_
     }
 }
 
-ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
-                         ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
+/* The report: the pairs, then (with `whole`) the shapes and the orientation.
+ * Not inlined: the callgraph check names it as the caller of its tasks. */
+LS_NOINLINE static ls_status tangle_report(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par,
+                               uint32_t workers, int whole, ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     ls_arena_mark mark;
@@ -663,6 +665,10 @@ ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, cons
     common_vertices(mesh, &bvh, com);
     all_intersections(mesh, &bvh, com, flags, parts, par, workers, &r);
     ls_arena_restore(arena, mark);
+    if (!whole) {
+        *out = r;
+        return LS_OK;
+    }
     n3 = 3u * mesh->face_count;
     keys = (uint64_t *)ls_arena_scratch(arena, n3, sizeof(uint64_t));
     idx = (uint32_t *)ls_arena_scratch(arena, n3, sizeof(uint32_t));
@@ -679,6 +685,18 @@ fail:
     ls_arena_restore(arena, mark);
     diag_set(diag, st, "arena too small for the tangle metrics", 0, 0);
     return st;
+}
+
+ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
+                         ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
+{
+    return tangle_report(mesh, reference, par, workers, 1, arena, out, diag);
+}
+
+ls_status ls_tangle_pairs(const ls_mesh *mesh, const ls_parallel *par, uint32_t workers, ls_arena *arena,
+                          ls_tangle_report *out, ls_diag *diag)
+{
+    return tangle_report(mesh, NULL, par, workers, 0, arena, out, diag);
 }
 
 ls_status ls_tangle(const ls_mesh *mesh, const ls_mesh *reference, ls_arena *arena, ls_tangle_report *out,

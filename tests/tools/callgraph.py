@@ -38,7 +38,7 @@ if files[:1] == ['--edges']:
         for line in f:
             line = line.split('#', 1)[0].strip()
             if line:
-                caller, callees = line.split(':', 1)
+                caller, callees = line.split(': ', 1)  # a static caller is path:name
                 extra.setdefault(caller.strip(), set()).update(callees.split())
     files = files[2:]
 

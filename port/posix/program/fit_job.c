@@ -730,7 +730,7 @@ static ls_status guarded_remesh(ls_fit *fit, ls_arena *arena, ls_real h, ls_real
     return st;
 }
 
-/* Self-intersecting pairs of the fit's current mesh (ls_fit_tangle). */
+/* 1 when every value is 0 (a gradient that moves nothing). */
 static int all_zero(const ls_real *v, size_t count)
 {
     size_t i;
@@ -739,13 +739,14 @@ static int all_zero(const ls_real *v, size_t count)
     return 1;
 }
 
+/* Self-intersecting pairs of the fit's current mesh (ls_fit_tangle_pairs). */
 static int fit_pairs(ls_fit *fit, uint32_t *pairs)
 {
     ls_tangle_report t;
     ls_diag d;
     ls_status st;
     ls_diag_clear(&d);
-    st = ls_fit_tangle(fit, &t, &d);
+    st = ls_fit_tangle_pairs(fit, &t, &d);
     if (st != LS_OK) return ls_job_fail("self-intersection check", st, &d);
     *pairs = t.intersecting_pairs;
     return 1;
