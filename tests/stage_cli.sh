@@ -233,13 +233,14 @@ if [ "$(grep -c -e '^| naive' -e '^| Laplacian' -e '^| bilaplacian' -e '^| large
     [ -s "$out/cmp/compare.png" ]; then ok "experiment_compare_rows_and_sheet"; else bad "experiment_compare_rows_and_sheet"; fi
 
 # an initial mesh of the target's genus: the elephant (genus 3) remeshed coarse and smoothed, no iteration
-# --threads: the views of each iteration shared by a pool of threads; any count gives the same bits
+# --threads: the target renders and the views of each iteration shared by a pool of threads; any
+# count gives the same bits
 rm -rf "$out/thr1" "$out/thr3"
 if "$ls" fit --threads 1 --iters 60 --remesh 20,40 --res 32 --views 7 --batch 5 --quiet -o "$out/thr1" > /dev/null 2>&1 &&
         "$ls" fit --threads 3 --iters 60 --remesh 20,40 --res 32 --views 7 --batch 5 --quiet -o "$out/thr3" > /dev/null 2>&1 &&
-        cmp -s "$out/thr1/result.obj" "$out/thr3/result.obj" &&
+        cmp -s "$out/thr1/result.obj" "$out/thr3/result.obj" && cmp -s "$out/thr1/contact.png" "$out/thr3/contact.png" &&
         [ "$(cut -d, -f1,2 "$out/thr1/log.csv")" = "$(cut -d, -f1,2 "$out/thr3/log.csv")" ]; then
-    ok "fit_threads_same_bits (1 and 3 threads: result.obj and the losses identical)"
+    ok "fit_threads_same_bits (1 and 3 threads: result.obj, the losses and the contact sheet identical)"
 else bad "fit_threads_same_bits"; fi
 expect fit_threads_bad_value 2 "--threads: '0' is not a whole number in \[1, 1024\]" "$ls" fit --threads 0 -o "$out/x"
 check fit_init_coarse "$ls" fit fixtures/meshes/elephant.obj --init-coarse 0.03 --iters 0 --res 24 --views 1 --quiet -o "$out/coarse"

@@ -575,9 +575,9 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_smooth = a.init_hull > 0 && !a.init_smooth_given ? 0u : a.init_smooth;
     o.init_auto = !a.init_sphere;
     o.init_hull = a.init_hull;
+    o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
+    o.workers = a.cfg.workers;
     if (!ls_job_load(&p, &o, &arena)) return 1;
-    p.parallel = a.cfg.parallel; /* the metrics on the fit's threads */
-    p.workers = a.cfg.workers;
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
     if (!a.remesh_h_given && p.from_target)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */

@@ -289,6 +289,69 @@ static int load_targets(ls_job_problem *p, const ls_scene *sc, const char *scene
     return 1;
 }
 
+/* The views of ls_job_render, a task each: worker w rasterizes into its own
+ * visibility buffer and scratch (each worker's share of the arena's free
+ * bytes); a view's status and diagnosis are its own. */
+typedef struct render_job {
+    const ls_job_problem *p;
+    const ls_view *view; /* all but vis and mvp */
+    ls_real **rgba;
+    ls_vis *vis;         /* [workers] */
+    ls_arena *scratch;   /* [workers] */
+    ls_status *st;       /* [views] */
+    ls_diag *d;          /* [views] */
+} render_job;
+
+static void render_task(void *arg, uint32_t v, uint32_t w)
+{
+    const render_job *j = (const render_job *)arg;
+    ls_arena_mark mark = ls_arena_save(&j->scratch[w]);
+    ls_view view = *j->view;
+    view.vis = &j->vis[w];
+    view.mvp = j->p->mvps + 16u * v;
+    ls_diag_clear(&j->d[v]);
+    j->st[v] = ls_raster(&j->vis[w], &view, &j->scratch[w], &j->d[v]);
+    if (j->st[v] == LS_OK) j->st[v] = ls_shade(&view, j->rgba[v], &j->d[v]);
+    ls_arena_restore(&j->scratch[w], mark);
+}
+
+/* The views on the problem's workers, the arena's free bytes split among
+ * them: LS_OK, the first failing view's status (in view order), or
+ * LS_ERR_NOMEM when a share was too small (the caller then renders here). */
+static ls_status render_parallel(const ls_job_problem *p, const ls_view *view, uint32_t ss, ls_real **rgba,
+                                 ls_arena *arena, ls_diag *d)
+{
+    const uint32_t workers = ls_job_workers(p);
+    ls_arena_mark mark = ls_arena_save(arena);
+    render_job j;
+    size_t share;
+    uint32_t w, v;
+    ls_status st = LS_OK;
+    j.p = p;
+    j.view = view;
+    j.rgba = rgba;
+    j.vis = (ls_vis *)ls_arena_alloc(arena, workers, sizeof(ls_vis));
+    j.scratch = (ls_arena *)ls_arena_alloc(arena, workers, sizeof(ls_arena));
+    j.st = (ls_status *)ls_arena_alloc(arena, p->views, sizeof(ls_status));
+    j.d = (ls_diag *)ls_arena_alloc(arena, p->views, sizeof(ls_diag));
+    if (j.d == NULL) st = LS_ERR_NOMEM;
+    share = ls_arena_available(arena) / workers / LS_ARENA_ALIGN * LS_ARENA_ALIGN;
+    for (w = 0; w < workers && st == LS_OK; w++) {
+        void *mem = ls_arena_alloc(arena, share, 1);
+        st = mem == NULL ? LS_ERR_NOMEM : ls_arena_init(&j.scratch[w], mem, share);
+        if (st == LS_OK) st = ls_vis_init(&j.vis[w], &j.scratch[w], p->width, p->height, ss, view->vertex_count);
+    }
+    if (st == LS_OK) {
+        p->parallel.run(p->parallel.ctx, p->views, render_task, &j);
+        for (v = 0; v < p->views && st == LS_OK; v++) {
+            st = j.st[v];
+            if (st != LS_OK && d != NULL) *d = j.d[v];
+        }
+    }
+    ls_arena_restore(arena, mark);
+    return st;
+}
+
 ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, ls_real **rgba, ls_arena *arena,
                         ls_diag *d)
 {
@@ -299,15 +362,23 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
     ls_status st = normals == NULL ? LS_ERR_NOMEM : LS_OK;
     uint32_t v;
     if (st == LS_OK) st = ls_shade_vertex_normals(m->positions, m->vertex_count, m->triangles, m->face_count, normals, d);
-    if (st == LS_OK) st = ls_vis_init(&vis, arena, p->width, p->height, ss, m->vertex_count);
     memset(&view, 0, sizeof view);
-    view.vis = &vis;
     view.positions = m->positions;
     view.indices = m->triangles;
     view.triangle_count = m->face_count;
     view.vertex_count = m->vertex_count;
     view.normals = normals;
     view.opts = &p->shading;
+    if (st == LS_OK && p->parallel.run != NULL && ls_job_workers(p) > 1u && p->views > 1u) {
+        st = render_parallel(p, &view, ss, rgba, arena, d);
+        if (st != LS_ERR_NOMEM) {
+            ls_arena_restore(arena, mark);
+            return st;
+        }
+        st = LS_OK; /* a worker's share too small: all of the memory, here */
+    }
+    if (st == LS_OK) st = ls_vis_init(&vis, arena, p->width, p->height, ss, m->vertex_count);
+    view.vis = &vis;
     for (v = 0; v < p->views && st == LS_OK; v++) {
         view.mvp = p->mvps + 16u * v;
         st = ls_raster(&vis, &view, arena, d);
@@ -529,6 +600,8 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     p->height = o->height;
     p->have_mesh = 1;
     p->name = o->target != NULL ? o->target : "embedded bunny";
+    p->parallel = o->parallel;
+    p->workers = o->workers;
     is_scene = o->target != NULL && (has_suffix(o->target, ".txt") || has_suffix(o->target, ".scene") ||
                                      has_suffix(o->target, ".xml") || has_suffix(o->target, ".json"));
     if (is_scene) {

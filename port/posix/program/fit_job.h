@@ -31,6 +31,8 @@ typedef struct ls_job_options {
     uint32_t init_hull;     /* > 0: the initial mesh is the targets' visual hull on a grid of this
                                many cells across (ls_visual_hull), remeshed to init_edge (0:
                                LS_JOB_HULL_EDGE) and smoothed by init_smooth Taubin steps */
+    ls_parallel parallel;   /* the workers of the target renders and the metrics (none: run 0) */
+    uint32_t workers;
 } ls_job_options;
 
 /* largesteps fit's config.grad_limit (fit.h). The interior shading
@@ -101,7 +103,7 @@ typedef struct ls_job_problem {
     int from_target;         /* 1: the initial mesh is the target remeshed (--init-coarse or automatic) */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
                                 fit (sh then zeros until the fit's estimate is copied in) */
-    ls_parallel parallel;    /* the metrics' workers (the caller sets them after ls_job_load; none: 0) */
+    ls_parallel parallel;    /* the renders' and the metrics' workers (ls_job_options') */
     uint32_t workers;
 } ls_job_problem;
 
