@@ -148,11 +148,12 @@ extern "C" {
 /* Parallelism the caller provides (largesteps/parallel.h). An iteration's
  * views are independent until their gradients are summed: with
  * config.workers = W > 1 and config.parallel.run set, the views of a batch
- * are taken LS_FIT_SLOTS_PER_WORKER W at a time, each rendered, shaded and
- * differentiated (raster, shading, loss, shading backward, silhouettes, the
- * lighting's sums) by one of the caller's workers into a slot of its own,
- * and the slots are then added to the totals in view order (their vertex
- * ranges split over the workers). Each view's gradient starts from zero, so
+ * are taken LS_FIT_SLOTS_PER_WORKER W at a time (all at once when the batch
+ * is no larger: one wait for the slowest view per iteration), each rendered,
+ * shaded and differentiated (raster, shading, loss, shading backward,
+ * silhouettes, the lighting's sums) by one of the caller's workers into a
+ * slot of its own, and the slots are then added to the totals in view order
+ * (their vertex ranges split over the workers). Each view's gradient starts from zero, so
  * the sum's order is the views' whatever W and whatever worker ran which
  * view: the same bits for every worker count, and with no parallel-for at
  * all (the slots then run one after another on the calling thread). The
@@ -162,10 +163,10 @@ extern "C" {
  * The monitor's clock (if any) is read from the workers; its report
  * callback is called from the calling thread only. Memory: every worker
  * beyond the first holds a visibility buffer, the images and a raster
- * scratch; every slot a view's gradient (6 n reals, 12 n with
- * LS_FIT_ALBEDO_VERTEX); ls_fit_bytes and ls_fit_job_bytes include them for
- * the configured W. */
-#define LS_FIT_SLOTS_PER_WORKER 4u
+ * scratch; every slot (min(LS_FIT_SLOTS_PER_WORKER W, the batch)) a
+ * view's gradient (6 n reals, 12 n with LS_FIT_ALBEDO_VERTEX); ls_fit_bytes
+ * and ls_fit_job_bytes include them for the configured W. */
+#define LS_FIT_SLOTS_PER_WORKER 8u
 #define LS_FIT_MAX_WORKERS 1024u
 
 /* The factor's ordering (LS_FIT_LARGE_STEPS with the LDL^T): AMD below

@@ -227,7 +227,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
     }
     ls_size_add(&s, 1, sizeof(struct ls_fit_pass));                /* pass */
     ls_size_add(&s, fit_workers(c), sizeof(struct ls_fit_worker)); /* workers */
-    ls_size_add(&s, fit_slots(c), sizeof(struct ls_fit_slot));      /* slots */
+    ls_size_add(&s, fit_slots(c, views), sizeof(struct ls_fit_slot)); /* slots */
     if (fit_workers(c) > 1u) { /* the normals' incidence and terms (fit_normals.c) */
         ls_size_add(&s, (size_t)n + 1u, sizeof(uint32_t));
         ls_size_add(&s, 3u * (size_t)f, sizeof(uint32_t));
@@ -240,7 +240,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
         size_t scratch = 0;
         ls_status st = view_scratch_bytes(c, n, f, &scratch);
         if (st != LS_OK) return st;
-        for (k = 0; k < fit_slots(c); k++) {
+        for (k = 0; k < fit_slots(c, views); k++) {
             ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* gx */
             ls_size_add(&s, 3u * (size_t)n, sizeof(ls_real)); /* gn */
             if (c->albedo == LS_FIT_ALBEDO_VERTEX) ls_size_add(&s, 6u * (size_t)n, sizeof(ls_real));
@@ -407,11 +407,12 @@ static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
     const ls_fit_config *c = &fit->config;
     ls_arena *a = &fit->block;
     const size_t px = (size_t)c->width * c->height * 4u;
+    const uint32_t slots = fit_slots(c, fit->views.count);
     size_t scratch = 0;
     uint32_t k;
     fit->pass = (struct ls_fit_pass *)ls_arena_alloc(a, 1, sizeof(struct ls_fit_pass));
     fit->workers = (struct ls_fit_worker *)ls_arena_alloc(a, fit_workers(c), sizeof(struct ls_fit_worker));
-    fit->slots = (struct ls_fit_slot *)ls_arena_alloc(a, fit_slots(c), sizeof(struct ls_fit_slot));
+    fit->slots = (struct ls_fit_slot *)ls_arena_alloc(a, slots, sizeof(struct ls_fit_slot));
     if (fit->pass == NULL || fit->workers == NULL || fit->slots == NULL || view_scratch_bytes(c, n, f, &scratch) != LS_OK) return 0;
     memset(fit->pass, 0, sizeof *fit->pass);
     if (fit_workers(c) > 1u) {
@@ -424,9 +425,9 @@ static int take_parallel(ls_fit *fit, uint32_t n, uint32_t f)
         if (p->face_ok == NULL) return 0;
     }
     memset(fit->workers, 0, fit_workers(c) * sizeof(struct ls_fit_worker));
-    memset(fit->slots, 0, fit_slots(c) * sizeof(struct ls_fit_slot));
-    fit->slot_count = fit_slots(c);
-    for (k = 0; k < fit_slots(c); k++) {
+    memset(fit->slots, 0, slots * sizeof(struct ls_fit_slot));
+    fit->slot_count = slots;
+    for (k = 0; k < slots; k++) {
         struct ls_fit_slot *sl = fit->slots + k;
         sl->gx = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));
         sl->gn = (ls_real *)ls_arena_alloc(a, 3u * (size_t)n, sizeof(ls_real));

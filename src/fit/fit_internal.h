@@ -90,7 +90,7 @@ struct ls_fit_pass {
 
 /* W (at least 1) and the slots: one per view when alone, else
  * LS_FIT_SLOTS_PER_WORKER per worker so that a slow view does not hold the
- * others back. */
+ * others back, and never more than an iteration's views. */
 static inline uint32_t fit_workers(const ls_fit_config *c) { return c->workers > 1u ? c->workers : 1u; }
 /* LS_FIT_LIGHT_ESTIMATE: whether the step about to run (or running:
  * fit->iteration is counted up after the solve) makes a new estimate. */
@@ -98,9 +98,11 @@ static inline int fit_light_iteration(const ls_fit *fit)
 {
     return fit->iteration % LS_FIT_LIGHT_EVERY == LS_FIT_LIGHT_EVERY - 1u;
 }
-static inline uint32_t fit_slots(const ls_fit_config *c)
+static inline uint32_t fit_slots(const ls_fit_config *c, uint32_t views)
 {
-    return fit_workers(c) > 1u ? LS_FIT_SLOTS_PER_WORKER * fit_workers(c) : 1u;
+    const uint32_t batch = fit_batch(c, views);
+    const uint32_t slots = fit_workers(c) > 1u ? LS_FIT_SLOTS_PER_WORKER * fit_workers(c) : 1u;
+    return slots < batch ? slots : batch > 0u ? batch : 1u;
 }
 
 /* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */
