@@ -435,19 +435,28 @@ static void edge_box(const ls_mesh *m, uint32_t x, uint32_t k, ls_real slack, ls
     }
 }
 
-/* Edge k of face x can meet face y: y holds neither of its ends, and their
- * boxes meet. */
-static int contact(const ls_mesh *m, uint32_t x, uint32_t k, uint32_t y, ls_real slack)
+/* An edge (ends va, vb; box elo, ehi) can meet face y: y holds neither
+ * end, and their boxes meet. */
+static int edge_meets_box(const ls_mesh *m, uint32_t va, uint32_t vb, const ls_real *elo, const ls_real *ehi,
+                          uint32_t y)
 {
-    const uint32_t *tx = m->triangles + 3u * (size_t)x, *ty = m->triangles + 3u * (size_t)y;
-    ls_real elo[3], ehi[3], flo[3], fhi[3];
+    const uint32_t *ty = m->triangles + 3u * (size_t)y;
+    ls_real flo[3], fhi[3];
     uint32_t a;
-    if (holds(ty, tx[k]) || holds(ty, tx[(k + 1u) % 3u])) return 0;
-    edge_box(m, x, k, slack, elo, ehi);
+    if (holds(ty, va) || holds(ty, vb)) return 0;
     for (a = 0; a < 3u; a++) flo[a] = fhi[a] = m->positions[3u * (size_t)ty[0] + a];
     grow_box(m->positions + 3u * (size_t)ty[1], flo, fhi);
     grow_box(m->positions + 3u * (size_t)ty[2], flo, fhi);
     return boxes_overlap(elo, ehi, flo, fhi);
+}
+
+/* Edge k of face x can meet face y (edge_meets_box). */
+static int contact(const ls_mesh *m, uint32_t x, uint32_t k, uint32_t y, ls_real slack)
+{
+    const uint32_t *tx = m->triangles + 3u * (size_t)x;
+    ls_real elo[3], ehi[3];
+    edge_box(m, x, k, slack, elo, ehi);
+    return edge_meets_box(m, tx[k], tx[(k + 1u) % 3u], elo, ehi, y);
 }
 
 /* Edge k of f is the pair {f, g}'s first contact: the lower face's edges
@@ -543,7 +552,7 @@ static void intersections(const tangle_job *j, uint32_t lo, uint32_t hi, uint32_
                 }
                 for (q = n->first; q < n->first + n->count; q++) {
                     const uint32_t g = bvh->order[q];
-                    if (g == f || !contact(m, f, k, g, slack) || !first_contact(m, f, k, g, slack) ||
+                    if (g == f || !edge_meets_box(m, va, vb, elo, ehi, g) || !first_contact(m, f, k, g, slack) ||
                         !pair_test(m, f, g))
                         continue;
                     count_pair(f, g, flags, r);
