@@ -227,7 +227,7 @@ static ls_status array_sizes(const ls_fit_config *c, uint32_t views, uint32_t n,
     }
     ls_size_add(&s, 1, sizeof(struct ls_fit_pass));                /* pass */
     ls_size_add(&s, fit_workers(c), sizeof(struct ls_fit_worker)); /* workers */
-    ls_size_add(&s, fit_slots(c, views), sizeof(struct ls_fit_slot)); /* slots */
+    ls_size_add(&s, fit_slots(c, views), sizeof(struct ls_fit_slot));  /* slots */
     if (fit_workers(c) > 1u) { /* the normals' incidence and terms (fit_normals.c) */
         ls_size_add(&s, (size_t)n + 1u, sizeof(uint32_t));
         ls_size_add(&s, 3u * (size_t)f, sizeof(uint32_t));

@@ -53,12 +53,14 @@ static ls_status fit_tangle_call(ls_fit *fit, int whole, ls_tangle_report *out, 
     pos = (ls_real *)ls_arena_scratch(&fit->block, 3u * (size_t)fit->vertex_count, sizeof(ls_real));
     st = pos != NULL ? frame_mesh(fit, pos) : LS_ERR_NOMEM; /* not reached: the reserve */
     if (st == LS_OK) {
+        const ls_parallel *par = &fit->config.parallel;
+        const uint32_t w = fit_workers(&fit->config);
         m.positions = pos;
         m.triangles = fit->triangles;
         m.vertex_count = fit->vertex_count;
         m.face_count = fit->face_count;
-        st = whole ? ls_tangle_parallel(&m, NULL, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag)
-                   : ls_tangle_pairs(&m, &fit->config.parallel, fit_workers(&fit->config), &fit->block, out, diag);
+        st = whole ? ls_tangle_parallel(&m, NULL, par, w, &fit->block, out, diag)
+                   : ls_tangle_pairs(&m, par, w, &fit->block, out, diag);
     }
     ls_arena_restore(&fit->block, mark);
     return st;

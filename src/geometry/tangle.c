@@ -622,7 +622,8 @@ static void all_intersections(const ls_mesh *m, const ls_bvh *bvh, const uint32_
 /* The report: the pairs, then (with `whole`) the shapes and the orientation.
  * Not inlined: the callgraph check names it as the caller of its tasks. */
 LS_NOINLINE static ls_status tangle_report(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par,
-                               uint32_t workers, int whole, ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
+                                           uint32_t workers, int whole, ls_arena *arena, ls_tangle_report *out,
+                                           ls_diag *diag)
 {
     ls_diag_clear(diag);
     ls_arena_mark mark;
@@ -697,7 +698,7 @@ fail:
 }
 
 ls_status ls_tangle_parallel(const ls_mesh *mesh, const ls_mesh *reference, const ls_parallel *par, uint32_t workers,
-                         ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
+                             ls_arena *arena, ls_tangle_report *out, ls_diag *diag)
 {
     return tangle_report(mesh, reference, par, workers, 1, arena, out, diag);
 }
