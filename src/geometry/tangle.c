@@ -297,17 +297,21 @@ static ls_real pct(const uint64_t *keys, const uint32_t *idx, uint32_t n, uint32
     return key_real(keys[idx[r - 1u]]);
 }
 
-static void corner_angles(const ls_mesh *m, uint32_t f, ls_real ang[3], ls_real *quality)
+/* Face f's edge vectors e[k] = v[k+1] - v[k]. */
+static void face_edges(const ls_mesh *m, uint32_t f, ls_real e[3][3])
 {
     const uint32_t *t = m->triangles + 3u * (size_t)f;
-    ls_real e[3][3], n[3], len[3], den, n2;
     uint32_t k;
+    for (k = 0; k < 3u; k++) sub3(m->positions + 3u * (size_t)t[(k + 1u) % 3u], m->positions + 3u * (size_t)t[k], e[k]);
+}
+
+/* Face f's corner angles in degrees (corner k between e[k] and -e[k+2]). */
+static void corner_angles(const ls_mesh *m, uint32_t f, ls_real ang[3])
+{
+    ls_real e[3][3];
+    uint32_t k;
+    face_edges(m, f, e);
     for (k = 0; k < 3u; k++) {
-        sub3(m->positions + 3u * (size_t)t[(k + 1u) % 3u], m->positions + 3u * (size_t)t[k], e[k]);
-        len[k] = LS_RSQRT(dot3(e[k], e[k]));
-    }
-    for (k = 0; k < 3u; k++) {
-        /* corner k between e[k] and -e[k+2] */
         ls_real u[3], c[3];
         const ls_real *a = e[k], *b = e[(k + 2u) % 3u];
         u[0] = -b[0];
@@ -316,12 +320,21 @@ static void corner_angles(const ls_mesh *m, uint32_t f, ls_real ang[3], ls_real 
         cross3(a, u, c);
         ang[k] = LS_RATAN2(LS_RSQRT(dot3(c, c)), dot3(a, u)) * RAD_TO_DEG;
     }
+}
+
+/* Face f's quality 2 r / R = 4 |n|^2 / (l0 l1 l2 (l0 + l1 + l2)), in [0, 1]. */
+static ls_real face_quality(const ls_mesh *m, uint32_t f)
+{
+    ls_real e[3][3], n[3], len[3], den, n2, q;
+    uint32_t k;
+    face_edges(m, f, e);
+    for (k = 0; k < 3u; k++) len[k] = LS_RSQRT(dot3(e[k], e[k]));
     cross3(e[0], e[1], n);
     n2 = dot3(n, n);
     den = (len[0] * len[1] * len[2]) * ((len[0] + len[1]) + len[2]);
-    *quality = (den > 0 && n2 > 0) ? (ls_real)4 * n2 / den : (ls_real)0;
-    if (!(*quality >= 0)) *quality = 0;
-    if (*quality > 1) *quality = 1;
+    q = (den > 0 && n2 > 0) ? (ls_real)4 * n2 / den : (ls_real)0;
+    if (!(q >= 0)) q = 0;
+    return q > 1 ? (ls_real)1 : q;
 }
 
 static void shapes(const ls_mesh *m, uint64_t *keys, uint32_t *idx, uint32_t *scratch, ls_tangle_report *r)
@@ -329,8 +342,8 @@ static void shapes(const ls_mesh *m, uint64_t *keys, uint32_t *idx, uint32_t *sc
     uint32_t f, k, n3 = 3u * m->face_count;
     ls_real qsum = 0, qc = 0;
     for (f = 0; f < m->face_count; f++) {
-        ls_real ang[3], q;
-        corner_angles(m, f, ang, &q);
+        ls_real ang[3];
+        corner_angles(m, f, ang);
         for (k = 0; k < 3u; k++) keys[3u * f + k] = real_key(ang[k]);
     }
     for (k = 0; k < n3; k++) idx[k] = k;
@@ -341,8 +354,8 @@ static void shapes(const ls_mesh *m, uint64_t *keys, uint32_t *idx, uint32_t *sc
     r->angle_p5 = pct(keys, idx, n3, 5);
     r->angle_p50 = pct(keys, idx, n3, 50);
     for (f = 0; f < m->face_count; f++) {
-        ls_real ang[3], q, t;
-        corner_angles(m, f, ang, &q);
+        const ls_real q = face_quality(m, f);
+        ls_real t;
         keys[f] = real_key(q);
         idx[f] = f;
         /* compensated sum of the qualities */
