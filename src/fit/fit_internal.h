@@ -100,9 +100,9 @@ static inline int fit_light_iteration(const ls_fit *fit)
 }
 static inline uint32_t fit_slots(const ls_fit_config *c, uint32_t views)
 {
-    const uint32_t batch = fit_batch(c, views);
+    const uint32_t batch = fit_batch(c, views) > 0u ? fit_batch(c, views) : 1u;
     const uint32_t slots = fit_workers(c) > 1u ? LS_FIT_SLOTS_PER_WORKER * fit_workers(c) : 1u;
-    return slots < batch ? slots : batch > 0u ? batch : 1u;
+    return slots < batch ? slots : batch;
 }
 
 /* The counts a job's capacity bounds (ls_fit_capacity, plus the edges). */

@@ -710,7 +710,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         }
         if (st == LS_OK) st = ls_report_fit_sheet(&sheet, p.views);
         if (st != LS_OK) return ls_job_fail("contact sheet", st, NULL), 1;
-        ls_image_format png = {LS_IMAGE_PNG, 3, 8, 0}; /* opaque: no alpha channel (11 % smaller, 16 % faster) */
+        ls_image_format png = {LS_IMAGE_PNG, 3, 8, 0}; /* the sheet is opaque: no alpha channel */
         /* the files appear together or not at all: an earlier run's set
          * stays whole when this one cannot be written */
         set = ls_posix_outset_begin(a.out);

@@ -315,13 +315,12 @@ static void render_task(void *arg, uint32_t v, uint32_t w)
     ls_arena_restore(&j->scratch[w], mark);
 }
 
-/* The views on the problem's workers, the arena's free bytes split among
- * them: LS_OK, the first failing view's status (in view order), or
- * LS_ERR_NOMEM when a share was too small (the caller then renders here). */
-static ls_status render_parallel(const ls_job_problem *p, const ls_view *view, uint32_t ss, ls_real **rgba,
-                                 ls_arena *arena, ls_diag *d)
+/* The views on `workers` workers (1: here, in view order), the arena's free
+ * bytes split among them: LS_OK, or the first failing view's status (in
+ * view order); LS_ERR_NOMEM also when a share is too small. */
+static ls_status render_views(const ls_job_problem *p, const ls_view *view, uint32_t ss, ls_real **rgba,
+                              uint32_t workers, ls_arena *arena, ls_diag *d)
 {
-    const uint32_t workers = ls_job_workers(p);
     ls_arena_mark mark = ls_arena_save(arena);
     render_job j;
     size_t share;
@@ -341,12 +340,13 @@ static ls_status render_parallel(const ls_job_problem *p, const ls_view *view, u
         st = mem == NULL ? LS_ERR_NOMEM : ls_arena_init(&j.scratch[w], mem, share);
         if (st == LS_OK) st = ls_vis_init(&j.vis[w], &j.scratch[w], p->width, p->height, ss, view->vertex_count);
     }
-    if (st == LS_OK) {
+    if (st == LS_OK && workers > 1u)
         p->parallel.run(p->parallel.ctx, p->views, render_task, &j);
-        for (v = 0; v < p->views && st == LS_OK; v++) {
-            st = j.st[v];
-            if (st != LS_OK && d != NULL) *d = j.d[v];
-        }
+    else if (st == LS_OK)
+        for (v = 0; v < p->views; v++) render_task(&j, v, 0);
+    for (v = 0; v < p->views && st == LS_OK; v++) {
+        st = j.st[v];
+        if (st != LS_OK && d != NULL) *d = j.d[v];
     }
     ls_arena_restore(arena, mark);
     return st;
@@ -356,11 +356,10 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
                         ls_diag *d)
 {
     ls_arena_mark mark = ls_arena_save(arena);
-    ls_vis vis;
+    const uint32_t workers = p->parallel.run != NULL && p->views > 1u ? ls_job_workers(p) : 1u;
     ls_view view;
     ls_real *normals = (ls_real *)ls_arena_alloc(arena, 3u * (size_t)m->vertex_count, sizeof(ls_real));
     ls_status st = normals == NULL ? LS_ERR_NOMEM : LS_OK;
-    uint32_t v;
     if (st == LS_OK) st = ls_shade_vertex_normals(m->positions, m->vertex_count, m->triangles, m->face_count, normals, d);
     memset(&view, 0, sizeof view);
     view.positions = m->positions;
@@ -369,21 +368,9 @@ ls_status ls_job_render(const ls_job_problem *p, const ls_mesh *m, uint32_t ss, 
     view.vertex_count = m->vertex_count;
     view.normals = normals;
     view.opts = &p->shading;
-    if (st == LS_OK && p->parallel.run != NULL && ls_job_workers(p) > 1u && p->views > 1u) {
-        st = render_parallel(p, &view, ss, rgba, arena, d);
-        if (st != LS_ERR_NOMEM) {
-            ls_arena_restore(arena, mark);
-            return st;
-        }
-        st = LS_OK; /* a worker's share too small: all of the memory, here */
-    }
-    if (st == LS_OK) st = ls_vis_init(&vis, arena, p->width, p->height, ss, m->vertex_count);
-    view.vis = &vis;
-    for (v = 0; v < p->views && st == LS_OK; v++) {
-        view.mvp = p->mvps + 16u * v;
-        st = ls_raster(&vis, &view, arena, d);
-        if (st == LS_OK) st = ls_shade(&view, rgba[v], d);
-    }
+    if (st == LS_OK) st = render_views(p, &view, ss, rgba, workers, arena, d);
+    if (st == LS_ERR_NOMEM && workers > 1u) /* a worker's share too small: all of the memory, here */
+        st = render_views(p, &view, ss, rgba, 1u, arena, d);
     ls_arena_restore(arena, mark);
     return st;
 }
