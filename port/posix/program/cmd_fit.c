@@ -41,6 +41,7 @@ typedef struct fit_args {
     uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
+    uint32_t boost_given;       /* --boost was given (else the default for the shading) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
@@ -74,7 +75,8 @@ static int usage(FILE *f)
             "  --aa-adaptive A    A x A sub-samples in silhouette pixels (forward and shading gradient;\n"
             "                     2..32, off when A <= S; default 0 = off)\n"
             "  --loss L           l1 (default) | l2\n"
-            "  --boost B          silhouette gradient multiplier (0..1e6; default 3)\n"
+            "  --boost B          silhouette gradient multiplier (0..1e6; default 1.5, 3 with\n"
+            "                     estimated lighting or --shading mask)\n"
             "  --mask-pull W      pull vertices that project outside a target's mask back into it,\n"
             "                     along the mask's distance field, weight W (0..1e12; default 3e-5;\n"
             "                     0: off, the paper's)\n"
@@ -265,7 +267,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--guard") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.guard_every);
         else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
         else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
-        else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost);
+        else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost), a->boost_given = 1;
         else if (strcmp(o, "--mask-pull") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.mask_pull);
         else if (strcmp(o, "--grad-limit") == 0)
             ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.grad_limit), a->grad_limit_given = 1;
@@ -583,6 +585,9 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
+    if (!a.boost_given)
+        a.cfg.boost = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE || p.shading.mode == LS_SHADE_MASK ? LS_JOB_BOOST_ESTIMATE
+                                                                                                  : LS_JOB_BOOST);
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
         fprintf(stderr, "largesteps fit: --albedo vertex is estimated with the lighting, from a camera dataset that "
                         "does not record its lighting (its transforms.json without largesteps_sh); this target's "
