@@ -422,6 +422,25 @@ if "$ls" fit "$ds.lambert/transforms.json" --shading mask --iters 5 -o "$out/fit
         ! grep -q "estimating it" "$build/ds_mask.log" && ! grep -q estimated_sh "$out/fit_ds_mask/metrics.json"; then
     ok "fit_dataset_unknown_lighting_shading_mask_fits_masks"
 else bad "fit_dataset_unknown_lighting_shading_mask_fits_masks"; tail -n 3 "$build/ds_mask.log"; fi
+# the silhouette boost's default follows the shading: 1.5 where it is given
+# (a mesh target), 3 where it is estimated; each default gives the bytes of
+# its value and not those of the other
+boost_fit() { # dir, target, options...
+    d=$1 t=$2
+    shift 2
+    rm -rf "$out/$d"
+    "$ls" fit "$t" --iters 8 --remesh none --res 32 --views 4 --threads 1 --quiet --track 0 "$@" -o "$out/$d" > /dev/null 2>&1
+}
+if boost_fit boost_mesh fixtures/meshes/bunny.obj && boost_fit boost_mesh15 fixtures/meshes/bunny.obj --boost 1.5 &&
+        boost_fit boost_mesh3 fixtures/meshes/bunny.obj --boost 3 &&
+        boost_fit boost_ds "$ds.lambert/transforms.json" && boost_fit boost_ds3 "$ds.lambert/transforms.json" --boost 3 &&
+        boost_fit boost_ds15 "$ds.lambert/transforms.json" --boost 1.5 &&
+        cmp -s "$out/boost_mesh/result.obj" "$out/boost_mesh15/result.obj" &&
+        ! cmp -s "$out/boost_mesh/result.obj" "$out/boost_mesh3/result.obj" &&
+        cmp -s "$out/boost_ds/result.obj" "$out/boost_ds3/result.obj" &&
+        ! cmp -s "$out/boost_ds/result.obj" "$out/boost_ds15/result.obj"; then
+    ok "fit_boost_default_follows_the_shading (1.5 given, 3 estimated)"
+else bad "fit_boost_default_follows_the_shading"; fi
 # render --cameras: a dataset's own cameras give its images again, byte for
 # byte, and the same transforms.json (its numbers to 1e-12); a non-square dataset with an off-centre
 # principal point gives images of its size and keeps the point; --cameras

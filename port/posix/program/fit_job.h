@@ -57,17 +57,12 @@ typedef struct ls_job_options {
  * when the targets' shading is given (a mesh target, or a dataset that
  * records its lighting). UniformAdam scales every vertex's step by one
  * maximum, which the boosted silhouette terms set; a smaller boost leaves
- * the exact shading gradients more of each step. On the fit suite (medians
- * of three runs, H % of the diagonal) 1.5 against the paper's 3: the bunny
- * 0.73 -> 0.67, armadillo 2.02 -> 1.82, camel 4.78 -> 3.98, dino 2.32 ->
- * 1.79, Nefertiti 1.80 -> 1.70, but homer 3.76 -> 3.93 and the elk 1.39 ->
- * 1.72; 1 gained more on the armadillo and the camel and lost more on the
- * others. */
+ * the exact shading gradients more of each step (docs/fit-suite.md: 6 of 14
+ * suite targets within every bound, 5 at the paper's 3). */
 #define LS_JOB_BOOST 1.5
-/* With estimated lighting or the masks alone: the paper's 3. The shading
- * gradients then carry the estimate's error: on the Mesa datasets (one run
- * each) 1.5 took the bunny from 1.65 to 2.32 %, the armadillo 2.18 -> 2.30,
- * Nefertiti 2.05 -> 2.16. */
+/* With estimated lighting or the masks alone, the paper's 3: estimated
+ * shading gradients carry the estimate's error, and 1.5 lost on the Mesa
+ * datasets (docs/fitting.md). */
 #define LS_JOB_BOOST_ESTIMATE 3.0
 
 /* largesteps fit's config.mask_pull (fit.h). On the fit suite (median of
