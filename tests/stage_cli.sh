@@ -428,7 +428,7 @@ else bad "fit_dataset_unknown_lighting_shading_mask_fits_masks"; tail -n 3 "$bui
 boost_fit() { # dir, target, options...
     d=$1 t=$2
     shift 2
-    rm -rf "$out/$d"
+    rm -rf "${out:?}/${d:?}"
     "$ls" fit "$t" --iters 8 --remesh none --res 32 --views 4 --threads 1 --quiet --track 0 "$@" -o "$out/$d" > /dev/null 2>&1
 }
 if boost_fit boost_mesh fixtures/meshes/bunny.obj && boost_fit boost_mesh15 fixtures/meshes/bunny.obj --boost 1.5 &&
