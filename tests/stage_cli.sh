@@ -183,6 +183,13 @@ expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to
     "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
 expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
     "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"
+# a remesh the guard refuses (its result would self-intersect more than the mesh) is said as
+# refused, not as done, and counted in the summary
+expect fit_says_a_remesh_was_refused 3 "remesh before iteration 5 refused: its result would self-intersect more than the mesh; the fit goes on with its 7626 vertices" \
+    "$ls" fit "$out/cubes_through.obj" --iters 10 --res 32 --views 4 --remesh 5 --guard 5 -o "$out/cubes_refused"
+if grep -q "^set-up .* ms; 0 remeshes, 1 refused (the mesh kept as it was);" "$build/fit_says_a_remesh_was_refused.log"; then
+    ok "fit_counts_the_refused_remeshes"
+else bad "fit_counts_the_refused_remeshes"; grep "^set-up" "$build/fit_says_a_remesh_was_refused.log"; fi
 
 # 3. errors: exit status 2 for usage, 1 for bad input, a message, no output
 expect fit_unknown_option 2 "unknown option" "$ls" fit --frobnicate -o "$out/x"

@@ -664,10 +664,10 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                (unsigned)run.capacity.max_faces, (unsigned)run.capacity.max_factor_nnz,
                (double)run.fit_bytes / 1048576.0, (double)run.fit_bytes_end / 1048576.0,
                (double)run.peak_used / 1048576.0, (unsigned)run.remesh_live_max, (unsigned)run.factor_nnz);
-        printf("set-up %.1f ms; %u remeshes; %u vertices at the end; distances measured %u times in %.0f ms (not "
-               "counted below)\n",
-               run.setup_ms, (unsigned)run.remeshes, (unsigned)run.result.vertex_count, (unsigned)run.tracked,
-               run.track_total_ms);
+        printf("set-up %.1f ms; %u remeshes", run.setup_ms, (unsigned)run.remeshes);
+        if (run.remeshes_refused > 0) printf(", %u refused (the mesh kept as it was)", (unsigned)run.remeshes_refused);
+        printf("; %u vertices at the end; distances measured %u times in %.0f ms (not counted below)\n",
+               (unsigned)run.result.vertex_count, (unsigned)run.tracked, run.track_total_ms);
         printf("time per iteration %.2f ms: render %.2f, shading backward %.2f, silhouettes %.2f, solves %.2f, "
                "optimizer %.2f\n",
                run.total_ms / n, (double)t->render_ns * 1e-6 / n, (double)t->shade_backward_ns * 1e-6 / n,

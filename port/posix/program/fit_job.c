@@ -770,24 +770,23 @@ static int capacity_fail(const char *what, ls_status st, const ls_diag *d)
 
 /* ls_fit_remesh at h, and where the guard refuses the result for new
  * self-intersections (LS_ERR_MESH), once more at another h (5/4 h, or 3/4 h
- * from h = 0.8 up); a second refusal, or a second result beyond the job's
- * capacity, keeps the mesh as it is (*done = 0). */
+ * from h = 0.8 up). *done: 1 remeshed; 0 refused twice for self-intersections,
+ * -1 beyond the job's capacity (said on stderr); either way the mesh stays as
+ * it is and the call succeeds. */
 static ls_status guarded_remesh(ls_fit *fit, ls_arena *arena, ls_real h, ls_real lr_factor, ls_remesh_info *ri,
                                 int *done, ls_diag *d)
 {
     ls_status st = ls_fit_remesh(fit, arena, h, lr_factor, ri, d);
-    *done = st == LS_OK;
+    if (st == LS_ERR_MESH && fit->config.guard)
+        st = ls_fit_remesh(fit, arena, h < (ls_real)0.8 ? h * (ls_real)1.25 : h * (ls_real)0.75, lr_factor, ri, d);
+    *done = st == LS_OK ? 1 : 0;
     if (st == LS_ERR_TOO_LARGE && fit->config.guard) { /* the fit is as before: go on without this remesh */
         fprintf(stderr, "largesteps: a remesh before iteration %u would exceed the job's capacity (%s); the fit goes "
                         "on with its mesh (--max-vertices raises it)\n", (unsigned)fit->iteration, d->what);
+        *done = -1;
         return LS_OK;
     }
-    if (st == LS_ERR_MESH && fit->config.guard) {
-        st = ls_fit_remesh(fit, arena, h < (ls_real)0.8 ? h * (ls_real)1.25 : h * (ls_real)0.75, lr_factor, ri, d);
-        *done = st == LS_OK;
-        if (st == LS_ERR_MESH || st == LS_ERR_TOO_LARGE) st = LS_OK;
-    }
-    return st;
+    return st == LS_ERR_MESH && fit->config.guard ? LS_OK : st;
 }
 
 /* 1 when every value is 0 (a gradient that moves nothing). */
@@ -910,6 +909,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             if (!fit_pairs(&fit, &pairs)) return 0;
             if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
                 uint32_t back = fit.saved_iteration;
+                int remeshed = 0;
                 (void)ls_fit_rollback(&fit);
                 r->rollbacks++;
                 if (s->guard_remesh > 0) {
@@ -922,16 +922,20 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                     if (h < (ls_real)0.7) h = (ls_real)0.7;
                     st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, h, (ls_real)1, &ri, &done, &d);
                     if (st != LS_OK) return capacity_fail("remeshing after a roll-back", st, &d);
-                    if (!done) r->remeshes_refused++;
+                    remeshed = done == 1;
+                    if (!remeshed) r->remeshes_refused++;
                     /* the new mesh is the checkpoint, before the first step of the reset optimizer */
-                    if (done && !fit_pairs(&fit, &saved_pairs)) return 0;
-                    if (done) (void)ls_fit_save(&fit);
+                    if (remeshed && !fit_pairs(&fit, &saved_pairs)) return 0;
+                    if (remeshed) (void)ls_fit_save(&fit);
                 }
                 fit.optim.config.lr *= s->guard_lr;
                 if (progress)
                     printf("%sself-intersections at iteration %u (%u pairs): back to iteration %u%s, lr x %g\n",
                            progress == 2 ? "\n" : "", (unsigned)it, (unsigned)pairs, (unsigned)back,
-                           s->guard_remesh > 0 ? ", remeshed" : "", (double)s->guard_lr);
+                           s->guard_remesh <= 0 ? ""
+                           : remeshed          ? ", remeshed"
+                                               : ", its remesh refused (it would self-intersect more)",
+                           (double)s->guard_lr);
             } else {
                 (void)ls_fit_save(&fit);
                 saved_pairs = pairs;
@@ -946,12 +950,12 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             int done;
             st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &done, &d);
             if (st != LS_OK) return capacity_fail("remeshing", st, &d);
-            if (done) ref_vertices = fit.vertex_count;
-            if (done && s->guard_every > 0) { /* the remeshed mesh is the checkpoint */
+            if (done == 1) ref_vertices = fit.vertex_count;
+            if (done == 1 && s->guard_every > 0) { /* the remeshed mesh is the checkpoint */
                 if (!fit_pairs(&fit, &saved_pairs)) return 0;
                 (void)ls_fit_save(&fit);
             }
-            if (!done) {
+            if (done != 1) {
                 fit.optim.config.lr *= s->remesh_lr;
                 r->remeshes_refused++;
             }
@@ -962,9 +966,13 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             held += capacity != NULL ? fit.job.peak - fit.job_fit_bytes : 0u;
             if (held > r->peak_used) r->peak_used = held;
             if (fit.block.capacity > r->peak_used) r->peak_used = fit.block.capacity;
-            if (progress)
+            if (progress && done == 1)
                 printf("%sremeshed before iteration %u: %u -> %u vertices in %.1f ms\n", progress == 2 ? "\n" : "",
                        (unsigned)it, (unsigned)before, (unsigned)fit.vertex_count, ls_job_now_ms() - tr);
+            else if (progress && done == 0)
+                printf("%sremesh before iteration %u refused: its result would self-intersect more than the mesh; "
+                       "the fit goes on with its %u vertices, lr x %g\n",
+                       progress == 2 ? "\n" : "", (unsigned)it, (unsigned)before, (double)s->remesh_lr);
         }
         if (it == settle_at && settle_at < iterations) fit.optim.config.lr *= s->settle_lr;
         if (track_cap > 0 && it % track_every == 0) {

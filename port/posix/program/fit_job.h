@@ -137,7 +137,8 @@ typedef struct ls_job_run {
                                 remesher's work during a remesh) */
     ls_fit_capacity capacity;/* with a capacity: the one used */
     uint32_t rollbacks;      /* guard: roll-backs to the last check */
-    uint32_t remeshes_refused; /* guard: remeshes whose result self-intersected at h and 3/4 h */
+    uint32_t remeshes_refused; /* guard: remeshes not done (their results self-intersected more than the mesh
+                                  at both edge lengths tried, or exceeded the job's capacity) */
     uint32_t remesh_live_max;/* the most live vertices of the remesher, over the remeshes */
     uint32_t factor_nnz;     /* nnz(L) of the final fit's LDL^T factor (0 without) */
     uint32_t tracked;        /* distance samples taken (track_every > 0) */
