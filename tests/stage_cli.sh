@@ -505,5 +505,34 @@ elif grep -q 'bad_transforms.json:2:33: intrinsics per frame are not supported' 
     ok "fit_dataset_malformed ($(head -n 1 "$build/ds_bad.log" | cut -c1-90)...)"
 else bad "fit_dataset_malformed"; cat "$build/ds_bad.log"; fi
 
+# --normals flat (render) and --target-normals flat (fit): each face shaded with its own
+# normal. A cube seen by one view at 32 x 32 without supersampling: its fully covered
+# pixels take one colour per visible face (at most 3) when flat, hundreds when smooth
+# (the default, the same bytes); a dataset target has no mesh to shade and is refused.
+cc -std=c99 -O2 -Iinclude -I"$build/include" -Iport/posix tests/tools/imgtool.c "$build/liblargesteps-posix.a" \
+    "$build/liblargesteps.a" -lm -o "$build/imgtool" 2> "$build/imgtool.err" || cat "$build/imgtool.err"
+colours() { "$build/imgtool" dump "$1" | awk '$NF == 255 { c[$(NF-3) " " $(NF-2) " " $(NF-1)]++ } END { n = 0; for (k in c) n++; print n }'; }
+{ cube 0; cube_faces 0; } > "$out/cube.obj"
+for n in flat smooth default; do
+    opt="--normals $n"; [ "$n" = default ] && opt=""
+    # shellcheck disable=SC2086 # $opt: an option and its value, or nothing
+    "$ls" render "$out/cube.obj" --views 1 --res 32 --ss 1 --bits 8 $opt -o "$out/cube_$n" > "$build/cube_$n.log" 2>&1
+done
+cf=$(colours "$out/cube_flat/view_000.png"); cs=$(colours "$out/cube_smooth/view_000.png")
+if [ -n "$cf" ] && [ "$cf" -ge 1 ] && [ "$cf" -le 3 ] && [ -n "$cs" ] && [ "$cs" -gt 20 ] &&
+        cmp -s "$out/cube_smooth/view_000.png" "$out/cube_default/view_000.png"; then
+    ok "render_normals_flat ($cf colours flat, $cs smooth)"
+else bad "render_normals_flat ($cf colours flat, $cs smooth)"; fi
+expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth or flat" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
+for n in flat smooth; do
+    "$ls" fit "$out/cube.obj" --target-normals $n --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
+done
+if [ -s "$out/cube_fit_flat/contact.png" ] && [ -s "$out/cube_fit_smooth/contact.png" ] &&
+        ! cmp -s "$out/cube_fit_flat/contact.png" "$out/cube_fit_smooth/contact.png"; then
+    ok "fit_target_normals_flat_changes_the_targets"
+else bad "fit_target_normals_flat_changes_the_targets"; tail -n 3 "$build/cube_fit_flat.log"; fi
+expect fit_target_normals_needs_a_mesh 2 "--target-normals flat shades the renders of a mesh target" \
+    "$ls" fit "$ds/transforms.json" --target-normals flat --iters 0 -o "$out/x"
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

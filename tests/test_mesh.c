@@ -590,6 +590,58 @@ static void weld_merges_exact_duplicates_only(void)
     CHECK_EQ(m.vertex_count, 36);
 }
 
+/* --- unwelding --------------------------------------------------------------------- */
+
+static void unweld_gives_each_face_its_vertices(void)
+{
+    static unsigned char mem[4096];
+    small_mesh s;
+    ls_mesh u;
+    ls_arena a;
+    ls_diag d;
+    ls_real vn[3 * 12];
+    size_t bytes = 0;
+    uint32_t f, k, i, removed = 0;
+    sm_init(&s, tet_p, 4, tet_t, 4);
+    CHECK_STATUS(ls_mesh_unweld_bytes(4, &bytes), LS_OK);
+    CHECK_EQ(bytes, 12 * 3 * sizeof(ls_real) + 4 * 3 * sizeof(uint32_t));
+    /* exactly the bytes it says: one fewer fails and leaves the arena as it was */
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes), LS_OK);
+    CHECK_STATUS(ls_mesh_unweld(&s.m, &a, &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 12);
+    CHECK_EQ(u.face_count, 4);
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes - 1), LS_OK);
+    CHECK_STATUS(ls_mesh_unweld(&s.m, &a, &u, NULL), LS_ERR_NOMEM);
+    CHECK_EQ(a.bottom, 0);
+    CHECK_STATUS(ls_mesh_unweld(&s.m, fresh_arena(), &u, NULL), LS_OK);
+    for (f = 0; f < 4; f++)
+        for (k = 0; k < 3; k++) {
+            CHECK_EQ(u.triangles[3 * f + k], 3 * f + k);
+            for (i = 0; i < 3; i++) CHECK(u.positions[3 * (3 * f + k) + i] == (ls_real)tet_p[3 * tet_t[3 * f + k] + i]);
+        }
+    /* every vertex normal of the result is its face's normal, by an independent double cross product */
+    CHECK_STATUS(ls_mesh_vertex_normals(&u, LS_NORMALS_UNIFORM, vn, NULL), LS_OK);
+    for (f = 0; f < 4; f++) {
+        const double *a0 = tet_p + 3 * tet_t[3 * f], *b = tet_p + 3 * tet_t[3 * f + 1], *c = tet_p + 3 * tet_t[3 * f + 2];
+        double e1[3], e2[3], x[3], len;
+        for (i = 0; i < 3; i++) e1[i] = b[i] - a0[i], e2[i] = c[i] - a0[i];
+        x[0] = e1[1] * e2[2] - e1[2] * e2[1], x[1] = e1[2] * e2[0] - e1[0] * e2[2], x[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        for (k = 0; k < 3; k++)
+            for (i = 0; i < 3; i++) CHECK_NEAR(vn[3 * (3 * f + k) + i], x[i] / len, TEST_EPS(4));
+    }
+    /* welding it back gives the four vertices again */
+    CHECK_STATUS(ls_mesh_weld(&u, fresh_arena(), NULL, &removed), LS_OK);
+    CHECK_EQ(u.vertex_count, 4);
+    CHECK_EQ(removed, 8);
+    /* an index out of range is named */
+    s.t[7] = 9;
+    ls_diag_clear(&d);
+    CHECK_STATUS(ls_mesh_unweld(&s.m, fresh_arena(), &u, &d), LS_ERR_MESH);
+    CHECK_EQ(d.index, 2);
+    CHECK_STATUS(ls_mesh_unweld(NULL, fresh_arena(), &u, NULL), LS_ERR_INVALID);
+}
+
 /* --- normals ------------------------------------------------------------------------ */
 
 static void face_and_vertex_normals(void)
@@ -916,6 +968,7 @@ int main(void)
     TEST_RUN(sweeps_validate_edges_adjacency);
     TEST_RUN(edges_and_adjacency_are_sorted_and_complete);
     TEST_RUN(weld_merges_exact_duplicates_only);
+    TEST_RUN(unweld_gives_each_face_its_vertices);
     TEST_RUN(face_and_vertex_normals);
     TEST_RUN(bunny_vertex_normals_point_outward);
     TEST_RUN(reorder_is_a_spatial_permutation);

@@ -121,6 +121,22 @@ ls_status ls_mesh_weld(ls_mesh *mesh, ls_arena *arena, uint32_t *remap, uint32_t
 /* ls_mesh_weld_bytes: the scratch bytes ls_mesh_weld needs (exact). O(1). */
 ls_status ls_mesh_weld_bytes(const ls_mesh *mesh, size_t *bytes);
 
+/* ls_mesh_unweld: the mesh with every face on three vertices of its own
+ * (face f's corners become vertices 3f, 3f + 1, 3f + 2, at the positions of
+ * the corners), into *out (positions and triangles from the bottom of the
+ * arena, ls_mesh_unweld_bytes). The surface is the same; the vertex normals
+ * of the result (ls_mesh_vertex_normals, ls_shade_vertex_normals) are its
+ * face normals, so renders of it are shaded flat, as a CAD part's faces are,
+ * where those of `in` interpolate normals averaged over each vertex's faces.
+ * O(F). Errors: LS_ERR_INVALID (NULL), LS_ERR_MESH (an index out of range,
+ * diag->index = the face), LS_ERR_TOO_LARGE (3 F vertices do not fit a
+ * uint32_t), LS_ERR_NOMEM; the arena and *out are unchanged on any error. */
+ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_diag *diag);
+
+/* ls_mesh_unweld_bytes: the arena bytes ls_mesh_unweld takes for a mesh of
+ * face_count faces (exact; ls_mesh_bytes(3 F, F)). O(1). */
+ls_status ls_mesh_unweld_bytes(uint32_t face_count, size_t *bytes);
+
 /* ls_mesh_reorder: puts the mesh in a spatially coherent order, in place:
  * faces sorted by the Morton code (10 bits per axis of the bounding box) of
  * their centroids, equal codes keeping their order, each face's corners as

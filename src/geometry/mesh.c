@@ -408,6 +408,41 @@ ls_status ls_mesh_require(const ls_mesh_report *r, uint32_t flags, ls_diag *diag
 
 /* --- welding ------------------------------------------------------------ */
 
+ls_status ls_mesh_unweld_bytes(uint32_t face_count, size_t *bytes)
+{
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (face_count > UINT32_MAX / 3u) return LS_ERR_TOO_LARGE;
+    return ls_mesh_bytes(3u * face_count, face_count, bytes);
+}
+
+ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_diag *diag)
+{
+    ls_diag_clear(diag);
+    ls_mesh m;
+    uint32_t bad, f, k;
+    ls_status st;
+    if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, mesh_problem(in));
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
+    if (in->face_count > UINT32_MAX / 3u) return LS_ERR_TOO_LARGE;
+    bad = first_bad_face(in);
+    if (bad != LS_MESH_NONE) {
+        set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
+        return LS_ERR_MESH;
+    }
+    st = ls_mesh_alloc(&m, 3u * in->face_count, in->face_count, arena);
+    if (st != LS_OK) return st;
+    for (f = 0; f < in->face_count; f++)
+        for (k = 0; k < 3u; k++) {
+            const size_t c = 3u * (size_t)f + k;
+            memcpy(m.positions + 3u * c, in->positions + 3u * (size_t)in->triangles[c], 3u * sizeof(ls_real));
+            m.triangles[c] = (uint32_t)c;
+        }
+    *out = m;
+    return LS_OK;
+}
+
 ls_status ls_mesh_weld_bytes(const ls_mesh *mesh, size_t *bytes)
 {
     ls_size s;

@@ -38,7 +38,7 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, level, target_ss, quiet, track, init_smooth, init_sphere, init_hull, threads;
+    uint32_t views, res, level, target_ss, target_flat, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
@@ -123,6 +123,9 @@ static int usage(FILE *f)
             "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
             "                     E sets it), not smoothed (--init-smooth N smooths it)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
+            "  --target-normals N smooth (default: vertex normals averaged over their faces) | flat\n"
+            "                     (each face its own normal: a mesh target whose faces are flat pieces\n"
+            "                     of the object, a CAD part; mesh targets only)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
@@ -294,6 +297,9 @@ static int parse_args(int argc, char **argv, fit_args *a)
         } else if (strcmp(o, "--shading") == 0) {
             a->cfg.shading.mode = strcmp(v, "sh") == 0 ? LS_SHADE_SH : strcmp(v, "mask") == 0 ? LS_SHADE_MASK : 99u;
             ok = a->cfg.shading.mode != 99u;
+        } else if (strcmp(o, "--target-normals") == 0) {
+            a->target_flat = strcmp(v, "flat") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 0u : 99u;
+            ok = a->target_flat != 99u;
         } else {
             return fprintf(stderr, "largesteps fit: unknown option %s (see --help)\n", o), 0;
         }
@@ -571,6 +577,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.views = a.views;
     o.width = o.height = a.res;
     o.target_ss = a.target_ss;
+    o.target_flat = a.target_flat;
     o.shading = a.cfg.shading.mode;
     o.level = a.level;
     o.init_edge = (double)a.init_edge;
@@ -580,6 +587,11 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
     o.workers = a.cfg.workers;
     if (!ls_job_load(&p, &o, &arena)) return 1;
+    if (a.target_flat && !p.have_mesh) {
+        fprintf(stderr, "largesteps fit: --target-normals flat shades the renders of a mesh target; %s's targets are "
+                        "its images (leave the option out)\n", a.target);
+        return 2;
+    }
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
     if (!a.remesh_h_given && p.from_target)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */

@@ -50,6 +50,7 @@ typedef struct render_args {
     const char *mesh_path, *out_dir;
     const char *cameras; /* --cameras: a camera dataset whose cameras are used */
     uint32_t views, res, ss, mode, rings, bits;
+    uint32_t flat;       /* --normals flat: each face shaded with its own normal (ls_mesh_unweld) */
     double fov_deg;
     int placed;          /* --views, --placement or --fov given (not with --cameras) */
 } render_args;
@@ -68,6 +69,8 @@ static int usage(FILE *f)
                "  --res W       image size W x W (1..%u; default 256)\n"
                "  --ss S        supersampling: 1, 2 or 4 (default 2)\n"
                "  --shading S   " SHADE_NAMES " (default sh)\n"
+               "  --normals N   smooth (default: vertex normals averaged over their faces) | flat (each\n"
+               "                face its own normal: a mesh whose faces are flat pieces of the object)\n"
                "  --placement P fibonacci (default: the whole sphere) | rings | hemisphere (the Fibonacci\n"
                "                lattice above y = -1/4: the upper half and a little below)\n"
                "  --bits B      8 or 16 bits per sample (default 16)\n"
@@ -100,7 +103,7 @@ static int parse_args(int argc, char **argv, render_args *a)
         }
         if (strcmp(o, "-o") != 0 && strcmp(o, "--views") != 0 && strcmp(o, "--res") != 0 && strcmp(o, "--ss") != 0 &&
             strcmp(o, "--bits") != 0 && strcmp(o, "--fov") != 0 && strcmp(o, "--shading") != 0 &&
-            strcmp(o, "--placement") != 0 && strcmp(o, "--cameras") != 0)
+            strcmp(o, "--placement") != 0 && strcmp(o, "--cameras") != 0 && strcmp(o, "--normals") != 0)
             return fprintf(stderr, "largesteps render: unknown option '%s'\n", o), 0;
         if (v == NULL) return fprintf(stderr, "largesteps render: %s needs a value\n", o), 0;
         i++;
@@ -121,6 +124,10 @@ static int parse_args(int argc, char **argv, render_args *a)
             if (ok && a->bits != 8 && a->bits != 16) ok = 0, fprintf(stderr, "largesteps render: --bits: '%s' is not 8 or 16\n", v);
         } else if (strcmp(o, "--fov") == 0) {
             ok = ls_arg_real("render", o, v, 0, 180, LS_ARG_LO_OPEN | LS_ARG_HI_OPEN, &a->fov_deg);
+        } else if (strcmp(o, "--normals") == 0) {
+            if (strcmp(v, "smooth") == 0) a->flat = 0;
+            else if (strcmp(v, "flat") == 0) a->flat = 1;
+            else ok = 0, fprintf(stderr, "largesteps render: --normals: '%s' is not smooth or flat\n", v);
         } else if (strcmp(o, "--shading") == 0) {
             if (strcmp(v, "mask") == 0) a->mode = LS_SHADE_MASK;
             else if (strcmp(v, "sh") == 0) a->mode = LS_SHADE_SH;
@@ -306,7 +313,8 @@ static ls_status place_views(render_run *r)
 static int setup(render_run *r)
 {
     unsigned char *data = NULL;
-    size_t bytes = 0, mesh_bytes, geo_bytes, work_bytes, scratch = 0, sz;
+    size_t bytes = 0, mesh_bytes, flat_bytes = 0, geo_bytes, work_bytes, scratch = 0, sz;
+    uint32_t shown_vertices;
     ls_mesh_file_info info;
     ls_diag d;
     ls_size s;
@@ -323,14 +331,18 @@ static int setup(render_run *r)
     }
     st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &info, &d);
     if (st == LS_OK) st = ls_mesh_read_bytes(&info, &mesh_bytes);
-    if (st == LS_OK) st = ls_vis_bytes(r->w, r->h, r->a.ss, info.vertex_count, &r->vis_bytes);
+    /* --normals flat renders the mesh unwelded: 3 F vertices of its own */
+    if (st == LS_OK && r->a.flat) st = ls_mesh_unweld_bytes(info.face_count, &flat_bytes);
+    shown_vertices = r->a.flat ? 3u * info.face_count : info.vertex_count;
+    if (st == LS_OK) st = ls_vis_bytes(r->w, r->h, r->a.ss, shown_vertices, &r->vis_bytes);
     if (st != LS_OK) {
         free(data);
         return fail(r->a.mesh_path, st, &d);
     }
     ls_size_init(&s);
     ls_size_add(&s, mesh_bytes, 1);
-    ls_size_add(&s, info.vertex_count, 3 * sizeof(ls_real));
+    ls_size_add(&s, flat_bytes, 1);
+    ls_size_add(&s, shown_vertices, 3 * sizeof(ls_real));
     ls_size_add(&s, r->a.views, 3 * sizeof(ls_real));
     ls_size_add(&s, r->a.views, 32 * sizeof(ls_real));
     ls_size_add(&s, r->vis_bytes, 1);
@@ -343,18 +355,23 @@ static int setup(render_run *r)
     st = ls_mesh_read(data, bytes, info.format, &r->geo, &r->mesh, &d);
     free(data);
     if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
-    r->normals = (ls_real *)ls_arena_alloc(&r->geo, r->mesh.vertex_count, 3 * sizeof(ls_real));
+    r->normals = (ls_real *)ls_arena_alloc(&r->geo, shown_vertices, 3 * sizeof(ls_real));
     r->dirs = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 3 * sizeof(ls_real));
     r->w2v = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 16 * sizeof(ls_real));
     r->mvp = (ls_real *)ls_arena_alloc(&r->geo, r->a.views, 16 * sizeof(ls_real));
     if (r->normals == NULL || r->dirs == NULL || r->mvp == NULL) return fail("memory", LS_ERR_NOMEM, NULL);
-    st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);
-    if (st == LS_OK && r->a.cameras == NULL) {
+    if (r->a.cameras == NULL) { /* framed as the mesh read: the same views whatever --normals */
         st = ls_camera_frame(r->mesh.positions, r->mesh.vertex_count, (ls_real)(r->a.fov_deg * 3.14159265358979323846 / 180.0),
                              LS_FOV_X, 1, (ls_real)LS_JOB_MARGIN, &r->fr, &d);
         if (st == LS_ERR_INVALID) d.what = "cannot frame the mesh: no vertices, or all at one point";
     }
     if (st == LS_OK) st = place_views(r);
+    if (st == LS_OK && r->a.flat) {
+        ls_mesh u;
+        st = ls_mesh_unweld(&r->mesh, &r->geo, &u, &d);
+        if (st == LS_OK) r->mesh = u;
+    }
+    if (st == LS_OK) st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);
     if (st == LS_OK) st = ls_vis_init(&r->vis, &r->geo, r->w, r->h, r->a.ss, r->mesh.vertex_count);
     if (st != LS_OK) return fail(r->a.mesh_path, st, &d);
     /* the work arena: shaded output, the view image, the sheet, and the

@@ -650,7 +650,11 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         if (p->targets[v] == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
     }
     if (p->have_mesh) {
-        st = ls_job_render(p, &p->target, o->target_ss, p->targets, arena, &d);
+        ls_arena_mark mark = ls_arena_save(arena);
+        ls_mesh shown = p->target;
+        st = o->target_flat ? ls_mesh_unweld(&p->target, arena, &shown, &d) : LS_OK;
+        if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
+        ls_arena_restore(arena, mark);
         if (st != LS_OK) return ls_job_fail("rendering the target", st, &d);
     } else if (!load_targets(p, &scene, o->target, has_suffix(o->target, ".json"), arena)) {
         return 0;

@@ -19,6 +19,8 @@ typedef struct ls_job_options {
     uint32_t views;         /* views on a Fibonacci sphere (mesh targets) */
     uint32_t width, height; /* render size (mesh targets) */
     uint32_t target_ss;     /* supersampling of the target renders */
+    uint32_t target_flat;   /* 1 (mesh targets): the target rendered with each face's own normal
+                               (ls_mesh_unweld), as a CAD part's flat faces look */
     uint32_t shading;       /* LS_SHADE_SH or LS_SHADE_MASK (mesh targets) */
     uint32_t level;         /* initial icosphere level */
     double init_edge;       /* > 0 (mesh targets): the initial mesh is the target remeshed to this
