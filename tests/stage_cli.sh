@@ -525,7 +525,7 @@ if [ -n "$cf" ] && [ "$cf" -ge 1 ] && [ "$cf" -le 3 ] && [ -n "$cs" ] && [ "$cs"
 else bad "render_normals_flat ($cf colours flat, $cs smooth)"; fi
 expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth or flat" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
 for n in flat smooth; do
-    "$ls" fit "$out/cube.obj" --target-normals $n --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
+    "$ls" fit "$out/cube.obj" --target-normals "$n" --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
 done
 if [ -s "$out/cube_fit_flat/contact.png" ] && [ -s "$out/cube_fit_smooth/contact.png" ] &&
         ! cmp -s "$out/cube_fit_flat/contact.png" "$out/cube_fit_smooth/contact.png"; then
