@@ -5,8 +5,11 @@
 # of level 3, 4 and 5 (642, 2562, 10242 vertices) held at its size (no
 # remeshing), 32 views with 16 an iteration, ITERS iterations; for each, the
 # time per iteration with 1 thread and with THREADS, their ratio, and whether
-# the two results are the same bytes. Then the whole default fit, 1 thread
-# against THREADS, PAIRS times in turn, and the median of the pairs' speed-ups.
+# the two results are the same bytes. Then the whole default fit, PAIRS
+# rounds of 1 thread, THREADS threads, and THREADS one-thread runs at once:
+# the last is the machine's ceiling (processors that share a core, or slow
+# down when all are busy, give less than THREADS times one), and the
+# speed-up's median is printed with it and with their ratio, the efficiency.
 # Writes $BUILD/bench/workers.md and prints it.
 # Environment: BUILD (build), ITERS (60), THREADS (2), PAIRS (5), LEVELS
 # ("3 4 5"), RESOLUTIONS ("128 256").
@@ -50,31 +53,49 @@ per_it() { sed -n 's/^time per iteration \([0-9.]*\) ms.*/\1/p' "$1"; }
     done
     echo
     echo "The whole default fit (\`largesteps fit\`: 800 iterations, remeshes, self-intersection checks, the"
-    echo "target's renders, the final metrics and the contact sheet), $PAIRS pairs of runs, 1 thread then"
-    echo "$THREADS, in turn (a pair's two runs see about the same machine); wall seconds and each pair's ratio:"
+    echo "target's renders, the final metrics and the contact sheet), $PAIRS rounds: 1 thread, then $THREADS threads,"
+    echo "then $THREADS one-thread runs at once (the peer: what the machine gives $THREADS busy processors; its"
+    echo "ceiling is $THREADS x the lone run's time over theirs, the most $THREADS threads could gain). Wall seconds;"
+    echo "efficiency is the speed-up over the ceiling:"
     echo
-    echo "| pair | 1 thread s | $THREADS threads s | speed-up |"
-    echo "|---:|---:|---:|---:|"
+    echo "| round | 1 thread s | $THREADS threads s | speed-up | $THREADS runs at once s | ceiling | efficiency |"
+    echo "|---:|---:|---:|---:|---:|---:|---:|"
     : > "$OUT/pairs.txt"
+    # wall seconds of `largesteps ARGS`, or with `peer` of THREADS one-thread
+    # default fits started together (until the last ends)
+    wall() {
+        s0=$(date +%s.%N)
+        if [ "$1" = peer ]; then
+            j=1
+            while [ "$j" -le "$THREADS" ]; do
+                "$BUILD/largesteps" fit --threads 1 --track 0 --quiet -o "$OUT/peer-$j" > "$OUT/peer-$j.log" 2>&1 &
+                j=$((j + 1))
+            done
+            wait
+        else
+            "$BUILD/largesteps" "$@" > "$OUT/run.log" 2>&1 || true
+        fi
+        awk -v a="$s0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }'
+    }
     k=1
     while [ "$k" -le "$PAIRS" ]; do
-        for t in 1 "$THREADS"; do
-            s0=$(date +%s.%N)
-            "$BUILD/largesteps" fit --threads "$t" --track 0 --quiet -o "$OUT/default-t$t" > "$OUT/default-t$t.log" 2>&1 || true
-            s1=$(date +%s.%N)
-            eval "wall_$t=\$(awk -v a=\"\$s0\" -v b=\"\$s1\" 'BEGIN { printf \"%.2f\", b - a }')"
-        done
-        eval "w1=\$wall_1; wt=\$wall_$THREADS"
-        awk -v k="$k" -v a="$w1" -v b="$wt" 'BEGIN { printf "| %d | %.2f | %.2f | %.3f |\n", k, a, b, (b > 0 ? a / b : 0) }'
-        awk -v a="$w1" -v b="$wt" 'BEGIN { printf "%.4f\n", (b > 0 ? a / b : 0) }' >> "$OUT/pairs.txt"
+        w1=$(wall fit --threads 1 --track 0 --quiet -o "$OUT/default-t1")
+        wt=$(wall fit --threads "$THREADS" --track 0 --quiet -o "$OUT/default-t$THREADS")
+        wp=$(wall peer)
+        awk -v k="$k" -v a="$w1" -v b="$wt" -v p="$wp" -v n="$THREADS" -v f="$OUT/pairs.txt" 'BEGIN {
+            s = b > 0 ? a / b : 0; c = p > 0 ? n * a / p : 0; e = c > 0 ? s / c : 0
+            printf "| %d | %.2f | %.2f | %.3f | %.2f | %.3f | %.3f |\n", k, a, b, s, p, c, e
+            printf "%.4f %.4f %.4f\n", s, c, e >> f }'
         k=$((k + 1))
     done
     same=no
     cmp -s "$OUT/default-t1/result.obj" "$OUT/default-t$THREADS/result.obj" &&
         cmp -s "$OUT/default-t1/contact.png" "$OUT/default-t$THREADS/contact.png" && same=yes
     echo
-    sort -n "$OUT/pairs.txt" | awk -v s="$same" '{ r[NR] = $1 } END {
-        m = NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2
-        printf "median speed-up %.2f (min %.2f, max %.2f); result.obj and contact.png the same bytes: %s\n", m, r[1], r[NR], s }'
+    # the median, least and most of column $1 of pairs.txt
+    median() { cut -d' ' -f"$1" "$OUT/pairs.txt" | sort -n | awk '{ r[NR] = $1 } END {
+        printf "%.2f (min %.2f, max %.2f)", NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2, r[1], r[NR] }'; }
+    echo "median speed-up $(median 1); ceiling $(median 2); efficiency $(median 3)"
+    echo "result.obj and contact.png the same bytes with 1 and $THREADS threads: $same"
 } > "$OUT.md"
 cat "$OUT.md"
