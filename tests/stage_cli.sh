@@ -172,6 +172,16 @@ small="--iters 5 --res 32 --views 4 --remesh none --quiet"
 # shellcheck disable=SC2086 # $small: a list of options
 expect fit_components_start_from_the_target 0 "the target has 2 components, which a sphere cannot reach: starting from the target remeshed" \
     "$ls" fit "$out/cubes_fin.obj" $small -o "$out/cubes_fin"
+# a start from the target itself has its detail: the default schedule (200, 500) does not remesh it,
+# --remesh still does
+"$ls" fit "$out/cubes_fin.obj" --init-coarse 0.1 --iters 201 --res 32 --views 4 --quiet -o "$out/cubes_sched" \
+    > "$build/fit_target_start_not_remeshed.log" 2>&1
+"$ls" fit "$out/cubes_fin.obj" --init-coarse 0.1 --iters 201 --res 32 --views 4 --remesh 200 --quiet \
+    -o "$out/cubes_sched_asked" > "$build/fit_target_start_remeshed_when_asked.log" 2>&1
+for t in not_remeshed:0 remeshed_when_asked:1; do
+    if grep -q "^set-up .* ms; ${t#*:} remeshes" "$build/fit_target_start_${t%%:*}.log"; then ok "fit_target_start_${t%%:*}"
+    else bad "fit_target_start_${t%%:*} (wanted ${t#*:} remeshes)"; cat "$build/fit_target_start_${t%%:*}.log"; fi
+done
 # shellcheck disable=SC2086
 expect fit_nonmanifold_target_falls_back 0 "could not make a start of it (non-manifold edge (three or more faces); index = its first vertex): starting from the icosphere" \
     "$ls" fit "$out/cubes_nonmanifold.obj" $small -o "$out/cubes_nonmanifold"
@@ -179,14 +189,14 @@ expect fit_nonmanifold_target_falls_back 0 "could not make a start of it (non-ma
 expect fit_remesh_failure_falls_back 0 "could not make a start of it (remesh vertex capacity exceeded): starting from the icosphere" \
     "$ls" fit "$out/needles.obj" $small -o "$out/needles"
 # shellcheck disable=SC2086
-expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to 0.02 of its diagonal" \
+expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to 0.012 of its diagonal; it self-intersects" \
     "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
 expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
     "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"
 # a remesh the guard refuses (its result would self-intersect more than the mesh) is said as
 # refused, not as done, and counted in the summary
 expect fit_says_a_remesh_was_refused 3 "remesh before iteration 5 refused: its result would self-intersect more than the mesh; the fit goes on with its 7626 vertices" \
-    "$ls" fit "$out/cubes_through.obj" --iters 10 --res 32 --views 4 --remesh 5 --guard 5 -o "$out/cubes_refused"
+    "$ls" fit "$out/cubes_through.obj" --init-coarse 0.02 --iters 10 --res 32 --views 4 --remesh 5 --guard 5 -o "$out/cubes_refused"
 if grep -q "^set-up .* ms; 0 remeshes, 1 refused (the mesh kept as it was);" "$build/fit_says_a_remesh_was_refused.log"; then
     ok "fit_counts_the_refused_remeshes"
 else bad "fit_counts_the_refused_remeshes"; grep "^set-up" "$build/fit_says_a_remesh_was_refused.log"; fi

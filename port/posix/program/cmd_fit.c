@@ -39,7 +39,7 @@
 typedef struct fit_args {
     const char *target, *out;
     uint32_t views, res, level, target_ss, target_flat, quiet, track, init_smooth, init_sphere, init_hull, threads;
-    uint32_t init_smooth_given; /* --init-smooth was given (the hull start's default is 0) */
+    uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
@@ -99,14 +99,15 @@ static int usage(FILE *f)
             "  --albedo A         with estimated lighting: uniform (default: one colour) | vertex (an RGB\n"
             "                     albedo per vertex, estimated with the lighting: objects whose colour varies)\n"
             "  --remesh I,J,...   remesh before these iterations (h = half the mean edge, lr x 0.8;\n"
-            "                     default 200,500; 'none' for no remeshing)\n"
+            "                     default 200,500, none after a start from the target itself; 'none'\n"
+            "                     for no remeshing)\n"
             "  --remesh-h F       remesh to F x the mean edge (0 < F <= 1; default 0.5, and 0.62 after a\n"
             "                     start from the target itself: --init-coarse and the automatic start)\n"
+            );
+    fprintf(f,
             "  --remesh-lr F      learning rate x F at each remesh (0 < F <= 1; default 0.8)\n"
             "  --mean M           keep (default: the paper's) | project: the mean of dL/du taken out, the\n"
             "                     translation alone moves the mesh as a whole\n"
-            );
-    fprintf(f,
             "  --max-vertices N   the job's capacity (memory is reserved once for it, ls_fit_job_bytes):\n"
             "                     vertices of any mesh and of the remesher (default (V0 + 64) 4^remeshes x 2)\n"
             "  --max-faces N      faces of any mesh (default: the most N vertices allow)\n"
@@ -114,14 +115,15 @@ static int usage(FILE *f)
             "                     beyond the capacity stops the run with the field to raise\n"
             "  --level K          subdivision level of the initial icosphere (default 3)\n"
             "  --init-coarse E    initial mesh: the target remeshed to edge E x its bounding-box diagonal\n"
-            "                     and smoothed (keeps the target's genus; e.g. 0.05); default: the icosphere\n"
-            "  --init-smooth N    Taubin smoothing steps of --init-coarse (default 10)\n"
-            "                     a target of genus > 0 or of several components starts this way by\n"
-            "                     itself (--init-coarse 0.02)\n"
+            "                     (keeps the target's genus; e.g. 0.05); default: the icosphere, but a\n"
+            "                     target of genus > 0 or of several components starts this way by itself\n"
+            "                     (--init-coarse 0.012)\n"
+            "  --init-smooth N    Taubin smoothing steps of the start from --init-coarse or --init-hull\n"
+            "                     (default 0)\n"
             "  --init-sphere      start from the icosphere whatever the target's genus and components\n"
             "  --init-hull N      initial mesh: the visual hull of the target images on a grid of N cells\n"
             "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
-            "                     E sets it), not smoothed (--init-smooth N smooths it)\n"
+            "                     E sets it)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --target-normals N smooth (default: vertex normals averaged over their faces) | flat\n"
             "                     (each face its own normal: a mesh target whose faces are flat pieces\n"
@@ -189,7 +191,6 @@ static int parse_args(int argc, char **argv, fit_args *a)
     a->res = 128;
     ls_job_schedule_default(&a->sched);
     a->level = 3;
-    a->init_smooth = 10;
     a->target_ss = 4;
     a->track = 25;
     ls_fit_config_default(&a->cfg);
@@ -235,7 +236,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--init-coarse") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->init_edge);
-        else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth), a->init_smooth_given = 1;
+        else if (strcmp(o, "--init-smooth") == 0) ok = parse_u32(v, 0, 10000, &a->init_smooth);
         else if (strcmp(o, "--init-hull") == 0) ok = parse_u32(v, 2, 1024, &a->init_hull);
         else if (strcmp(o, "--target-ss") == 0) ok = parse_u32(v, 1, 4, &a->target_ss) && (a->target_ss != 3 || ss3(o));
         else if (strcmp(o, "--ss") == 0) ok = parse_u32(v, 1, 4, &a->cfg.ss) && (a->cfg.ss != 3 || ss3(o));
@@ -252,7 +253,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
                               : strcmp(v, "none") == 0 ? LS_FIT_SILHOUETTE_NONE : 99u;
             ok = a->cfg.silhouette != 99u;
         }
-        else if (strcmp(o, "--remesh") == 0) ok = ls_job_parse_remesh(v, a->sched.remesh_at, &a->sched.remesh_count);
+        else if (strcmp(o, "--remesh") == 0)
+            ok = ls_job_parse_remesh(v, a->sched.remesh_at, &a->sched.remesh_count), a->remesh_given = 1;
         else if (strcmp(o, "--remesh-h") == 0)
             ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_h), a->remesh_h_given = 1;
         else if (strcmp(o, "--remesh-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.remesh_lr);
@@ -581,7 +583,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.shading = a.cfg.shading.mode;
     o.level = a.level;
     o.init_edge = (double)a.init_edge;
-    o.init_smooth = a.init_hull > 0 && !a.init_smooth_given ? 0u : a.init_smooth;
+    o.init_smooth = a.init_smooth;
     o.init_auto = !a.init_sphere;
     o.init_hull = a.init_hull;
     o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
@@ -593,8 +595,9 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         return 2;
     }
     if (a.cfg.view_batch >= p.views) a.cfg.view_batch = 0; /* as many as there are: all */
+    if (!a.remesh_given && p.from_target) a.sched.remesh_count = 0; /* a start from the target has its detail */
     if (!a.remesh_h_given && p.from_target)
-        a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* a start from the target itself: refined less */
+        a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* and is refined less when --remesh asks */
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
     if (!a.boost_given)
@@ -614,10 +617,18 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
             snprintf(what, sizeof what, "genus %d", (int)p.target_genus);
         else
             snprintf(what, sizeof what, "%u components", (unsigned)p.target_components);
-        if (p.auto_coarse > 0)
+        if (p.auto_coarse > 0 && p.start_pairs > 0)
             printf("the target has %s, which a sphere cannot reach: starting from the target remeshed to %g of its "
-                   "diagonal and smoothed (--init-coarse %g; --init-sphere starts from the icosphere)\n",
-                   what, LS_JOB_AUTO_EDGE, LS_JOB_AUTO_EDGE);
+                   "diagonal; it self-intersects (%u face pairs), and so did it remeshed to %g and %g (a part "
+                   "thinner than the edge, or a target that self-intersects; --init-coarse E sets the edge, "
+                   "--init-sphere starts from the icosphere)\n",
+                   what, p.start_edge, (unsigned)p.start_pairs, LS_JOB_AUTO_EDGE * LS_JOB_START_RETRY,
+                   LS_JOB_AUTO_EDGE * LS_JOB_START_RETRY * LS_JOB_START_RETRY);
+        else if (p.auto_coarse > 0)
+            printf("the target has %s, which a sphere cannot reach: starting from the target remeshed to %g of its "
+                   "diagonal (%s--init-coarse E sets the edge; --init-sphere starts from the icosphere)\n",
+                   what, p.start_edge,
+                   p.start_tries > 1 ? "a finer one self-intersected, a part thinner than its edge; " : "");
         else if (p.auto_coarse < 0)
             fprintf(stderr, "largesteps fit: warning: the target has %s, which a sphere cannot reach, but the "
                             "remesher could not make a start of it (%s): starting from the icosphere all the same "

@@ -458,24 +458,51 @@ static int without_fins(const ls_mesh *src, ls_arena *arena, ls_mesh *out)
     return 1;
 }
 
+/* `clean` remeshed to edge h into p->initial; long needle faces (a CAD
+ * part's) outgrow the remesher's bound (remesh.h): then 4 x the room. */
+static ls_status remesh_start(ls_job_problem *p, const ls_mesh *clean, ls_real h, ls_arena *arena, ls_diag *d)
+{
+    ls_remesh_params rp;
+    ls_status st;
+    ls_remesh_params_default(&rp, h);
+    ls_diag_clear(d);
+    st = ls_remesh(clean, &rp, arena, &p->initial, NULL, d);
+    if (st == LS_ERR_NOMEM) {
+        ls_arena_mark m2 = ls_arena_save(arena);
+        ls_mesh_report rep;
+        uint32_t cap = 0;
+        if (ls_mesh_validate(clean, arena, &rep) != LS_OK || ls_remesh_capacity(clean, &rep, rp.h, &cap) != LS_OK) cap = 0;
+        ls_arena_restore(arena, m2);
+        if (cap > 0 && cap <= UINT32_MAX / 4u) {
+            rp.vertex_cap = 4u * cap;
+            ls_diag_clear(d);
+            st = ls_remesh(clean, &rp, arena, &p->initial, NULL, d);
+        }
+    }
+    return st;
+}
+
 /* The initial mesh from `source` (the target, or its visual hull): remeshed
  * to edge `edge` x the source's bounding-box diagonal (projected onto it:
  * same genus), then `smooth` Taubin steps take its detail away. For targets
- * a sphere cannot reach (the elephant has genus 3). The mesh stays at the
+ * a sphere cannot reach (the elephant has genus 3). A remesh that
+ * self-intersects (a part thinner than the edge, where the remesher's
+ * relaxation folds it: the femur at 0.012 of its diagonal has 4 pairs, at
+ * 0.0132 none) is made again at LS_JOB_START_RETRY times the edge, twice at
+ * most; when every one does, the first is kept. The mesh stays at the
  * arena's bottom. */
 static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge, uint32_t smooth, int required,
                           ls_arena *arena)
 {
-    ls_real lo[3], hi[3], diag2 = 0, *y, *keep;
-    ls_remesh_params rp;
-    ls_arena_mark mark;
+    ls_real lo[3], hi[3], diag2 = 0, h, *y, *keep;
+    ls_arena_mark mark, start;
     ls_tangle_report t;
     ls_mesh clean;
     ls_csc lap;
     ls_diag d;
     size_t top;
-    uint32_t i, c, k, pairs;
-    ls_status st;
+    uint32_t i, c, k, pairs = 0, attempt;
+    ls_status st = LS_OK;
     ls_diag_clear(&d);
     for (c = 0; c < 3; c++) lo[c] = hi[c] = source->positions[c];
     for (i = 0; i < source->vertex_count; i++)
@@ -485,21 +512,23 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
             if (v > hi[c]) hi[c] = v;
         }
     for (c = 0; c < 3; c++) diag2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
-    ls_remesh_params_default(&rp, (ls_real)edge * LS_RSQRT(diag2));
+    h = (ls_real)edge * LS_RSQRT(diag2);
     mark = ls_arena_save(arena);
     if (!without_fins(source, arena, &clean)) return 0;
-    st = ls_remesh(&clean, &rp, arena, &p->initial, NULL, &d);
-    if (st == LS_ERR_NOMEM) { /* long needle faces (a CAD part's) outgrow the bound (remesh.h): 4 x the room */
-        ls_arena_mark m2 = ls_arena_save(arena);
-        ls_mesh_report rep;
-        uint32_t cap = 0;
-        if (ls_mesh_validate(&clean, arena, &rep) != LS_OK || ls_remesh_capacity(&clean, &rep, rp.h, &cap) != LS_OK) cap = 0;
-        ls_arena_restore(arena, m2);
-        if (cap > 0 && cap <= UINT32_MAX / 4u) {
-            rp.vertex_cap = 4u * cap;
-            ls_diag_clear(&d);
-            st = ls_remesh(&clean, &rp, arena, &p->initial, NULL, &d);
-        }
+    start = ls_arena_save(arena);
+    for (attempt = 0;; attempt++) {
+        const int again = attempt > LS_JOB_START_RETRIES; /* every edge tried self-intersects: the first */
+        ls_real ha = h;
+        for (k = 0; !again && k < attempt; k++) ha *= (ls_real)LS_JOB_START_RETRY;
+        ls_arena_restore(arena, start);
+        st = remesh_start(p, &clean, ha, arena, &d);
+        if (st == LS_OK) st = ls_tangle(&p->initial, NULL, arena, &t, &d);
+        if (st != LS_OK) break;
+        pairs = t.intersecting_pairs;
+        p->start_edge = (double)edge * (double)(ha / h);
+        p->start_tries = attempt + 1u;
+        p->start_pairs = pairs;
+        if (pairs == 0 || again) break;
     }
     if (st != LS_OK && !required) { /* the caller's other start; why, for its warning */
         ls_arena_restore(arena, mark);
@@ -511,10 +540,10 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
     mark = ls_arena_save(arena);
     mark.top = top;
     ls_arena_restore(arena, mark);
+    if (smooth == 0) return 1;
     st = ls_laplacian_uniform(&p->initial, LS_LAP_FULL, arena, &lap, &d);
     y = st == LS_OK ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
     keep = y != NULL ? (ls_real *)ls_arena_alloc(arena, 3u * (size_t)p->initial.vertex_count, sizeof(ls_real)) : NULL;
-    if (keep != NULL && smooth > 0) st = ls_tangle(&p->initial, NULL, arena, &t, &d);
     if (keep == NULL || st != LS_OK) {
         ls_arena_restore(arena, mark);
         return ls_job_fail("smoothing the initial mesh", st != LS_OK ? st : LS_ERR_NOMEM, &d);
@@ -523,7 +552,6 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
      * more than the remeshed one did is undone and the smoothing stops (the
      * genus-2 femur at 0.03 of its diagonal has 11 pairs after its first step,
      * 24 after ten, and a tangled start ends tangled). */
-    pairs = t.intersecting_pairs;
     for (k = 0; k < smooth; k++) {
         memcpy(keep, p->initial.positions, 3u * (size_t)p->initial.vertex_count * sizeof(ls_real));
         taubin(&lap, p->initial.positions, y, 1);

@@ -74,15 +74,21 @@ typedef struct ls_job_options {
  * (2.87); 1e-2 and above outweigh the images (the camel 6.7 %, 1.4 % RMS). */
 #define LS_JOB_MASK_PULL 3e-5
 
-/* The coarse start's edge (x the target's bounding-box diagonal) when the
- * target's genus or components ask for it, and the scheduled remeshes' edge
- * (x the mean edge) after a start from the target itself: a finer start
- * refined less ends at about the icosphere start's edge. On the genus > 0
- * targets and Suzanne of docs/fit-suite.md (medians of six runs, H % of the
- * diagonal) against 0.03 and 0.5: the elephant 2.28 -> 1.06, the elk
- * 2.52 -> 1.31, the knot 1.83 -> 0.41, Suzanne 3.39 -> 2.76; 0.02 with 0.5
- * ended with two to three times the vertices. */
-#define LS_JOB_AUTO_EDGE 0.02
+/* A start from the target itself (its genus or components ask for it, or
+ * --init-coarse): the target remeshed to LS_JOB_AUTO_EDGE x its bounding-box
+ * diagonal and not smoothed, with no scheduled remesh (its detail is there
+ * from the start; --remesh I,J asks for them, to LS_JOB_COARSE_REMESH_H x the
+ * mean edge). A remeshed start that self-intersects is made again at
+ * LS_JOB_START_RETRY x the edge, LS_JOB_START_RETRIES times at most. On the
+ * six such targets of docs/fit-suite.md (medians of six runs, H % of the
+ * diagonal), against 0.02 smoothed by 10 Taubin steps and remeshed before 200
+ * and 500: the elephant 0.88 -> 0.55, the elk 1.74 -> 1.58, the femur 3.64 ->
+ * 2.06 (its tunnel, which no view sees into, is in the finer start), the knot
+ * 0.37 -> 0.47, the rotor 3.90 -> 3.98, Suzanne 2.90 -> 2.50, in less time
+ * and memory (the elephant 29 -> 22 s and 78 -> 34 MiB). */
+#define LS_JOB_AUTO_EDGE 0.012
+#define LS_JOB_START_RETRY 1.1
+#define LS_JOB_START_RETRIES 2u
 #define LS_JOB_COARSE_REMESH_H 0.62
 
 /* The visual hull start's edge (x its bounding-box diagonal): at 0.03 a
@@ -115,6 +121,9 @@ typedef struct ls_job_problem {
                                 -1: it was, but the remesher failed on the target (the icosphere) */
     const char *coarse_failure; /* auto_coarse -1: the remesher's reason (static text) */
     int from_target;         /* 1: the initial mesh is the target remeshed (--init-coarse or automatic) */
+    double start_edge;       /* a remeshed start's edge, x the diagonal (another when the first folded) */
+    uint32_t start_tries;    /* the remeshes it took: 1, or more when one self-intersected */
+    uint32_t start_pairs;    /* its self-intersecting face pairs (0 unless every edge tried had them) */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
                                 fit (sh then zeros until the fit's estimate is copied in) */
     ls_parallel parallel;    /* the renders' and the metrics' workers (ls_job_options') */
