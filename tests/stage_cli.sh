@@ -249,7 +249,7 @@ check experiment_compare "$ls" experiment compare --iters 6 --res 24 --views 2 -
 if [ "$(grep -c -e '^| naive' -e '^| Laplacian' -e '^| bilaplacian' -e '^| large steps' "$out/cmp/compare.md" 2>/dev/null)" = 8 ] &&
     [ -s "$out/cmp/compare.png" ]; then ok "experiment_compare_rows_and_sheet"; else bad "experiment_compare_rows_and_sheet"; fi
 
-# an initial mesh of the target's genus: the elephant (genus 3) remeshed coarse and smoothed, no iteration
+# an initial mesh of the target's genus: the elephant (genus 3) remeshed coarse, no iteration
 # --threads: the target renders and the views of each iteration shared by a pool of threads; any
 # count gives the same bits
 rm -rf "$out/thr1" "$out/thr3"

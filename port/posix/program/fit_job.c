@@ -568,7 +568,7 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
 /* The initial mesh from the targets' masks: their visual hull in the cube
  * around the framing's sphere (a mesh target's bounding sphere; a dataset's
  * sphere guessed from its masks, so half as large again), remeshed coarse
- * and smoothed. */
+ * (and smoothed when asked). */
 static int hull_initial(ls_job_problem *p, uint32_t resolution, double edge, uint32_t smooth, ls_arena *arena)
 {
     ls_hull_views hv;
