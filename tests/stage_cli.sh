@@ -193,6 +193,10 @@ expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to
     "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
 expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
     "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"
+# --init-coarse E: a start that self-intersects is remeshed again at 1.1 and 1.21 E, and the program says so
+if grep -q "^--init-coarse 0.2: the start self-intersects ([0-9]* face pairs), and so did it remeshed to 0.22 and 0.242" \
+    "$build/fit_says_the_target_self_intersects.log"; then ok "fit_says_its_start_self_intersects"
+else bad "fit_says_its_start_self_intersects"; cat "$build/fit_says_the_target_self_intersects.log"; fi
 # a remesh the guard refuses (its result would self-intersect more than the mesh) is said as
 # refused, not as done, and counted in the summary
 expect fit_says_a_remesh_was_refused 3 "remesh before iteration 5 refused: its result would self-intersect more than the mesh; the fit goes on with its 7626 vertices" \

@@ -639,6 +639,15 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                             "cannot match it (--init-coarse %g starts from the target's own topology)\n",
                     what, LS_JOB_AUTO_EDGE);
     }
+    if (p.from_target && p.auto_coarse == 0 && p.start_pairs > 0) /* --init-coarse E: what became of E */
+        printf("--init-coarse %g: the start self-intersects (%u face pairs), and so did it remeshed to %g and %g (a "
+               "part thinner than the edge, or a target that self-intersects)\n",
+               (double)a.init_edge, (unsigned)p.start_pairs, (double)a.init_edge * LS_JOB_START_RETRY,
+               (double)a.init_edge * LS_JOB_START_RETRY * LS_JOB_START_RETRY);
+    else if (p.from_target && p.auto_coarse == 0 && p.start_tries > 1)
+        printf("--init-coarse %g: that start self-intersected (a part thinner than the edge); starting from the "
+               "target remeshed to %g of its diagonal instead\n",
+               (double)a.init_edge, p.start_edge);
     if (a.cfg.method == LS_FIT_LARGE_STEPS && a.cfg.mean_mode == LS_FIT_MEAN_KEEP) {
         /* M^-1 moves the mesh's translation 1 + lambda mu_1 times as far as its smoothest shape; far above
            that shape, UniformAdam's one scale turns the steps into translation jitter (docs/experiments.md) */
