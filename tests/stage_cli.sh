@@ -189,14 +189,18 @@ expect fit_nonmanifold_target_falls_back 0 "could not make a start of it (non-ma
 expect fit_remesh_failure_falls_back 0 "could not make a start of it (remesh vertex capacity exceeded): starting from the icosphere" \
     "$ls" fit "$out/needles.obj" $small -o "$out/needles"
 # shellcheck disable=SC2086
-expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to 0.012 of its diagonal; it self-intersects" \
+expect fit_remesh_retried_with_more_room 3 "starting from the target remeshed to 0.012 of its diagonal" \
     "$ls" fit "$out/cubes_through.obj" $small -o "$out/cubes_through"
 expect fit_says_the_target_self_intersects 3 "The target itself self-intersects (52 face pairs)" \
     "$ls" fit "$out/cubes_through.obj" --init-coarse 0.2 --init-smooth 0 --iters 0 --res 32 --views 4 --quiet -o "$out/cubes_through_coarse"
 # --init-coarse E: a start that self-intersects is remeshed again at 1.1 and 1.21 E, and the program says so
-if grep -q "^--init-coarse 0.2: the start self-intersects ([0-9]* face pairs), and so did it remeshed to 0.22 and 0.242" \
+# (the automatic start too: fit_remesh_retried_with_more_room's log)
+if grep -q "^the start self-intersects ([0-9]* face pairs) remeshed to 0.2, 0.22 and 0.242 of the diagonal alike" \
     "$build/fit_says_the_target_self_intersects.log"; then ok "fit_says_its_start_self_intersects"
 else bad "fit_says_its_start_self_intersects"; cat "$build/fit_says_the_target_self_intersects.log"; fi
+if grep -q "^the start self-intersects ([0-9]* face pairs) remeshed to 0.012, 0.0132 and 0.01452 of the diagonal alike" \
+    "$build/fit_remesh_retried_with_more_room.log"; then ok "fit_says_its_automatic_start_self_intersects"
+else bad "fit_says_its_automatic_start_self_intersects"; cat "$build/fit_remesh_retried_with_more_room.log"; fi
 # a remesh the guard refuses (its result would self-intersect more than the mesh) is said as
 # refused, not as done, and counted in the summary
 expect fit_says_a_remesh_was_refused 3 "remesh before iteration 5 refused: its result would self-intersect more than the mesh; the fit goes on with its 7626 vertices" \

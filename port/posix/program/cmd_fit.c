@@ -617,18 +617,10 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
             snprintf(what, sizeof what, "genus %d", (int)p.target_genus);
         else
             snprintf(what, sizeof what, "%u components", (unsigned)p.target_components);
-        if (p.auto_coarse > 0 && p.start_pairs > 0)
+        if (p.auto_coarse > 0)
             printf("the target has %s, which a sphere cannot reach: starting from the target remeshed to %g of its "
-                   "diagonal; it self-intersects (%u face pairs), and so did it remeshed to %g and %g (a part "
-                   "thinner than the edge, or a target that self-intersects; --init-coarse E sets the edge, "
-                   "--init-sphere starts from the icosphere)\n",
-                   what, p.start_edge, (unsigned)p.start_pairs, LS_JOB_AUTO_EDGE * LS_JOB_START_RETRY,
-                   LS_JOB_AUTO_EDGE * LS_JOB_START_RETRY * LS_JOB_START_RETRY);
-        else if (p.auto_coarse > 0)
-            printf("the target has %s, which a sphere cannot reach: starting from the target remeshed to %g of its "
-                   "diagonal (%s--init-coarse E sets the edge; --init-sphere starts from the icosphere)\n",
-                   what, p.start_edge,
-                   p.start_tries > 1 ? "a finer one self-intersected, a part thinner than its edge; " : "");
+                   "diagonal (--init-coarse E sets the edge; --init-sphere starts from the icosphere)\n",
+                   what, p.start_edge);
         else if (p.auto_coarse < 0)
             fprintf(stderr, "largesteps fit: warning: the target has %s, which a sphere cannot reach, but the "
                             "remesher could not make a start of it (%s): starting from the icosphere all the same "
@@ -639,15 +631,15 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                             "cannot match it (--init-coarse %g starts from the target's own topology)\n",
                     what, LS_JOB_AUTO_EDGE);
     }
-    if (p.from_target && p.auto_coarse == 0 && p.start_pairs > 0) /* --init-coarse E: what became of E */
-        printf("--init-coarse %g: the start self-intersects (%u face pairs), and so did it remeshed to %g and %g (a "
-               "part thinner than the edge, or a target that self-intersects)\n",
-               (double)a.init_edge, (unsigned)p.start_pairs, (double)a.init_edge * LS_JOB_START_RETRY,
-               (double)a.init_edge * LS_JOB_START_RETRY * LS_JOB_START_RETRY);
-    else if (p.from_target && p.auto_coarse == 0 && p.start_tries > 1)
-        printf("--init-coarse %g: that start self-intersected (a part thinner than the edge); starting from the "
-               "target remeshed to %g of its diagonal instead\n",
-               (double)a.init_edge, p.start_edge);
+    if (p.start_tries > 1 && p.start_pairs > 0) /* a remeshed start (coarse_initial): what became of its edge */
+        printf("the start self-intersects (%u face pairs) remeshed to %g, %g and %g of the diagonal alike (a part "
+               "thinner than the edge, or a target that self-intersects): remeshed to %g\n",
+               (unsigned)p.start_pairs, p.start_edge_asked, p.start_edge_asked * LS_JOB_START_RETRY,
+               p.start_edge_asked * LS_JOB_START_RETRY * LS_JOB_START_RETRY, p.start_edge);
+    else if (p.start_tries > 1)
+        printf("the start remeshed to %g of the diagonal self-intersected (a part thinner than the edge): remeshed "
+               "to %g instead\n",
+               p.start_edge_asked, p.start_edge);
     if (a.cfg.method == LS_FIT_LARGE_STEPS && a.cfg.mean_mode == LS_FIT_MEAN_KEEP) {
         /* M^-1 moves the mesh's translation 1 + lambda mu_1 times as far as its smoothest shape; far above
            that shape, UniformAdam's one scale turns the steps into translation jitter (docs/experiments.md) */

@@ -525,7 +525,8 @@ static int coarse_initial(ls_job_problem *p, const ls_mesh *source, double edge,
         if (st == LS_OK) st = ls_tangle(&p->initial, NULL, arena, &t, &d);
         if (st != LS_OK) break;
         pairs = t.intersecting_pairs;
-        p->start_edge = (double)edge * (double)(ha / h);
+        p->start_edge_asked = edge;
+        p->start_edge = edge * (double)(ha / h);
         p->start_tries = attempt + 1u;
         p->start_pairs = pairs;
         if (pairs == 0 || again) break;

@@ -121,7 +121,8 @@ typedef struct ls_job_problem {
                                 -1: it was, but the remesher failed on the target (the icosphere) */
     const char *coarse_failure; /* auto_coarse -1: the remesher's reason (static text) */
     int from_target;         /* 1: the initial mesh is the target remeshed (--init-coarse or automatic) */
-    double start_edge;       /* a remeshed start's edge, x the diagonal (another when the first folded) */
+    double start_edge_asked; /* a remeshed start's edge asked for, x the diagonal (--init-coarse, automatic, hull) */
+    double start_edge;       /* the one it has (another when the first folded) */
     uint32_t start_tries;    /* the remeshes it took: 1, or more when one self-intersected */
     uint32_t start_pairs;    /* its self-intersecting face pairs (0 unless every edge tried had them) */
     uint32_t light;          /* LS_FIT_LIGHT_ESTIMATE: a dataset without its lighting, estimated by the
