@@ -391,6 +391,7 @@ bench: all $(BUILD)/bench/bench_gradient
 	  BENCH_OUT=$(BUILD)/bench/gradient_float.md $(BUILD)/float/bench/bench_gradient,@true)
 	BUILD=$(BUILD) sh tests/bench/run_ldlt.sh
 	BUILD=$(BUILD) sh tests/bench/run_param.sh
+	BUILD=$(BUILD) sh tests/bench/run_split.sh
 	BUILD=$(BUILD) sh tests/bench/run_grid.sh
 	BUILD=$(BUILD) REAL=$(REAL) sh tests/tools/bench_render.sh
 	BUILD=$(BUILD) sh tests/bench/run_refine.sh

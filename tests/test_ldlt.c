@@ -620,6 +620,106 @@ static void ldlt_auto_ordering(void)
     }
 }
 
+/* A parallel-for on this thread that runs the tasks in an order that
+ * changes with every call (a rotation, every other call reversed). */
+static void scrambled_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
+{
+    uint32_t *calls = (uint32_t *)ctx, k;
+    const uint32_t shift = *calls % count, flip = *calls % 2u;
+    for (k = 0; k < count; k++) task(arg, flip ? count - 1u - (k + shift) % count : (k + shift) % count, 0);
+    (*calls)++;
+}
+
+/* The solve split over 1 .. 16 workers gives the whole solve's bits, on
+ * one tree (AMD, nested dissection) and on a forest (two components); its
+ * memory is what the query says; T stays within a sixteenth of the work. */
+static void ldlt_split_same_bits(void)
+{
+    static const uint32_t workers[] = {1, 2, 3, 4, 7, 16};
+    int k;
+    for (k = 0; k < 4; k++) {
+        tmesh m = k == 0 ? icosphere(4) : k == 1 ? icosphere(5) : gridmesh(60, 50);
+        mtrip t = laplacian_system(&m, 19.0, 0);
+        uint32_t n = m.nv, w, calls = 0;
+        ls_real *xyz = (ls_real *)malloc(sizeof(ls_real) * 3 * n);
+        ls_real *b = (ls_real *)malloc(sizeof(ls_real) * 3 * n), *x = (ls_real *)malloc(sizeof(ls_real) * 3 * n);
+        ls_parallel par;
+        ls_arena arena;
+        ls_csc a;
+        ls_ldlt f;
+        size_t i;
+        par.run = scrambled_for;
+        par.ctx = &calls;
+        if (k == 3) { /* cut the grid into two components: drop the couplings across row 25 */
+            size_t j, kept = 0;
+            for (j = 0; j < t.count; j++) {
+                if (t.r[j] != t.c[j] && (t.r[j] < 25u * 60u) != (t.c[j] < 25u * 60u)) continue;
+                t.r[kept] = t.r[j];
+                t.c[kept] = t.c[j];
+                t.v[kept] = t.v[j];
+                kept++;
+            }
+            t.count = kept;
+        }
+        for (i = 0; i < 3 * (size_t)n; i++) {
+            xyz[i] = (ls_real)m.pos[i];
+            b[i] = (ls_real)urand();
+        }
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        REQUIRE(build(&t, &arena, &a));
+        if (k == 1) REQUIRE(ls_ldlt_analyze_mesh(&a, LS_ORDER_ND, xyz, &arena, &f, NULL) == LS_OK);
+        else REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL) == LS_OK);
+        REQUIRE(ls_ldlt_factor(&f, &a, &arena, NULL) == LS_OK);
+        memcpy(x, b, sizeof(ls_real) * 3 * n);
+        REQUIRE(ls_ldlt_solve(&f, 3, x, &arena) == LS_OK);
+        for (w = 0; w < sizeof workers / sizeof workers[0]; w++) {
+            ls_arena_mark mark = ls_arena_save(&arena);
+            ls_ldlt_split sp;
+            size_t object = 0, peak = 0, before = ls_arena_used(&arena);
+            ls_real *y = (ls_real *)malloc(sizeof(ls_real) * 3 * n);
+            int same = 1, pass;
+            REQUIRE(ls_ldlt_split_bytes_n(n, workers[w], &object, &peak) == LS_OK);
+            ls_arena_reset_peak(&arena);
+            CHECK_STATUS(ls_ldlt_split_init(&sp, &f, workers[w], &arena), LS_OK);
+            CHECK(ls_arena_used(&arena) - before == object);
+            CHECK(arena.peak - before == peak);
+            CHECK(sp.top_work * 3u <= sp.work);
+            CHECK(sp.work >= LS_LDLT_SPLIT_MIN_WORK); /* the split runs, not the whole solve */
+            for (pass = 0; pass < 2; pass++) { /* twice: the scrambler's order changes */
+                memcpy(y, b, sizeof(ls_real) * 3 * n);
+                CHECK_STATUS(ls_ldlt_solve_split(&f, &sp, pass == 0 ? &par : NULL, y, &arena), LS_OK);
+                for (i = 0; i < 3 * (size_t)n; i++) same &= memcmp(&x[i], &y[i], sizeof(ls_real)) == 0;
+            }
+            CHECK_MSG(same, "case %d, %u workers: the split solve differs from the whole one", k, workers[w]);
+            if (workers[w] == 2u || workers[w] == 4u)
+                printf("     %s n %u, %u workers: %u pieces, T %.1f %% of the work, the most loaded worker %.1f %%, "
+                       "held entries %.1f %%\n",
+                       k == 0 ? "icosphere amd" : k == 1 ? "icosphere nd" : k == 2 ? "grid amd" : "two grids amd", n,
+                       workers[w], sp.subtrees, 100.0 * (double)sp.top_work / (double)sp.work,
+                       100.0 * (double)sp.max_load / (double)sp.work, 100.0 * (double)sp.held_entries / (double)sp.work);
+            if (workers[w] == 2u) CHECK(sp.subtrees >= 2u && sp.max_load * 10u <= sp.work * 6u);
+            free(y);
+            ls_arena_restore(&arena, mark);
+        }
+        {
+            ls_ldlt_split sp;
+            ls_ldlt g = f;
+            CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 0, &arena), LS_ERR_INVALID);
+            CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 4097, &arena), LS_ERR_INVALID);
+            g.state = LS_LDLT_ANALYZED;
+            CHECK_STATUS(ls_ldlt_split_init(&sp, &g, 2, &arena), LS_ERR_STATE);
+            REQUIRE(ls_ldlt_split_init(&sp, &f, 2, &arena) == LS_OK);
+            sp.n = n - 1u;
+            CHECK_STATUS(ls_ldlt_solve_split(&f, &sp, &par, x, &arena), LS_ERR_INVALID);
+        }
+        free(xyz);
+        free(b);
+        free(x);
+        mtrip_free(&t);
+        tmesh_free(&m);
+    }
+}
+
 int main(void)
 {
     TEST_INIT("test_ldlt");
@@ -632,6 +732,7 @@ int main(void)
     TEST_RUN(ldlt_errors);
     TEST_RUN(ldlt_arena_sweeps);
     TEST_RUN(ldlt_auto_ordering);
+    TEST_RUN(ldlt_split_same_bits);
     free(buf);
     return TEST_END();
 }

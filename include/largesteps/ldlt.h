@@ -14,6 +14,8 @@
  *   ls_ldlt_solve_bytes / ls_ldlt_solve       X = A^{-1} B in place, B n x k
  *        row-major (entry (i, c) at x[i*k + c]); k = 3 is the fast path
  *   ls_ldlt_refine                            iterative refinement steps
+ *   ls_ldlt_split_bytes_n / ls_ldlt_split_init / ls_ldlt_solve_split
+ *        the k = 3 solve over the caller's workers, the same bits
  *
  * Algorithm: up-looking LDL^T (row k of L is a sparse triangular solve whose
  * pattern is the elimination-tree reach of column k of A). Every operation is
@@ -51,6 +53,7 @@
 #include <largesteps/arena.h>
 #include <largesteps/sparse.h>
 #include <largesteps/order.h>
+#include <largesteps/parallel.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -189,6 +192,58 @@ ls_status ls_ldlt_solve_bytes_n(uint32_t n, uint32_t k, size_t *bytes);
  * factored), LS_ERR_NONFINITE (B holds a NaN or infinity: x unchanged; or the
  * solution overflowed: x then holds it), LS_ERR_NOMEM (x unchanged). */
 ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena);
+
+/* A plan that splits the k = 3 solve over W workers (parallel.h) by
+ * subtrees of the elimination tree: the last columns [top, n) (T, at most
+ * a third of the work, run by the calling thread) are cut off, and the
+ * subtrees below them (the pieces) are dealt to the workers, largest
+ * first; the pieces' updates of T's rows are applied by the workers too,
+ * each to its own rows. Every sum keeps its order, so ls_ldlt_solve_split
+ * gives the bits of ls_ldlt_solve(f, 3, ...) for every plan, worker count
+ * and parallel-for. The plan depends on the factor's pattern only: it
+ * stays valid across ls_ldlt_refactor. */
+typedef struct ls_ldlt_split {
+    uint32_t n, workers;
+    uint32_t top;          /* T = columns [top, n) */
+    uint32_t top_start;    /* T's backward pass ends at this column (<= top) */
+    uint32_t subtrees;     /* pieces */
+    uint32_t held_chunks;  /* chunks of 1, 2 or 4 chained piece columns with rows in T */
+    uint32_t *group;       /* workers + 1: worker g's pieces are sub[group[g] .. group[g+1]) */
+    uint32_t *rows;        /* workers + 1: worker g applies the held updates of rows [rows[g], rows[g+1]) */
+    uint32_t *sub;         /* 3 per piece: first column, root + 1, backward start */
+    uint32_t *held;        /* 3 per held chunk: first column, width, the last column's first entry in T */
+    uint64_t work;         /* the tree's weight (entries of L plus columns) */
+    uint64_t top_work;     /* T's part of it */
+    uint64_t max_load;     /* the most loaded worker's part */
+    uint64_t held_entries; /* entries of L in T's rows and the pieces' columns */
+} ls_ldlt_split;
+
+/* Below this weight (entries of L plus columns) a split solve runs whole on
+ * the calling thread: the handing out costs more than it saves (measured
+ * with tests/bench/run_split.sh: 0.07 ms solves of a 1,839-vertex mesh). */
+#define LS_LDLT_SPLIT_MIN_WORK 32768u
+
+/* ls_ldlt_split_bytes_n: exact arena bytes of ls_ldlt_split_init for an
+ * n x n factor and `workers` (1 .. 4096) workers: *object (kept: 24 n + 8 W
+ * bytes, rounded) and *peak (object plus the build's scratch, released: 20
+ * n + 8 W more). O(1). Errors: LS_ERR_INVALID, LS_ERR_TOO_LARGE. */
+ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, size_t *peak);
+
+/* ls_ldlt_split_init: the plan for factor f (factored at least once: the
+ * pattern of L comes with the numeric factor) and `workers` workers.
+ * O(nnz(L) + n log n). Errors: LS_ERR_INVALID (NULL, workers 0 or above 4096),
+ * LS_ERR_STATE (not factored), LS_ERR_NOMEM (arena and *sp unchanged). */
+ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t workers, ls_arena *arena);
+
+/* ls_ldlt_solve_split: ls_ldlt_solve(f, 3, x, arena) with its two passes'
+ * pieces run as sp->workers tasks of par (NULL, or run NULL: on this
+ * thread); sp NULL, of one worker or of a weight below
+ * LS_LDLT_SPLIT_MIN_WORK: the whole solve. The gather, the scatter and
+ * the held updates run on the workers too; T on the calling thread. Same
+ * scratch and errors as
+ * ls_ldlt_solve, plus LS_ERR_INVALID when sp is not of f's size. */
+ls_status ls_ldlt_solve_split(const ls_ldlt *f, const ls_ldlt_split *sp, const ls_parallel *par, ls_real *x,
+                              ls_arena *arena);
 
 /* ls_ldlt_refine_bytes: exact scratch bytes of ls_ldlt_refine (2 n k reals). */
 ls_status ls_ldlt_refine_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes);

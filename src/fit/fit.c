@@ -160,6 +160,9 @@ void ls_fit_impl_param_config(const ls_fit_config *c, uint32_t n, ls_param_confi
     pc->order = n >= LS_FIT_AUTO_ORDER_VERTICES ? LS_ORDER_AUTO : LS_ORDER_AMD;
     pc->cg_max_iter = 1000;
     pc->cg_tol = c->cg_tol > (ls_real)0 ? c->cg_tol : (ls_real)1e-6;
+    /* the solves split over the workers too (the same bits: ls_ldlt_split) */
+    pc->workers = fit_workers(c) > 1u ? fit_workers(c) : 0u;
+    pc->parallel = c->parallel;
 }
 
 /* p = 1: the optimizer moves x itself, its gradient preconditioned once. */

@@ -3,6 +3,14 @@
 #include <largesteps/math.h>
 #include <string.h>
 
+#define LS_PARAM_MAX_WORKERS 4096u
+
+/* 1 when the LDL^T's solves are split over workers (a plan is built). */
+static int splits(const ls_param_config *cfg)
+{
+    return cfg->workers > 1u && cfg->k == 3u;
+}
+
 static void set_diag(ls_diag *diag, ls_status st, const char *what)
 {
     (void)ls_diag_set(diag, st, what, LS_DIAG_NO_INDEX);
@@ -42,6 +50,10 @@ static const char *config_error(const ls_param_config *cfg, int grid, ls_real *v
         return "cfg->weight: lambda must be finite and >= 0 (the paper: 19)";
     if (cfg->form == LS_SYSTEM_ALPHA && !(cfg->weight >= (ls_real)0 && cfg->weight < (ls_real)1))
         return "cfg->weight: alpha must be in [0, 1) (the paper: 0.95)";
+    if (cfg->workers > LS_PARAM_MAX_WORKERS) {
+        *value = (ls_real)cfg->workers;
+        return "cfg->workers: allowed 0 .. 4096 (0 and 1: the solves on the calling thread)";
+    }
     if (solver == LS_PARAM_CG && cfg->cg_max_iter == 0) {
         *value = (ls_real)0;
         return "cfg->cg_max_iter: 0 with the CG solver would not solve; allowed >= 1 (e.g. 1000)";
@@ -192,6 +204,24 @@ static ls_status analyze_from(ls_ldlt *f, const ls_csc *a, const ls_param_config
     return st;
 }
 
+/* The LDL^T's part of the bytes after the analysis: max(the analysis' peak,
+ * its object + the numeric factor + the split's plan and its build). */
+static ls_status factor_tail(uint32_t n, const ls_param_config *cfg, size_t object, size_t factor,
+                             const ls_size *peak, ls_size *tail)
+{
+    size_t split_object = 0, split_peak = 0;
+    if (splits(cfg)) {
+        ls_status st = ls_ldlt_split_bytes_n(n, cfg->workers, &split_object, &split_peak);
+        if (st != LS_OK) return st;
+    }
+    ls_size_init(tail);
+    ls_size_add(tail, object, 1);
+    ls_size_add(tail, factor, 1);
+    ls_size_add(tail, split_peak, 1);
+    ls_size_max(tail, peak);
+    return LS_OK;
+}
+
 /* The LDL^T's part of the bytes: max(coordinates + the analysis' peak, its
  * object + the numeric factor), measured by an analysis in scratch. */
 static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const coord_src *c, ls_arena *scratch,
@@ -217,11 +247,7 @@ static ls_status ldlt_tail(const ls_csc *lap, const ls_param_config *cfg, const 
     st = ls_ldlt_bytes(&f, &fb);
     ls_arena_restore(scratch, mark);
     if (st != LS_OK) return st;
-    ls_size_init(tail);
-    ls_size_add(tail, obj, 1);
-    ls_size_add(tail, fb, 1);
-    ls_size_max(tail, &peak);
-    return LS_OK;
+    return factor_tail(lap->ncols, cfg, obj, fb, &peak, tail);
 }
 
 /* Adds the bytes of build() for the sparse solvers to *s. */
@@ -282,13 +308,10 @@ ls_status ls_param_bytes_bound(uint32_t n, uint32_t nnz, uint32_t factor_nnz, co
         ls_size tail, peak;
         uint32_t method = with_coords ? cfg->order : order_method(cfg, NULL);
         st = ls_ldlt_bytes_bound(n, nnz, nnz, factor_nnz, method, &ab, &object, &factor);
-        ls_size_init(&tail);
-        ls_size_add(&tail, object, 1);
-        ls_size_add(&tail, factor, 1);
         ls_size_init(&peak);
         ls_size_add(&peak, ab, 1);
-        ls_size_max(&tail, &peak);
-        ls_size_add_size(&s, &tail);
+        if (st == LS_OK) st = factor_tail(n, cfg, object, factor, &peak, &tail);
+        if (st == LS_OK) ls_size_add_size(&s, &tail);
     }
     if (st != LS_OK) return st;
     return ls_size_get(&s, bytes);
@@ -330,6 +353,11 @@ static ls_status build(ls_param *q, const ls_csc *lap, const ls_param_config *cf
     if (q->solver == LS_PARAM_LDLT) {
         st = analyze_from(&q->f, &q->m, cfg, c, arena, diag);
         if (st == LS_OK) st = ls_ldlt_factor(&q->f, &q->m, arena, diag);
+        if (st == LS_OK && splits(cfg)) {
+            st = ls_ldlt_split_init(&q->split, &q->f, cfg->workers, arena);
+            q->parallel = cfg->parallel;
+            if (st == LS_ERR_NOMEM) goto nomem;
+        }
     }
     return st;
 nomem:
@@ -550,6 +578,13 @@ ls_status ls_param_to_differential(const ls_param *p, const ls_real *x, ls_real 
     return ls_csc_matvec_sym(&p->m, p->k, x, u);
 }
 
+/* x = M^{-1} x with the factor, split over the workers when planned. */
+static ls_status ldlt_solve(ls_param *p, ls_real *x)
+{
+    if (p->split.workers > 1u) return ls_ldlt_solve_split(&p->f, &p->split, &p->parallel, x, &p->work);
+    return ls_ldlt_solve(&p->f, p->k, x, &p->work);
+}
+
 /* x = M^{-1} b; CG starts from and updates `warm` (n k). */
 static ls_status solve(ls_param *p, const ls_real *b, ls_real *x, ls_real *warm)
 {
@@ -563,7 +598,7 @@ static ls_status solve(ls_param *p, const ls_real *b, ls_real *x, ls_real *warm)
     }
     if (p->solver == LS_PARAM_LDLT) {
         if (x != b) memmove(x, b, nk * sizeof(ls_real));
-        return ls_ldlt_solve(&p->f, p->k, x, &p->work);
+        return ldlt_solve(p, x);
     }
     st = ls_cg_solve(&p->m, p->k, b, warm, &p->work, &p->cg);
     if (st != LS_OK) {
@@ -617,7 +652,7 @@ ls_status ls_param_step(ls_param *p, ls_real *x, const ls_real *g, ls_real eta, 
         if (p->solver == LS_PARAM_GRID) {
             st = ls_grid_solver_solve(&p->gs, d, d);
         } else if (p->solver == LS_PARAM_LDLT) {
-            st = ls_ldlt_solve(&p->f, p->k, d, &p->work);
+            st = ldlt_solve(p, d);
         } else {
             ls_real *next = d == p->tmp ? p->tmp + nk : p->tmp;
             memset(next, 0, nk * sizeof(ls_real));

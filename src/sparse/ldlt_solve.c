@@ -4,6 +4,7 @@
  * entry of L is widened once per use, every sum rounds once at the end. */
 #include <largesteps/ldlt.h>
 #include <string.h>
+#include "ldlt_internal.h"
 
 static int all_finite(const ls_real *x, size_t count)
 {
@@ -191,20 +192,40 @@ static void back_rows4(uint32_t r, const uint32_t *ri, const ls_real *const *pc,
     acc[11] = a32;
 }
 
-/* forward (L) and diagonal (1/D), chunked, k = 3 */
-static void forward3(const ls_ldlt *f, ls_acc *w)
+/* Subtracts the final values wc of m = 1, 2 or 4 chained columns (pc:
+ * their entries in rows ri[0 .. r)) from those rows of w, columns in order. */
+void ls_ldlt_fwd_rows3(uint32_t m, uint32_t r, const uint32_t *ri, const ls_real *const *pc, const ls_acc *wc,
+                       ls_acc *w)
 {
-    uint32_t n = f->n, s = 0, e, c, c2;
+    if (m == 1) fwd_rows1(r, ri, pc, wc, w);
+    else if (m == 2) fwd_rows2(r, ri, pc, wc, w);
+    else fwd_rows4(r, ri, pc, wc, w);
+}
+
+/* The width of the chunk of chained columns that starts at s, at most up
+ * to hi: 1, 2 or 4. */
+uint32_t ls_ldlt_fwd_chunk_width(const ls_ldlt *f, uint32_t s, uint32_t hi)
+{
+    uint32_t e;
+    for (e = s + 1u; e < hi && e - s < CHUNK && chained(f->lp, f->li, e - 1u); e++) {
+    }
+    return e - s == 3u ? 2u : e - s; /* widths 1, 2, 4 */
+}
+
+/* forward (L) and diagonal (1/D), chunked, k = 3, over columns [lo, hi):
+ * rows >= limit are not updated and a column with such rows is not scaled
+ * (ls_ldlt_fwd3_range in ldlt_internal.h; the whole solve: 0, n, n) */
+void ls_ldlt_fwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi, uint32_t limit)
+{
+    uint32_t s = lo, e, c, c2;
     const uint32_t *lp = f->lp, *li = f->li;
     const ls_real *lx = f->lx, *dinv = f->dinv;
-    while (s < n) {
+    while (s < hi) {
         const ls_real *pc[CHUNK];
         uint32_t m, r;
         const uint32_t *ri;
-        for (e = s + 1u; e < n && e - s < CHUNK && chained(lp, li, e - 1u); e++) {
-        }
-        if (e - s == 3u) e--; /* widths 1, 2, 4 */
-        m = e - s;
+        m = ls_ldlt_fwd_chunk_width(f, s, hi);
+        e = s + m;
         for (c = s; c < e; c++) {
             const ls_real *lc = lx + lp[c];
             pc[c - s] = lc + (e - 1u - c);
@@ -217,59 +238,78 @@ static void forward3(const ls_ldlt *f, ls_acc *w)
         }
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
-        if (m == 1) fwd_rows1(r, ri, pc, w + 3u * (size_t)s, w);
-        else if (m == 2) fwd_rows2(r, ri, pc, w + 3u * (size_t)s, w);
-        else fwd_rows4(r, ri, pc, w + 3u * (size_t)s, w);
-        for (c = s; c < e; c++) {
-            const ls_acc di = (ls_acc)dinv[c];
-            w[3u * (size_t)c] *= di;
-            w[3u * (size_t)c + 1u] *= di;
-            w[3u * (size_t)c + 2u] *= di;
+        while (r > 0 && ri[r - 1u] >= limit) r--; /* rows ascend: the held ones are a suffix */
+        ls_ldlt_fwd_rows3(m, r, ri, pc, w + 3u * (size_t)s, w);
+        if (r == lp[e] - lp[e - 1u]) { /* no held rows in the chunk's columns (they share e-1's) */
+            for (c = s; c < e; c++) {
+                const ls_acc di = (ls_acc)dinv[c];
+                w[3u * (size_t)c] *= di;
+                w[3u * (size_t)c + 1u] *= di;
+                w[3u * (size_t)c + 2u] *= di;
+            }
         }
         s = e;
     }
 }
 
-/* backward (L^T), chunked from the last column down, k = 3 */
-static void backward3(const ls_ldlt *f, ls_acc *w)
+/* One chunk [s, e) of the backward pass (L^T), k = 3. */
+static void back_chunk3(const ls_ldlt *f, ls_acc *w, uint32_t s, uint32_t e)
 {
-    uint32_t n = f->n, e = n, s, c, c2;
     const uint32_t *lp = f->lp, *li = f->li;
     const ls_real *lx = f->lx;
-    while (e > 0) {
-        const ls_real *pc[CHUNK];
-        uint32_t m, r;
-        const uint32_t *ri;
-        for (s = e - 1u; s > 0 && e - s < CHUNK && chained(lp, li, s - 1u); s--) {
+    const ls_real *pc[CHUNK];
+    uint32_t m = e - s, r, c, c2;
+    const uint32_t *ri;
+    ls_acc acc[3u * CHUNK];
+    for (c = s; c < e; c++) pc[c - s] = lx + lp[c] + (e - 1u - c);
+    r = lp[e] - lp[e - 1u];
+    ri = li + lp[e - 1u];
+    memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_acc));
+    if (m == 1) back_rows1(r, ri, pc, w, acc);
+    else if (m == 2) back_rows2(r, ri, pc, w, acc);
+    else back_rows4(r, ri, pc, w, acc);
+    for (c = e; c > s; c--) {
+        const uint32_t cc = c - 1u;
+        const ls_real *lc = lx + lp[cc];
+        ls_acc *a = acc + 3u * (size_t)(cc - s);
+        for (c2 = cc + 1u; c2 < e; c2++) {
+            const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
+            a[0] -= l * w[3u * (size_t)c2];
+            a[1] -= l * w[3u * (size_t)c2 + 1u];
+            a[2] -= l * w[3u * (size_t)c2 + 2u];
         }
-        if (e - s == 3u) s++; /* widths 1, 2, 4 */
-        m = e - s;
-        for (c = s; c < e; c++) pc[c - s] = lx + lp[c] + (e - 1u - c);
-        r = lp[e] - lp[e - 1u];
-        ri = li + lp[e - 1u];
-        {
-            ls_acc acc[3u * CHUNK];
-            memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_acc));
-            if (m == 1) back_rows1(r, ri, pc, w, acc);
-            else if (m == 2) back_rows2(r, ri, pc, w, acc);
-            else back_rows4(r, ri, pc, w, acc);
-            for (c = e; c > s; c--) {
-                const uint32_t cc = c - 1u;
-                const ls_real *lc = lx + lp[cc];
-                ls_acc *a = acc + 3u * (size_t)(cc - s);
-                for (c2 = cc + 1u; c2 < e; c2++) {
-                    const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
-                    a[0] -= l * w[3u * (size_t)c2];
-                    a[1] -= l * w[3u * (size_t)c2 + 1u];
-                    a[2] -= l * w[3u * (size_t)c2 + 2u];
-                }
-                w[3u * (size_t)cc] = a[0];
-                w[3u * (size_t)cc + 1u] = a[1];
-                w[3u * (size_t)cc + 2u] = a[2];
-            }
-        }
+        w[3u * (size_t)cc] = a[0];
+        w[3u * (size_t)cc + 1u] = a[1];
+        w[3u * (size_t)cc + 2u] = a[2];
+    }
+}
+
+/* The start of the backward chunk that ends at e (> lo), no lower than lo. */
+uint32_t ls_ldlt_back_chunk_start(const ls_ldlt *f, uint32_t lo, uint32_t e)
+{
+    uint32_t s;
+    for (s = e - 1u; s > lo && e - s < CHUNK && chained(f->lp, f->li, s - 1u); s--) {
+    }
+    if (e - s == 3u) s++; /* widths 1, 2, 4 */
+    return s;
+}
+
+/* backward (L^T), chunked from column hi - 1 down to lo, k = 3 */
+void ls_ldlt_bwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi)
+{
+    uint32_t e = hi;
+    while (e > lo) {
+        uint32_t s = ls_ldlt_back_chunk_start(f, lo, e);
+        back_chunk3(f, w, s, e);
         e = s;
     }
+}
+
+/* The chunks [s, e) listed in `chunks` (pairs), in their order. */
+void ls_ldlt_bwd3_chunks(const ls_ldlt *f, ls_acc *w, const uint32_t *chunks, uint32_t count)
+{
+    uint32_t i;
+    for (i = 0; i < count; i++) back_chunk3(f, w, chunks[2u * i], chunks[2u * i + 1u]);
 }
 
 /* The same two passes for any k (the same operations per right-hand side). */
@@ -316,9 +356,7 @@ static void backwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
     while (e > 0) {
         uint32_t m, r;
         const uint32_t *ri;
-        for (s = e - 1u; s > 0 && e - s < CHUNK && chained(lp, li, s - 1u); s--) {
-        }
-        if (e - s == 3u) s++; /* widths 1, 2, 4 */
+        s = ls_ldlt_back_chunk_start(f, 0, e);
         m = e - s;
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
@@ -361,55 +399,101 @@ ls_status ls_ldlt_solve_bytes(const ls_ldlt *f, uint32_t k, size_t *bytes)
     return ls_ldlt_solve_bytes_n(f->n, k, bytes);
 }
 
+/* The k = 3 solve's gather (P b into w) and scatter (w into P^T x) over
+ * rows [lo, hi): 1 when every value moved is finite (x - x is 0 for a
+ * finite x and NaN otherwise, and a sum of zeros and NaNs is NaN iff one
+ * is, in any order). */
+int ls_ldlt_gather3(const ls_ldlt *f, const ls_real *x, ls_acc *w, uint32_t lo, uint32_t hi)
+{
+    uint32_t i;
+    ls_real chk0 = 0, chk1 = 0, chk2 = 0;
+    for (i = lo; i < hi; i++) {
+        const ls_real *src = x + 3u * (size_t)f->perm[i];
+        ls_acc *dst = w + 3u * (size_t)i;
+        const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
+        dst[0] = (ls_acc)v0;
+        dst[1] = (ls_acc)v1;
+        dst[2] = (ls_acc)v2;
+        chk0 += v0 - v0;
+        chk1 += v1 - v1;
+        chk2 += v2 - v2;
+    }
+    return chk0 + chk1 + chk2 == 0;
+}
+
+int ls_ldlt_scatter3(const ls_ldlt *f, const ls_acc *w, ls_real *x, uint32_t lo, uint32_t hi)
+{
+    uint32_t i;
+    ls_real chk0 = 0, chk1 = 0, chk2 = 0;
+    for (i = lo; i < hi; i++) {
+        ls_real *dst = x + 3u * (size_t)f->perm[i];
+        const ls_acc *src = w + 3u * (size_t)i;
+        const ls_real v0 = (ls_real)src[0], v1 = (ls_real)src[1], v2 = (ls_real)src[2];
+        dst[0] = v0;
+        dst[1] = v1;
+        dst[2] = v2;
+        chk0 += v0 - v0;
+        chk1 += v1 - v1;
+        chk2 += v2 - v2;
+    }
+    return chk0 + chk1 + chk2 == 0;
+}
+
+/* The k = 3 solve: the whole passes, or the plan's split over the caller's
+ * workers (ldlt_split.c: the same bits). */
+static ls_status solve3(const ls_ldlt *f, const ls_ldlt_split *sp, const ls_parallel *par, ls_real *x, ls_acc *w)
+{
+    if (sp != NULL) return ls_ldlt_split_solve3(f, sp, par, x, w);
+    if (!ls_ldlt_gather3(f, x, w, 0, f->n)) return LS_ERR_NONFINITE;
+    ls_ldlt_fwd3_range(f, w, 0, f->n, f->n);
+    ls_ldlt_bwd3_range(f, w, 0, f->n);
+    return ls_ldlt_scatter3(f, w, x, 0, f->n) ? LS_OK : LS_ERR_NONFINITE;
+}
+
+/* Scratch for a solve, or the status to return without one. */
+static ls_acc *solve_scratch(const ls_ldlt *f, uint32_t k, const ls_real *x, ls_arena *arena, ls_status *st)
+{
+    size_t bytes;
+    ls_acc *w;
+    *st = LS_ERR_INVALID;
+    if (f == NULL || k == 0 || arena == NULL || (x == NULL && f->n > 0)) return NULL;
+    *st = LS_ERR_STATE;
+    if (f->state != LS_LDLT_VALID) return NULL;
+    *st = LS_ERR_TOO_LARGE;
+    if (ls_ldlt_solve_bytes(f, k, &bytes) != LS_OK) return NULL;
+    w = (ls_acc *)ls_arena_scratch(arena, (size_t)f->n * k, sizeof(ls_acc));
+    *st = w != NULL ? LS_OK : all_finite(x, (size_t)f->n * k) ? LS_ERR_NOMEM : LS_ERR_NONFINITE;
+    return w;
+}
+
+ls_status ls_ldlt_solve_split(const ls_ldlt *f, const ls_ldlt_split *sp, const ls_parallel *par, ls_real *x,
+                              ls_arena *arena)
+{
+    ls_arena_mark mark;
+    ls_acc *w;
+    ls_status st;
+    if (sp != NULL && (f == NULL || sp->n != f->n)) return LS_ERR_INVALID;
+    if (arena == NULL) return LS_ERR_INVALID;
+    mark = ls_arena_save(arena);
+    w = solve_scratch(f, 3u, x, arena, &st);
+    if (w == NULL) return st;
+    st = solve3(f, sp != NULL && sp->workers > 1u && sp->work >= LS_LDLT_SPLIT_MIN_WORK ? sp : NULL, par, x, w);
+    ls_arena_restore(arena, mark);
+    return st;
+}
+
 ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *arena)
 {
     ls_arena_mark mark;
     ls_acc *w;
     uint32_t i, c, n;
-    size_t bytes;
-    if (f == NULL || k == 0 || arena == NULL || (x == NULL && f->n > 0)) return LS_ERR_INVALID;
-    if (f->state != LS_LDLT_VALID) return LS_ERR_STATE;
-    if (ls_ldlt_solve_bytes(f, k, &bytes) != LS_OK) return LS_ERR_TOO_LARGE;
-    n = f->n;
+    ls_status st;
+    if (k == 3) return ls_ldlt_solve_split(f, NULL, NULL, x, arena);
+    if (arena == NULL) return LS_ERR_INVALID;
     mark = ls_arena_save(arena);
-    w = (ls_acc *)ls_arena_scratch(arena, (size_t)n * k, sizeof(ls_acc));
-    if (w == NULL) return all_finite(x, (size_t)n * k) ? LS_ERR_NOMEM : LS_ERR_NONFINITE;
-    /* gather P b; the finiteness checks ride along: x - x is 0 for a finite
-     * x and NaN otherwise, and a sum of zeros and NaNs is NaN iff one is */
-    if (k == 3) {
-        ls_real chk0 = 0, chk1 = 0, chk2 = 0;
-        for (i = 0; i < n; i++) {
-            const ls_real *src = x + 3u * (size_t)f->perm[i];
-            ls_acc *dst = w + 3u * (size_t)i;
-            const ls_real v0 = src[0], v1 = src[1], v2 = src[2];
-            dst[0] = (ls_acc)v0;
-            dst[1] = (ls_acc)v1;
-            dst[2] = (ls_acc)v2;
-            chk0 += v0 - v0;
-            chk1 += v1 - v1;
-            chk2 += v2 - v2;
-        }
-        if (!(chk0 + chk1 + chk2 == 0)) {
-            ls_arena_restore(arena, mark);
-            return LS_ERR_NONFINITE;
-        }
-        forward3(f, w);
-        backward3(f, w);
-        chk0 = chk1 = chk2 = 0;
-        for (i = 0; i < n; i++) {
-            ls_real *dst = x + 3u * (size_t)f->perm[i];
-            const ls_acc *src = w + 3u * (size_t)i;
-            const ls_real v0 = (ls_real)src[0], v1 = (ls_real)src[1], v2 = (ls_real)src[2];
-            dst[0] = v0;
-            dst[1] = v1;
-            dst[2] = v2;
-            chk0 += v0 - v0;
-            chk1 += v1 - v1;
-            chk2 += v2 - v2;
-        }
-        ls_arena_restore(arena, mark);
-        return chk0 + chk1 + chk2 == 0 ? LS_OK : LS_ERR_NONFINITE;
-    }
+    w = solve_scratch(f, k, x, arena, &st);
+    if (w == NULL) return st;
+    n = f->n;
     if (!all_finite(x, (size_t)n * k)) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NONFINITE;
