@@ -720,6 +720,59 @@ static void ldlt_split_same_bits(void)
     }
 }
 
+/* The plan on the trees at the extremes: a chain (a path, natural order:
+ * nothing to split) and a star (an arrow matrix: 20,000 leaves under one
+ * root): the same bits, and the build stays linear (the test's time). */
+static void ldlt_split_chain_and_star(void)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        const uint32_t n = 20001;
+        mtrip t;
+        uint32_t i, calls = 0;
+        ls_real *b = (ls_real *)malloc(sizeof(ls_real) * 3 * n), *x = (ls_real *)malloc(sizeof(ls_real) * 3 * n);
+        ls_parallel par;
+        ls_arena arena;
+        ls_ldlt_split sp;
+        ls_csc a;
+        ls_ldlt f;
+        int same = 1;
+        t.n = n;
+        t.count = 0;
+        t.r = (uint32_t *)malloc(sizeof(uint32_t) * 2 * n);
+        t.c = (uint32_t *)malloc(sizeof(uint32_t) * 2 * n);
+        t.v = (double *)malloc(sizeof(double) * 2 * n);
+        for (i = 0; i < n; i++) { /* the diagonal, then one coupling per row below the first */
+            t.r[t.count] = t.c[t.count] = i;
+            t.v[t.count++] = k == 1 && i == 0 ? (double)n : 3.0;
+            if (i == 0) continue;
+            t.r[t.count] = k == 0 ? i - 1u : 0u; /* upper triangle: row <= col */
+            t.c[t.count] = i;
+            t.v[t.count++] = -1.0;
+        }
+        for (i = 0; i < 3 * n; i++) b[i] = (ls_real)urand();
+        par.run = scrambled_for;
+        par.ctx = &calls;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        REQUIRE(build(&t, &arena, &a));
+        REQUIRE(ls_ldlt_analyze(&a, k == 0 ? LS_ORDER_NATURAL : LS_ORDER_AMD, NULL, &arena, &f, NULL) == LS_OK);
+        REQUIRE(ls_ldlt_factor(&f, &a, &arena, NULL) == LS_OK);
+        memcpy(x, b, sizeof(ls_real) * 3 * n);
+        REQUIRE(ls_ldlt_solve(&f, 3, x, &arena) == LS_OK);
+        CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 1024, &arena), LS_OK);
+        printf("     %s n %u, 1024 workers: %u pieces, T %.1f %% of the work\n", k == 0 ? "chain" : "star", n,
+               sp.subtrees, 100.0 * (double)sp.top_work / (double)sp.work);
+        CHECK(sp.work >= LS_LDLT_SPLIT_MIN_WORK);
+        if (k == 1) CHECK(sp.subtrees >= n - 2u); /* the leaves (AMD may keep one with the root) */
+        CHECK_STATUS(ls_ldlt_solve_split(&f, &sp, &par, b, &arena), LS_OK);
+        for (i = 0; i < 3 * n; i++) same &= memcmp(&x[i], &b[i], sizeof(ls_real)) == 0;
+        CHECK_MSG(same, "%s: the split solve differs from the whole one", k == 0 ? "chain" : "star");
+        free(b);
+        free(x);
+        mtrip_free(&t);
+    }
+}
+
 int main(void)
 {
     TEST_INIT("test_ldlt");
@@ -733,6 +786,7 @@ int main(void)
     TEST_RUN(ldlt_arena_sweeps);
     TEST_RUN(ldlt_auto_ordering);
     TEST_RUN(ldlt_split_same_bits);
+    TEST_RUN(ldlt_split_chain_and_star);
     free(buf);
     return TEST_END();
 }

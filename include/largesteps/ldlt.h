@@ -208,8 +208,9 @@ typedef struct ls_ldlt_split {
     uint32_t top_start;    /* T's backward pass ends at this column (<= top) */
     uint32_t subtrees;     /* pieces */
     uint32_t held_chunks;  /* chunks of 1, 2 or 4 chained piece columns with rows in T */
+    uint32_t held_tasks;   /* tasks of the held updates: min(workers, 16) */
     uint32_t *group;       /* workers + 1: worker g's pieces are sub[group[g] .. group[g+1]) */
-    uint32_t *rows;        /* workers + 1: worker g applies the held updates of rows [rows[g], rows[g+1]) */
+    uint32_t *rows;        /* held_tasks + 1 used: task g applies the held updates of rows [rows[g], rows[g+1]) */
     uint32_t *sub;         /* 3 per piece: first column, root + 1, backward start */
     uint32_t *held;        /* 3 per held chunk: first column, width, the last column's first entry in T */
     uint64_t work;         /* the tree's weight (entries of L plus columns) */
@@ -226,7 +227,7 @@ typedef struct ls_ldlt_split {
 /* ls_ldlt_split_bytes_n: exact arena bytes of ls_ldlt_split_init for an
  * n x n factor and `workers` (1 .. 4096) workers: *object (kept: 24 n + 8 W
  * bytes, rounded) and *peak (object plus the build's scratch, released: 20
- * n + 8 W more). O(1). Errors: LS_ERR_INVALID, LS_ERR_TOO_LARGE. */
+ * n + 12 W more). O(1). Errors: LS_ERR_INVALID, LS_ERR_TOO_LARGE. */
 ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, size_t *peak);
 
 /* ls_ldlt_split_init: the plan for factor f (factored at least once: the

@@ -27,9 +27,6 @@ void ls_ldlt_bwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi);
 /* The start of the backward pass' chunk that ends at e (> lo), >= lo. */
 uint32_t ls_ldlt_back_chunk_start(const ls_ldlt *f, uint32_t lo, uint32_t e);
 
-/* The backward chunks [chunks[2i], chunks[2i+1]), i < count, in order. */
-void ls_ldlt_bwd3_chunks(const ls_ldlt *f, ls_acc *w, const uint32_t *chunks, uint32_t count);
-
 /* The gather of P b into w and the scatter of w into P^T x over rows
  * [lo, hi); 1 when every value moved is finite. */
 int ls_ldlt_gather3(const ls_ldlt *f, const ls_real *x, ls_acc *w, uint32_t lo, uint32_t hi);

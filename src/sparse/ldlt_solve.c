@@ -217,15 +217,14 @@ uint32_t ls_ldlt_fwd_chunk_width(const ls_ldlt *f, uint32_t s, uint32_t hi)
  * (ls_ldlt_fwd3_range in ldlt_internal.h; the whole solve: 0, n, n) */
 void ls_ldlt_fwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi, uint32_t limit)
 {
-    uint32_t s = lo, e, c, c2;
+    uint32_t s = lo, c, c2;
     const uint32_t *lp = f->lp, *li = f->li;
     const ls_real *lx = f->lx, *dinv = f->dinv;
     while (s < hi) {
         const ls_real *pc[CHUNK];
-        uint32_t m, r;
+        const uint32_t m = ls_ldlt_fwd_chunk_width(f, s, hi), e = s + m;
+        uint32_t r;
         const uint32_t *ri;
-        m = ls_ldlt_fwd_chunk_width(f, s, hi);
-        e = s + m;
         for (c = s; c < e; c++) {
             const ls_real *lc = lx + lp[c];
             pc[c - s] = lc + (e - 1u - c);
@@ -252,38 +251,6 @@ void ls_ldlt_fwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi, u
     }
 }
 
-/* One chunk [s, e) of the backward pass (L^T), k = 3. */
-static void back_chunk3(const ls_ldlt *f, ls_acc *w, uint32_t s, uint32_t e)
-{
-    const uint32_t *lp = f->lp, *li = f->li;
-    const ls_real *lx = f->lx;
-    const ls_real *pc[CHUNK];
-    uint32_t m = e - s, r, c, c2;
-    const uint32_t *ri;
-    ls_acc acc[3u * CHUNK];
-    for (c = s; c < e; c++) pc[c - s] = lx + lp[c] + (e - 1u - c);
-    r = lp[e] - lp[e - 1u];
-    ri = li + lp[e - 1u];
-    memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_acc));
-    if (m == 1) back_rows1(r, ri, pc, w, acc);
-    else if (m == 2) back_rows2(r, ri, pc, w, acc);
-    else back_rows4(r, ri, pc, w, acc);
-    for (c = e; c > s; c--) {
-        const uint32_t cc = c - 1u;
-        const ls_real *lc = lx + lp[cc];
-        ls_acc *a = acc + 3u * (size_t)(cc - s);
-        for (c2 = cc + 1u; c2 < e; c2++) {
-            const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
-            a[0] -= l * w[3u * (size_t)c2];
-            a[1] -= l * w[3u * (size_t)c2 + 1u];
-            a[2] -= l * w[3u * (size_t)c2 + 2u];
-        }
-        w[3u * (size_t)cc] = a[0];
-        w[3u * (size_t)cc + 1u] = a[1];
-        w[3u * (size_t)cc + 2u] = a[2];
-    }
-}
-
 /* The start of the backward chunk that ends at e (> lo), no lower than lo. */
 uint32_t ls_ldlt_back_chunk_start(const ls_ldlt *f, uint32_t lo, uint32_t e)
 {
@@ -297,19 +264,38 @@ uint32_t ls_ldlt_back_chunk_start(const ls_ldlt *f, uint32_t lo, uint32_t e)
 /* backward (L^T), chunked from column hi - 1 down to lo, k = 3 */
 void ls_ldlt_bwd3_range(const ls_ldlt *f, ls_acc *w, uint32_t lo, uint32_t hi)
 {
+    const uint32_t *lp = f->lp, *li = f->li;
+    const ls_real *lx = f->lx;
     uint32_t e = hi;
     while (e > lo) {
-        uint32_t s = ls_ldlt_back_chunk_start(f, lo, e);
-        back_chunk3(f, w, s, e);
+        const uint32_t s = ls_ldlt_back_chunk_start(f, lo, e), m = e - s;
+        const uint32_t r = lp[e] - lp[e - 1u];
+        const uint32_t *ri = li + lp[e - 1u];
+        const ls_real *pc[CHUNK];
+        ls_acc acc[3u * CHUNK];
+        uint32_t c;
+        for (c = s; c < e; c++) pc[c - s] = lx + lp[c] + (e - 1u - c);
+        memcpy(acc, w + 3u * (size_t)s, 3u * (size_t)m * sizeof(ls_acc));
+        if (m == 1) back_rows1(r, ri, pc, w, acc);
+        else if (m == 2) back_rows2(r, ri, pc, w, acc);
+        else back_rows4(r, ri, pc, w, acc);
+        for (c = e; c > s; c--) {
+            const uint32_t cc = c - 1u;
+            const ls_real *lc = lx + lp[cc];
+            ls_acc *a = acc + 3u * (size_t)(cc - s);
+            uint32_t c2;
+            for (c2 = cc + 1u; c2 < e; c2++) {
+                const ls_acc l = (ls_acc)lc[c2 - cc - 1u];
+                a[0] -= l * w[3u * (size_t)c2];
+                a[1] -= l * w[3u * (size_t)c2 + 1u];
+                a[2] -= l * w[3u * (size_t)c2 + 2u];
+            }
+            w[3u * (size_t)cc] = a[0];
+            w[3u * (size_t)cc + 1u] = a[1];
+            w[3u * (size_t)cc + 2u] = a[2];
+        }
         e = s;
     }
-}
-
-/* The chunks [s, e) listed in `chunks` (pairs), in their order. */
-void ls_ldlt_bwd3_chunks(const ls_ldlt *f, ls_acc *w, const uint32_t *chunks, uint32_t count)
-{
-    uint32_t i;
-    for (i = 0; i < count; i++) back_chunk3(f, w, chunks[2u * i], chunks[2u * i + 1u]);
 }
 
 /* The same two passes for any k (the same operations per right-hand side). */
@@ -350,14 +336,13 @@ static void forwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
 
 static void backwardk(const ls_ldlt *f, uint32_t k, ls_acc *w)
 {
-    uint32_t n = f->n, e = n, s, c, c2, t, q;
+    uint32_t n = f->n, e = n, c, c2, t, q;
     const uint32_t *lp = f->lp, *li = f->li;
     const ls_real *lx = f->lx;
     while (e > 0) {
-        uint32_t m, r;
+        const uint32_t s = ls_ldlt_back_chunk_start(f, 0, e), m = e - s;
+        uint32_t r;
         const uint32_t *ri;
-        s = ls_ldlt_back_chunk_start(f, 0, e);
-        m = e - s;
         r = lp[e] - lp[e - 1u];
         ri = li + lp[e - 1u];
         for (t = 0; t < r; t++) {

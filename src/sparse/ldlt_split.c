@@ -30,10 +30,15 @@
 /* The largest worker count a plan takes (a bound for the sizes' products). */
 #define SPLIT_MAX_WORKERS 4096u
 
+/* The most tasks the held updates and the gather and scatter are split in. */
+#define HELD_TASKS 16u
+
 /* The heap of piece roots: heaviest first, lower column on ties. */
 static int heavier(const uint64_t *wsum, uint32_t a, uint32_t b)
 {
-    return wsum[a] > wsum[b] || (wsum[a] == wsum[b] && a < b);
+    const uint64_t wa = wsum[a], wb = wsum[b];
+    if (wa != wb) return wa > wb;
+    return a < b;
 }
 
 static void heap_push(uint32_t *heap, uint32_t *count, const uint64_t *wsum, uint32_t v)
@@ -80,6 +85,7 @@ static int split_sizes(uint32_t n, uint32_t workers, ls_size *object, ls_size *p
     ls_size_add(peak, n, sizeof(uint32_t));       /* row counts of L, then each piece's worker */
     ls_size_add(peak, n, sizeof(uint32_t));       /* heap */
     ls_size_add(peak, workers, sizeof(uint64_t)); /* each worker's load */
+    ls_size_add(peak, workers, sizeof(uint32_t)); /* the workers' heap, then fill positions */
     return 1;
 }
 
@@ -99,7 +105,7 @@ ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, si
 /* The build's scratch arrays. */
 typedef struct plan_scratch {
     uint64_t *wsum, *load;
-    uint32_t *first, *rowcount, *heap;
+    uint32_t *first, *rowcount, *heap, *workers;
 } plan_scratch;
 
 static uint64_t column_weight(const ls_ldlt *f, uint32_t c)
@@ -149,14 +155,14 @@ static uint32_t choose_cut(const ls_ldlt *f, uint32_t w, uint64_t total, plan_sc
         top += column_weight(f, r);
         held += (uint64_t)z->rowcount[r];
         held -= (uint64_t)(f->lp[r + 1u] - f->lp[r]);
-        /* r's children: the columns below r in its subtree whose parent is r */
-        for (k = z->first[r]; k < r; k++)
-            if (f->parent[k] == r) heap_push(z->heap, &count, z->wsum, k);
+        /* r's children, last first: r - 1, then the column before each
+         * child's subtree while it stays in r's */
+        for (k = r; k > z->first[r]; k = z->first[k - 1u]) heap_push(z->heap, &count, z->wsum, k - 1u);
         t = r;
         while (count > 0 && z->heap[0] >= t) (void)heap_pop(z->heap, &count, z->wsum); /* now in T */
         if (count > 0) heaviest = z->wsum[z->heap[0]];
         rest = (total - top + w - 1u) / w;
-        time = top + (heaviest > rest ? heaviest : rest) + held / (2u * w);
+        time = top + (heaviest > rest ? heaviest : rest) + held / (2u * (uint64_t)w);
         if (time < best_time) {
             best_time = time;
             best = t;
@@ -169,29 +175,32 @@ static uint32_t choose_cut(const ls_ldlt *f, uint32_t w, uint64_t total, plan_sc
  * the workers, heaviest first, to the least loaded; fills sub by worker. */
 static void deal_pieces(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
 {
-    uint32_t c, g, count = 0, w = sp->workers, t = sp->top;
+    uint32_t c, g, count = 0, free_count = 0, w = sp->workers, t = sp->top;
     uint32_t *worker = z->rowcount; /* reused: the row counts are no longer needed */
+    uint64_t *slack = z->load;      /* UINT64_MAX - load: the least loaded is the "heaviest" */
     for (c = 0; c < t; c++)
         if (f->parent[c] == NONE || f->parent[c] >= t) heap_push(z->heap, &count, z->wsum, c);
-    for (g = 0; g < w; g++) z->load[g] = 0;
+    for (g = 0; g < w; g++) {
+        slack[g] = UINT64_MAX;
+        heap_push(z->workers, &free_count, slack, g);
+    }
     for (g = 0; g <= w; g++) sp->group[g] = 0;
     while (count > 0) {
-        uint32_t r = heap_pop(z->heap, &count, z->wsum), best = 0;
-        for (g = 1; g < w; g++)
-            if (z->load[g] < z->load[best]) best = g;
-        z->load[best] += z->wsum[r];
+        uint32_t r = heap_pop(z->heap, &count, z->wsum), best = heap_pop(z->workers, &free_count, slack);
+        slack[best] -= z->wsum[r];
+        heap_push(z->workers, &free_count, slack, best);
         worker[r] = best;
         sp->group[best + 1u]++;
     }
     for (g = 0; g < w; g++) {
         sp->group[g + 1u] += sp->group[g];
-        if (z->load[g] > sp->max_load) sp->max_load = z->load[g];
+        if (UINT64_MAX - slack[g] > sp->max_load) sp->max_load = UINT64_MAX - slack[g];
     }
-    for (g = 0; g < w; g++) z->load[g] = sp->group[g]; /* fill positions */
+    for (g = 0; g < w; g++) z->workers[g] = sp->group[g]; /* fill positions */
     for (c = 0; c < t; c++) {
         uint32_t *piece;
         if (f->parent[c] != NONE && f->parent[c] < t) continue;
-        piece = sp->sub + 3u * (size_t)z->load[worker[c]]++;
+        piece = sp->sub + 3u * (size_t)z->workers[worker[c]]++;
         piece[0] = z->first[c];
         piece[1] = c + 1u;
         piece[2] = c + 1u == t ? sp->top_start : c + 1u; /* backward start */
@@ -210,10 +219,10 @@ static void held_lists(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
     for (g = t; g < f->n; g++) count[g] = 0;
     while (c < t) {
         const uint32_t m = ls_ldlt_fwd_chunk_width(f, c, t), last = c + m - 1u, end = f->lp[last + 1u];
-        uint32_t o = end, q;
+        uint32_t o = end;
         while (o > f->lp[last] && f->li[o - 1u] >= t) o--;
         if (o != end) {
-            uint32_t *h = sp->held + 3u * (size_t)sp->held_chunks++;
+            uint32_t *h = sp->held + 3u * (size_t)sp->held_chunks++, q;
             h[0] = c;
             h[1] = m;
             h[2] = o; /* the last column's first entry in T */
@@ -222,13 +231,16 @@ static void held_lists(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
         }
         c += m;
     }
+    /* each task scans every held chunk: more than HELD_TASKS tasks would
+     * cost more in scans than they share */
+    sp->held_tasks = w < HELD_TASKS ? w : HELD_TASKS;
     sp->rows[0] = t;
-    for (g = 1; g < w; g++) { /* worker g - 1 takes rows up to its share */
-        uint64_t want = sp->held_entries * g / w;
+    for (g = 1; g < sp->held_tasks; g++) { /* task g - 1 takes rows up to its share */
+        uint64_t want = sp->held_entries * g / sp->held_tasks;
         while (row < f->n && done + count[row] <= want) done += count[row++];
         sp->rows[g] = row;
     }
-    sp->rows[w] = f->n;
+    sp->rows[sp->held_tasks] = f->n;
 }
 
 ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t workers, ls_arena *arena)
@@ -253,8 +265,9 @@ ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t worke
     z.rowcount = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     z.heap = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     z.load = (uint64_t *)ls_arena_scratch(arena, workers, sizeof(uint64_t));
+    z.workers = (uint32_t *)ls_arena_scratch(arena, workers, sizeof(uint32_t));
     if (q.group == NULL || q.rows == NULL || q.sub == NULL || q.held == NULL || z.wsum == NULL || z.first == NULL ||
-        z.rowcount == NULL || z.heap == NULL || z.load == NULL) {
+        z.rowcount == NULL || z.heap == NULL || z.load == NULL || z.workers == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
@@ -274,8 +287,6 @@ ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t worke
     return LS_OK;
 }
 
-/* The gather and the scatter run as up to MOVE_TASKS tasks of rows. */
-#define MOVE_TASKS 16u
 
 typedef struct split_run {
     const ls_ldlt *f;
@@ -283,7 +294,7 @@ typedef struct split_run {
     ls_acc *w;
     ls_real *x;
     uint32_t moves;                 /* gather or scatter tasks */
-    unsigned char finite[MOVE_TASKS];/* each one's verdict */
+    unsigned char finite[HELD_TASKS];/* each one's verdict */
 } split_run;
 
 static void move_range(const split_run *r, uint32_t i, uint32_t *lo, uint32_t *hi)
@@ -379,14 +390,15 @@ ls_status ls_ldlt_split_solve3(const ls_ldlt *f, const ls_ldlt_split *sp, const 
     r.sp = sp;
     r.w = w;
     r.x = x;
-    r.moves = sp->workers < MOVE_TASKS ? sp->workers : MOVE_TASKS;
+    r.moves = sp->workers < HELD_TASKS ? sp->workers : HELD_TASKS;
     ls_parallel_run(par, sp->workers, r.moves, gather_task, &r);
     if (!all_moved_finite(&r)) return LS_ERR_NONFINITE;
     ls_parallel_run(par, sp->workers, sp->workers, forward_task, &r);
-    ls_parallel_run(par, sp->workers, sp->workers, held_task, &r);
+    ls_parallel_run(par, sp->workers, sp->held_tasks, held_task, &r);
     for (i = 0; i < sp->held_chunks; i++) { /* the held scalings */
+        const uint32_t *h = sp->held + 3u * (size_t)i;
         uint32_t c;
-        for (c = sp->held[3u * i]; c < sp->held[3u * i] + sp->held[3u * i + 1u]; c++) {
+        for (c = h[0]; c < h[0] + h[1]; c++) {
             const ls_acc di = (ls_acc)f->dinv[c];
             w[3u * (size_t)c] *= di;
             w[3u * (size_t)c + 1u] *= di;
