@@ -675,6 +675,7 @@ static void ldlt_split_same_bits(void)
         for (w = 0; w < sizeof workers / sizeof workers[0]; w++) {
             ls_arena_mark mark = ls_arena_save(&arena);
             ls_ldlt_split sp;
+            ls_ldlt_split_stats st;
             size_t object = 0, peak = 0, before = ls_arena_used(&arena);
             ls_real *y = (ls_real *)malloc(sizeof(ls_real) * 3 * n);
             int same = 1, pass;
@@ -683,8 +684,9 @@ static void ldlt_split_same_bits(void)
             CHECK_STATUS(ls_ldlt_split_init(&sp, &f, workers[w], &arena), LS_OK);
             CHECK(ls_arena_used(&arena) - before == object);
             CHECK(arena.peak - before == peak);
-            CHECK(sp.top_work * 3u <= sp.work);
-            CHECK(sp.work >= LS_LDLT_SPLIT_MIN_WORK); /* the split runs, not the whole solve */
+            REQUIRE(ls_ldlt_split_get_stats(&sp, &f, &st) == LS_OK);
+            CHECK(st.top_work * 3u <= st.work);
+            CHECK(st.work >= LS_LDLT_SPLIT_MIN_WORK && sp.workers == workers[w]); /* the split runs */
             for (pass = 0; pass < 2; pass++) { /* twice: the scrambler's order changes */
                 memcpy(y, b, sizeof(ls_real) * 3 * n);
                 CHECK_STATUS(ls_ldlt_solve_split(&f, &sp, pass == 0 ? &par : NULL, y, &arena), LS_OK);
@@ -695,15 +697,16 @@ static void ldlt_split_same_bits(void)
                 printf("     %s n %u, %u workers: %u pieces, T %.1f %% of the work, the most loaded worker %.1f %%, "
                        "held entries %.1f %%\n",
                        k == 0 ? "icosphere amd" : k == 1 ? "icosphere nd" : k == 2 ? "grid amd" : "two grids amd", n,
-                       workers[w], sp.subtrees, 100.0 * (double)sp.top_work / (double)sp.work,
-                       100.0 * (double)sp.max_load / (double)sp.work, 100.0 * (double)sp.held_entries / (double)sp.work);
-            if (workers[w] == 2u) CHECK(sp.subtrees >= 2u && sp.max_load * 10u <= sp.work * 6u);
+                       workers[w], st.pieces, 100.0 * (double)st.top_work / (double)st.work,
+                       100.0 * (double)st.max_load / (double)st.work, 100.0 * (double)st.held_entries / (double)st.work);
+            if (workers[w] == 2u) CHECK(st.pieces >= 2u && st.max_load * 10u <= st.work * 6u);
             free(y);
             ls_arena_restore(&arena, mark);
         }
         {
             ls_ldlt_split sp;
             ls_ldlt g = f;
+
             CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 0, &arena), LS_ERR_INVALID);
             CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 4097, &arena), LS_ERR_INVALID);
             g.state = LS_LDLT_ANALYZED;
@@ -720,11 +723,27 @@ static void ldlt_split_same_bits(void)
     }
 }
 
-/* The plan on the trees at the extremes: a chain (a path, natural order:
+/* The plan on the trees at the extremes: a small factor, a chain (a path, natural order:
  * nothing to split) and a star (an arrow matrix: 20,000 leaves under one
  * root): the same bits, and the build stays linear (the test's time). */
 static void ldlt_split_chain_and_star(void)
 {
+    { /* a factor below the minimum work: the plan keeps the solve whole */
+        tmesh m = icosphere(2);
+        mtrip t = laplacian_system(&m, 19.0, 0);
+        ls_arena arena;
+        ls_ldlt_split sp;
+        ls_csc a;
+        ls_ldlt f;
+        REQUIRE(ls_arena_init(&arena, buf, BUF_BYTES) == LS_OK);
+        REQUIRE(build(&t, &arena, &a));
+        REQUIRE(ls_ldlt_analyze(&a, LS_ORDER_AMD, NULL, &arena, &f, NULL) == LS_OK);
+        REQUIRE(ls_ldlt_factor(&f, &a, &arena, NULL) == LS_OK);
+        CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 2, &arena), LS_OK);
+        CHECK(f.l_nnz + f.n < LS_LDLT_SPLIT_MIN_WORK && sp.workers == 1u);
+        mtrip_free(&t);
+        tmesh_free(&m);
+    }
     int k;
     for (k = 0; k < 2; k++) {
         const uint32_t n = 20001;
@@ -734,6 +753,7 @@ static void ldlt_split_chain_and_star(void)
         ls_parallel par;
         ls_arena arena;
         ls_ldlt_split sp;
+        ls_ldlt_split_stats st;
         ls_csc a;
         ls_ldlt f;
         int same = 1;
@@ -760,10 +780,11 @@ static void ldlt_split_chain_and_star(void)
         memcpy(x, b, sizeof(ls_real) * 3 * n);
         REQUIRE(ls_ldlt_solve(&f, 3, x, &arena) == LS_OK);
         CHECK_STATUS(ls_ldlt_split_init(&sp, &f, 1024, &arena), LS_OK);
+        REQUIRE(ls_ldlt_split_get_stats(&sp, &f, &st) == LS_OK);
         printf("     %s n %u, 1024 workers: %u pieces, T %.1f %% of the work\n", k == 0 ? "chain" : "star", n,
-               sp.subtrees, 100.0 * (double)sp.top_work / (double)sp.work);
-        CHECK(sp.work >= LS_LDLT_SPLIT_MIN_WORK);
-        if (k == 1) CHECK(sp.subtrees >= n - 2u); /* the leaves (AMD may keep one with the root) */
+               st.pieces, 100.0 * (double)st.top_work / (double)st.work);
+        CHECK(st.work >= LS_LDLT_SPLIT_MIN_WORK);
+        if (k == 1) CHECK(st.pieces >= n - 2u); /* the leaves (AMD may keep one with the root) */
         CHECK_STATUS(ls_ldlt_solve_split(&f, &sp, &par, b, &arena), LS_OK);
         for (i = 0; i < 3 * n; i++) same &= memcmp(&x[i], &b[i], sizeof(ls_real)) == 0;
         CHECK_MSG(same, "%s: the split solve differs from the whole one", k == 0 ? "chain" : "star");

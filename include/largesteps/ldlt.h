@@ -203,25 +203,27 @@ ls_status ls_ldlt_solve(const ls_ldlt *f, uint32_t k, ls_real *x, ls_arena *aren
  * and parallel-for. The plan depends on the factor's pattern only: it
  * stays valid across ls_ldlt_refactor. */
 typedef struct ls_ldlt_split {
-    uint32_t n, workers;
+    uint32_t n, workers;   /* workers 1: the whole solve (one worker asked, or below the minimum work) */
     uint32_t top;          /* T = columns [top, n) */
     uint32_t top_start;    /* T's backward pass ends at this column (<= top) */
-    uint32_t subtrees;     /* pieces */
     uint32_t held_chunks;  /* chunks of 1, 2 or 4 chained piece columns with rows in T */
-    uint32_t held_tasks;   /* tasks of the held updates: min(workers, 16) */
-    uint32_t *group;       /* workers + 1: worker g's pieces are sub[group[g] .. group[g+1]) */
-    uint32_t *rows;        /* held_tasks + 1 used: task g applies the held updates of rows [rows[g], rows[g+1]) */
-    uint32_t *sub;         /* 3 per piece: first column, root + 1, backward start */
-    uint32_t *held;        /* 3 per held chunk: first column, width, the last column's first entry in T */
-    uint64_t work;         /* the tree's weight (entries of L plus columns) */
-    uint64_t top_work;     /* T's part of it */
-    uint64_t max_load;     /* the most loaded worker's part */
-    uint64_t held_entries; /* entries of L in T's rows and the pieces' columns */
+    uint32_t *data;        /* group (W + 1: worker g's pieces are sub[group[g] .. group[g+1])),
+                            * rows (W + 1: held-update task g has rows [rows[g], rows[g+1])),
+                            * sub (3 n: per piece its first column, root + 1, backward start),
+                            * held (3 n: per held chunk its first column, width, first entry in T) */
 } ls_ldlt_split;
 
-/* Below this weight (entries of L plus columns) a split solve runs whole on
- * the calling thread: the handing out costs more than it saves (measured
- * with tests/bench/run_split.sh: 0.07 ms solves of a 1,839-vertex mesh). */
+/* What a plan does with the work (entries of L plus columns), for benchmarks
+ * and tests: the tree's total, T's part, the most loaded worker's part, the
+ * held updates' entries, and the number of pieces. */
+typedef struct ls_ldlt_split_stats {
+    uint64_t work, top_work, max_load, held_entries;
+    uint32_t pieces;
+} ls_ldlt_split_stats;
+
+/* Below this weight (entries of L plus columns) a plan keeps the solve
+ * whole on the calling thread (workers 1): the handing out costs more than
+ * it saves (tests/bench/run_split.sh: 0.07 ms solves of a 1,839-vertex mesh). */
 #define LS_LDLT_SPLIT_MIN_WORK 32768u
 
 /* ls_ldlt_split_bytes_n: exact arena bytes of ls_ldlt_split_init for an
@@ -236,10 +238,13 @@ ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, si
  * LS_ERR_STATE (not factored), LS_ERR_NOMEM (arena and *sp unchanged). */
 ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t workers, ls_arena *arena);
 
+/* ls_ldlt_split_get_stats: the plan's shares of the work (sp made for f). O(n).
+ * Errors: LS_ERR_INVALID (NULL, sizes differ). */
+ls_status ls_ldlt_split_get_stats(const ls_ldlt_split *sp, const ls_ldlt *f, ls_ldlt_split_stats *stats);
+
 /* ls_ldlt_solve_split: ls_ldlt_solve(f, 3, x, arena) with its two passes'
  * pieces run as sp->workers tasks of par (NULL, or run NULL: on this
- * thread); sp NULL, of one worker or of a weight below
- * LS_LDLT_SPLIT_MIN_WORK: the whole solve. The gather, the scatter and
+ * thread); sp NULL or of one worker: the whole solve. The gather, the scatter and
  * the held updates run on the workers too; T on the calling thread. Same
  * scratch and errors as
  * ls_ldlt_solve, plus LS_ERR_INVALID when sp is not of f's size. */

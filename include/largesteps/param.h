@@ -78,8 +78,14 @@ typedef struct ls_param_config {
     ls_real cg_tol;      /* CG relative tolerance */
     uint32_t workers;    /* LDL^T, k = 3: > 1 splits its solves over the caller's workers
                           * (ls_ldlt_split: the same bits; 0 or 1: none; at most 4096) */
-    ls_parallel parallel;/* the caller's parallel-for for those solves (run NULL: this thread) */
+    const ls_parallel *parallel; /* their parallel-for (copied by the init; NULL: this thread) */
 } ls_param_config;
+
+/* The split of the LDL^T's solves (config.workers > 1). */
+typedef struct ls_param_split {
+    ls_ldlt_split plan;
+    ls_parallel parallel;
+} ls_param_split;
 
 typedef struct ls_param {
     ls_csc lap;          /* the Laplacian (arrays borrowed; on a grid owned); unused by GRID */
@@ -88,8 +94,8 @@ typedef struct ls_param {
     ls_real weight;
     uint32_t identity;   /* 1 when weight = 0: M = I, solves are copies */
     ls_ldlt f;           /* LS_PARAM_LDLT: the factor */
-    ls_ldlt_split split; /* LS_PARAM_LDLT with workers > 1: its solves' plan (else workers 0) */
-    ls_parallel parallel;/* the parallel-for the plan's solves run on */
+    struct ls_param_split *split; /* LS_PARAM_LDLT with workers > 1: the solves' plan and
+                          * parallel-for, in the object's memory (else NULL) */
     ls_cg_info cg;       /* LS_PARAM_CG: cap and tolerance, statistics of the last solve */
     ls_real *warm_fwd;   /* LS_PARAM_CG: n k, last from_differential result */
     ls_real *warm_adj;   /* LS_PARAM_CG: n k, last adjoint result */

@@ -162,7 +162,7 @@ void ls_fit_impl_param_config(const ls_fit_config *c, uint32_t n, ls_param_confi
     pc->cg_tol = c->cg_tol > (ls_real)0 ? c->cg_tol : (ls_real)1e-6;
     /* the solves split over the workers too (the same bits: ls_ldlt_split) */
     pc->workers = fit_workers(c) > 1u ? fit_workers(c) : 0u;
-    pc->parallel = c->parallel;
+    pc->parallel = &c->parallel;
 }
 
 /* p = 1: the optimizer moves x itself, its gradient preconditioned once. */

@@ -217,6 +217,7 @@ static ls_status factor_tail(uint32_t n, const ls_param_config *cfg, size_t obje
     ls_size_init(tail);
     ls_size_add(tail, object, 1);
     ls_size_add(tail, factor, 1);
+    if (splits(cfg)) ls_size_add(tail, 1, sizeof(ls_param_split));
     ls_size_add(tail, split_peak, 1);
     ls_size_max(tail, peak);
     return LS_OK;
@@ -354,8 +355,11 @@ static ls_status build(ls_param *q, const ls_csc *lap, const ls_param_config *cf
         st = analyze_from(&q->f, &q->m, cfg, c, arena, diag);
         if (st == LS_OK) st = ls_ldlt_factor(&q->f, &q->m, arena, diag);
         if (st == LS_OK && splits(cfg)) {
-            st = ls_ldlt_split_init(&q->split, &q->f, cfg->workers, arena);
-            q->parallel = cfg->parallel;
+            q->split = (ls_param_split *)ls_arena_alloc(arena, 1, sizeof(ls_param_split));
+            if (q->split == NULL) goto nomem;
+            memset(&q->split->parallel, 0, sizeof q->split->parallel);
+            if (cfg->parallel != NULL) q->split->parallel = *cfg->parallel;
+            st = ls_ldlt_split_init(&q->split->plan, &q->f, cfg->workers, arena);
             if (st == LS_ERR_NOMEM) goto nomem;
         }
     }
@@ -581,7 +585,7 @@ ls_status ls_param_to_differential(const ls_param *p, const ls_real *x, ls_real 
 /* x = M^{-1} x with the factor, split over the workers when planned. */
 static ls_status ldlt_solve(ls_param *p, ls_real *x)
 {
-    if (p->split.workers > 1u) return ls_ldlt_solve_split(&p->f, &p->split, &p->parallel, x, &p->work);
+    if (p->split != NULL) return ls_ldlt_solve_split(&p->f, &p->split->plan, &p->split->parallel, x, &p->work);
     return ls_ldlt_solve(&p->f, p->k, x, &p->work);
 }
 

@@ -462,7 +462,7 @@ ls_status ls_ldlt_solve_split(const ls_ldlt *f, const ls_ldlt_split *sp, const l
     mark = ls_arena_save(arena);
     w = solve_scratch(f, 3u, x, arena, &st);
     if (w == NULL) return st;
-    st = solve3(f, sp != NULL && sp->workers > 1u && sp->work >= LS_LDLT_SPLIT_MIN_WORK ? sp : NULL, par, x, w);
+    st = solve3(f, sp != NULL && sp->workers > 1u ? sp : NULL, par, x, w);
     ls_arena_restore(arena, mark);
     return st;
 }

@@ -70,15 +70,31 @@ static uint32_t heap_pop(uint32_t *heap, uint32_t *count, const uint64_t *wsum)
     return top;
 }
 
+/* The plan's words: group and rows (W + 1 each), sub and held (3 n each). */
+static size_t data_words(uint32_t n, uint32_t workers)
+{
+    return 2u * ((size_t)workers + 1u) + 6u * (size_t)n;
+}
+
+static uint32_t *plan_group(const ls_ldlt_split *sp) { return sp->data; }
+static uint32_t *plan_rows(const ls_ldlt_split *sp) { return sp->data + sp->workers + 1u; }
+static uint32_t *plan_sub(const ls_ldlt_split *sp) { return sp->data + 2u * ((size_t)sp->workers + 1u); }
+static uint32_t *plan_held(const ls_ldlt_split *sp)
+{
+    return sp->data + 2u * ((size_t)sp->workers + 1u) + 3u * (size_t)sp->n;
+}
+
+static uint32_t held_tasks(const ls_ldlt_split *sp)
+{
+    return sp->workers < HELD_TASKS ? sp->workers : HELD_TASKS;
+}
+
 /* Object and build scratch, in the order ls_ldlt_split_init takes them. */
 static int split_sizes(uint32_t n, uint32_t workers, ls_size *object, ls_size *peak)
 {
     if (workers == 0 || workers > SPLIT_MAX_WORKERS) return 0;
     ls_size_init(object);
-    ls_size_add(object, (size_t)workers + 1u, sizeof(uint32_t)); /* group */
-    ls_size_add(object, (size_t)workers + 1u, sizeof(uint32_t)); /* rows */
-    ls_size_add(object, 3u * (size_t)n, sizeof(uint32_t));       /* sub */
-    ls_size_add(object, 3u * (size_t)n, sizeof(uint32_t));       /* held */
+    ls_size_add(object, data_words(n, workers), sizeof(uint32_t)); /* group, rows, sub, held */
     *peak = *object;
     ls_size_add(peak, n, sizeof(uint64_t));       /* subtree weights */
     ls_size_add(peak, n, sizeof(uint32_t));       /* first column of each subtree */
@@ -176,6 +192,7 @@ static uint32_t choose_cut(const ls_ldlt *f, uint32_t w, uint64_t total, plan_sc
 static void deal_pieces(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
 {
     uint32_t c, g, count = 0, free_count = 0, w = sp->workers, t = sp->top;
+    uint32_t *group = plan_group(sp), *sub = plan_sub(sp);
     uint32_t *worker = z->rowcount; /* reused: the row counts are no longer needed */
     uint64_t *slack = z->load;      /* UINT64_MAX - load: the least loaded is the "heaviest" */
     for (c = 0; c < t; c++)
@@ -184,28 +201,24 @@ static void deal_pieces(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
         slack[g] = UINT64_MAX;
         heap_push(z->workers, &free_count, slack, g);
     }
-    for (g = 0; g <= w; g++) sp->group[g] = 0;
+    for (g = 0; g <= w; g++) group[g] = 0;
     while (count > 0) {
         uint32_t r = heap_pop(z->heap, &count, z->wsum), best = heap_pop(z->workers, &free_count, slack);
         slack[best] -= z->wsum[r];
         heap_push(z->workers, &free_count, slack, best);
         worker[r] = best;
-        sp->group[best + 1u]++;
+        group[best + 1u]++;
     }
-    for (g = 0; g < w; g++) {
-        sp->group[g + 1u] += sp->group[g];
-        if (UINT64_MAX - slack[g] > sp->max_load) sp->max_load = UINT64_MAX - slack[g];
-    }
-    for (g = 0; g < w; g++) z->workers[g] = sp->group[g]; /* fill positions */
+    for (g = 0; g < w; g++) group[g + 1u] += group[g];
+    for (g = 0; g < w; g++) z->workers[g] = group[g]; /* fill positions */
     for (c = 0; c < t; c++) {
         uint32_t *piece;
         if (f->parent[c] != NONE && f->parent[c] < t) continue;
-        piece = sp->sub + 3u * (size_t)z->workers[worker[c]]++;
+        piece = sub + 3u * (size_t)z->workers[worker[c]]++;
         piece[0] = z->first[c];
         piece[1] = c + 1u;
         piece[2] = c + 1u == t ? sp->top_start : c + 1u; /* backward start */
     }
-    sp->subtrees = sp->group[w];
 }
 
 /* The held columns (piece columns with rows in T) in chunks of 1, 2 or 4
@@ -213,7 +226,9 @@ static void deal_pieces(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
  * T, split by the held entries. */
 static void held_lists(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
 {
-    uint32_t c = 0, g, t = sp->top, w = sp->workers, row = t;
+    uint32_t c = 0, g, t = sp->top, row = t, tasks = held_tasks(sp);
+    uint32_t *rows = plan_rows(sp), *held = plan_held(sp);
+    uint64_t entries = 0;
     uint32_t *count = z->rowcount; /* rows [t, n): the held entries of each row of T */
     uint64_t done = 0;
     for (g = t; g < f->n; g++) count[g] = 0;
@@ -222,25 +237,24 @@ static void held_lists(ls_ldlt_split *sp, const ls_ldlt *f, plan_scratch *z)
         uint32_t o = end;
         while (o > f->lp[last] && f->li[o - 1u] >= t) o--;
         if (o != end) {
-            uint32_t *h = sp->held + 3u * (size_t)sp->held_chunks++, q;
+            uint32_t *h = held + 3u * (size_t)sp->held_chunks++, q;
             h[0] = c;
             h[1] = m;
             h[2] = o; /* the last column's first entry in T */
-            sp->held_entries += (uint64_t)(end - o) * m;
+            entries += (uint64_t)(end - o) * m;
             for (q = o; q < end; q++) count[f->li[q]] += m;
         }
         c += m;
     }
     /* each task scans every held chunk: more than HELD_TASKS tasks would
      * cost more in scans than they share */
-    sp->held_tasks = w < HELD_TASKS ? w : HELD_TASKS;
-    sp->rows[0] = t;
-    for (g = 1; g < sp->held_tasks; g++) { /* task g - 1 takes rows up to its share */
-        uint64_t want = sp->held_entries * g / sp->held_tasks;
+    rows[0] = t;
+    for (g = 1; g < tasks; g++) { /* task g - 1 takes rows up to its share */
+        uint64_t want = entries * g / tasks;
         while (row < f->n && done + count[row] <= want) done += count[row++];
-        sp->rows[g] = row;
+        rows[g] = row;
     }
-    sp->rows[sp->held_tasks] = f->n;
+    rows[tasks] = f->n;
 }
 
 ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t workers, ls_arena *arena)
@@ -256,37 +270,62 @@ ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t worke
     q.n = n;
     q.workers = workers;
     mark = ls_arena_save(arena);
-    q.group = (uint32_t *)ls_arena_alloc(arena, (size_t)workers + 1u, sizeof(uint32_t));
-    q.rows = (uint32_t *)ls_arena_alloc(arena, (size_t)workers + 1u, sizeof(uint32_t));
-    q.sub = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)n, sizeof(uint32_t));
-    q.held = (uint32_t *)ls_arena_alloc(arena, 3u * (size_t)n, sizeof(uint32_t));
+    q.data = (uint32_t *)ls_arena_alloc(arena, data_words(n, workers), sizeof(uint32_t));
     z.wsum = (uint64_t *)ls_arena_scratch(arena, n, sizeof(uint64_t));
     z.first = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     z.rowcount = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     z.heap = (uint32_t *)ls_arena_scratch(arena, n, sizeof(uint32_t));
     z.load = (uint64_t *)ls_arena_scratch(arena, workers, sizeof(uint64_t));
     z.workers = (uint32_t *)ls_arena_scratch(arena, workers, sizeof(uint32_t));
-    if (q.group == NULL || q.rows == NULL || q.sub == NULL || q.held == NULL || z.wsum == NULL || z.first == NULL ||
+    if (q.data == NULL || z.wsum == NULL || z.first == NULL ||
         z.rowcount == NULL || z.heap == NULL || z.load == NULL || z.workers == NULL) {
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
-    q.work = tree_sums(f, &z);
-    q.top = choose_cut(f, workers, q.work, &z);
+    {
+        const uint64_t work = tree_sums(f, &z);
+        if (work < LS_LDLT_SPLIT_MIN_WORK) q.workers = 1; /* whole: the data's layout keeps W */
+        q.top = choose_cut(f, q.workers, work, &z);
+    }
     for (q.top_start = q.top < n ? n : 0; q.top_start > q.top;) /* T's backward chunks, the last may reach below t */
         q.top_start = ls_ldlt_back_chunk_start(f, 0, q.top_start);
     if (q.top == n) q.top_start = n;
-    {
-        uint32_t c;
-        for (c = q.top; c < n; c++) q.top_work += column_weight(f, c);
+    if (q.workers > 1u) {
+        deal_pieces(&q, f, &z);
+        held_lists(&q, f, &z);
     }
-    deal_pieces(&q, f, &z);
-    held_lists(&q, f, &z);
     ls_arena_restore(arena, (ls_arena_mark){arena->bottom, mark.top});
     *sp = q;
     return LS_OK;
 }
 
+
+ls_status ls_ldlt_split_get_stats(const ls_ldlt_split *sp, const ls_ldlt *f, ls_ldlt_split_stats *stats)
+{
+    uint32_t c, g, i;
+    if (sp == NULL || f == NULL || stats == NULL || sp->n != f->n) return LS_ERR_INVALID;
+    memset(stats, 0, sizeof *stats);
+    for (c = 0; c < f->n; c++) {
+        stats->work += column_weight(f, c);
+        if (c >= sp->top) stats->top_work += column_weight(f, c);
+    }
+    if (sp->workers < 2u) {
+        stats->max_load = stats->work;
+        return LS_OK;
+    }
+    for (g = 0; g < sp->workers; g++) {
+        uint64_t load = 0;
+        for (i = plan_group(sp)[g]; i < plan_group(sp)[g + 1u]; i++)
+            for (c = plan_sub(sp)[3u * (size_t)i]; c < plan_sub(sp)[3u * (size_t)i + 1u]; c++) load += column_weight(f, c);
+        if (load > stats->max_load) stats->max_load = load;
+    }
+    stats->pieces = plan_group(sp)[sp->workers];
+    for (i = 0; i < sp->held_chunks; i++) {
+        const uint32_t *h = plan_held(sp) + 3u * (size_t)i;
+        stats->held_entries += (uint64_t)(f->lp[h[0] + h[1]] - h[2]) * h[1];
+    }
+    return LS_OK;
+}
 
 typedef struct split_run {
     const ls_ldlt *f;
@@ -335,8 +374,8 @@ static void forward_task(void *arg, uint32_t g, uint32_t worker)
     const split_run *r = (const split_run *)arg;
     uint32_t i;
     (void)worker;
-    for (i = r->sp->group[g]; i < r->sp->group[g + 1u]; i++) {
-        const uint32_t *t = r->sp->sub + 3u * (size_t)i;
+    for (i = plan_group(r->sp)[g]; i < plan_group(r->sp)[g + 1u]; i++) {
+        const uint32_t *t = plan_sub(r->sp) + 3u * (size_t)i;
         ls_ldlt_fwd3_range(r->f, r->w, t[0], t[1], t[1]);
     }
 }
@@ -347,12 +386,12 @@ static void held_task(void *arg, uint32_t g, uint32_t worker)
 {
     const split_run *r = (const split_run *)arg;
     const ls_ldlt *f = r->f;
-    const uint32_t lo = r->sp->rows[g], hi = r->sp->rows[g + 1u];
+    const uint32_t lo = plan_rows(r->sp)[g], hi = plan_rows(r->sp)[g + 1u];
     uint32_t i, j;
     (void)worker;
     if (lo == hi) return;
     for (i = 0; i < r->sp->held_chunks; i++) {
-        const uint32_t *h = r->sp->held + 3u * (size_t)i;
+        const uint32_t *h = plan_held(r->sp) + 3u * (size_t)i;
         const uint32_t c = h[0], m = h[1], last = c + m - 1u, end = f->lp[last + 1u];
         const ls_real *pc[4];
         uint32_t a = h[2], b = end, e;
@@ -375,8 +414,8 @@ static void backward_task(void *arg, uint32_t g, uint32_t worker)
     const split_run *r = (const split_run *)arg;
     uint32_t i;
     (void)worker;
-    for (i = r->sp->group[g]; i < r->sp->group[g + 1u]; i++) {
-        const uint32_t *t = r->sp->sub + 3u * (size_t)i;
+    for (i = plan_group(r->sp)[g]; i < plan_group(r->sp)[g + 1u]; i++) {
+        const uint32_t *t = plan_sub(r->sp) + 3u * (size_t)i;
         ls_ldlt_bwd3_range(r->f, r->w, t[0], t[2]);
     }
 }
@@ -390,13 +429,13 @@ ls_status ls_ldlt_split_solve3(const ls_ldlt *f, const ls_ldlt_split *sp, const 
     r.sp = sp;
     r.w = w;
     r.x = x;
-    r.moves = sp->workers < HELD_TASKS ? sp->workers : HELD_TASKS;
+    r.moves = held_tasks(sp);
     ls_parallel_run(par, sp->workers, r.moves, gather_task, &r);
     if (!all_moved_finite(&r)) return LS_ERR_NONFINITE;
     ls_parallel_run(par, sp->workers, sp->workers, forward_task, &r);
-    ls_parallel_run(par, sp->workers, sp->held_tasks, held_task, &r);
+    ls_parallel_run(par, sp->workers, held_tasks(sp), held_task, &r);
     for (i = 0; i < sp->held_chunks; i++) { /* the held scalings */
-        const uint32_t *h = sp->held + 3u * (size_t)i;
+        const uint32_t *h = plan_held(sp) + 3u * (size_t)i;
         uint32_t c;
         for (c = h[0]; c < h[0] + h[1]; c++) {
             const ls_acc di = (ls_acc)f->dinv[c];

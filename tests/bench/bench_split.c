@@ -61,6 +61,8 @@ int main(int argc, char **argv)
     ls_real *u, *x1, *xw;
     ls_param one, split;
     ls_param_config c;
+    ls_parallel par;
+    ls_ldlt_split_stats stats;
     ls_posix_pool *pool;
     double t1[MAX_ROUNDS], tw[MAX_ROUNDS], ratio[MAX_ROUNDS];
     uint32_t workers;
@@ -100,9 +102,10 @@ int main(int argc, char **argv)
     ls_param_config_default(&c);
     c.order = strcmp(argv[2], "nd") == 0 ? LS_ORDER_ND : LS_ORDER_AMD;
     if (ls_param_init(&one, &L, &c, m.positions, &a, NULL) != LS_OK) return 1;
+    par.run = ls_posix_pool_run;
+    par.ctx = pool;
     c.workers = workers;
-    c.parallel.run = ls_posix_pool_run;
-    c.parallel.ctx = pool;
+    c.parallel = &par;
     if (ls_param_init(&split, &L, &c, m.positions, &a, NULL) != LS_OK) return 1;
     if (ls_param_to_differential(&one, m.positions, u) != LS_OK) return 1;
     for (r = 0; r < rounds; r++) {
@@ -110,12 +113,13 @@ int main(int argc, char **argv)
         tw[r] = time_solves(&split, u, xw);
         ratio[r] = tw[r] / t1[r];
     }
+    if (split.split == NULL || ls_ldlt_split_get_stats(&split.split->plan, &split.f, &stats) != LS_OK) return 1;
     same = 1;
     for (i = 0; i < nk; i++) same &= memcmp(&x1[i], &xw[i], sizeof(ls_real)) == 0;
     printf("| %s | %u | %s | %u | %u | %.1f | %.1f | %.3f | %.3f | %.3f | %s |\n", name, m.vertex_count,
            one.f.method == LS_ORDER_ND ? "nd" : "amd", one.f.l_nnz, workers,
-           100.0 * (double)split.split.top_work / (double)split.split.work,
-           100.0 * (double)split.split.max_load / (double)split.split.work, median(t1, rounds), median(tw, rounds),
+           100.0 * (double)stats.top_work / (double)stats.work, 100.0 * (double)stats.max_load / (double)stats.work,
+           median(t1, rounds), median(tw, rounds),
            median(ratio, rounds), same ? "yes" : "no");
     ls_posix_pool_destroy(pool);
     free(mem);
