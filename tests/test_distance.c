@@ -268,7 +268,8 @@ static void reversed_for(void *ctx, uint32_t count, ls_task_fn task, void *arg)
 }
 
 /* ls_mesh_distance_parallel: the report of ls_mesh_distance, every byte,
- * for 1 to 3 workers; workers 0 refused. */
+ * for 1 to 3 workers, in one round and in several; its memory is the
+ * query's; workers 0 refused. */
 static void parallel_same_report(void)
 {
     ls_arena a;
@@ -279,6 +280,7 @@ static void parallel_same_report(void)
     geo_rng g;
     const double ctr[3] = {0, 0, 0};
     uint32_t i, w, samples[2];
+    size_t need0 = 0;
     REQUIRE(geo_arena(&a, 1 << 22) != NULL);
     REQUIRE(geo_sphere(&a, &ma, 1.0, ctr, 16, 30));
     REQUIRE(geo_sphere(&a, &mb, 1.1, ctr, 12, 20));
@@ -298,6 +300,23 @@ static void parallel_same_report(void)
                   (double)rw.hausdorff, (double)rw.rms, (double)r1.hausdorff, (double)r1.rms);
     }
     printf("     H %.6f rms %.6f: the same report for 1 to 3 workers\n", (double)r1.hausdorff, (double)r1.rms);
+    /* several rounds of 4,096 points each way, and the memory the query gives */
+    samples[0] = 9000u;
+    samples[1] = 4097u;
+    memset(&r1, 0, sizeof r1);
+    CHECK_STATUS(ls_mesh_distance(&ma, &mb, samples[0], samples[1], &a, &r1, NULL), LS_OK);
+    for (w = 2; w <= 3; w++) {
+        size_t need = 0, before = ls_arena_used(&a);
+        memset(&rw, 0, sizeof rw);
+        CHECK_STATUS(ls_mesh_distance_parallel_bytes(ma.face_count, mb.face_count, w, &need), LS_OK);
+        ls_arena_reset_peak(&a);
+        CHECK_STATUS(ls_mesh_distance_parallel(&ma, &mb, samples, &par, w, &a, &rw, NULL), LS_OK);
+        CHECK_MSG(a.peak - before == need, "%u workers: peak %lu, query %lu", (unsigned)w, (unsigned long)(a.peak - before),
+                  (unsigned long)need);
+        CHECK_MSG(memcmp(&r1, &rw, sizeof r1) == 0, "%u workers, 9,000 samples: H %.17g rms %.17g; one: %.17g %.17g",
+                  (unsigned)w, (double)rw.hausdorff, (double)rw.rms, (double)r1.hausdorff, (double)r1.rms);
+    }
+    CHECK_STATUS(ls_mesh_distance_parallel_bytes(ma.face_count, mb.face_count, 0, &need0), LS_ERR_INVALID);
     CHECK_STATUS(ls_mesh_distance_parallel(&ma, &mb, samples, &par, 0, &a, &rw, &d), LS_ERR_INVALID);
     CHECK(d.what != NULL && strstr(d.what, "workers") != NULL);
     free(a.base);

@@ -94,6 +94,11 @@ ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t
  * (NULL, a zero face count), LS_ERR_TOO_LARGE. */
 ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *bytes);
 
+/* ls_mesh_distance_parallel_bytes: the exact arena bytes of
+ * ls_mesh_distance_parallel with `workers` workers (1: ls_mesh_distance_bytes).
+ * O(1). Errors: as ls_mesh_distance_bytes; workers 0: LS_ERR_INVALID. */
+ls_status ls_mesh_distance_parallel_bytes(uint32_t faces_a, uint32_t faces_b, uint32_t workers, size_t *bytes);
+
 /* ls_mesh_distance: both directions between meshes a and b (samples_a face
  * samples on a, samples_b on b; see ls_distance_default_samples) and the
  * symmetric summary. Builds the two trees in the arena and releases them
@@ -104,12 +109,15 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
 ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
                            ls_arena *arena, ls_distance_report *out, ls_diag *diag);
 
-/* ls_mesh_distance_parallel: ls_mesh_distance with its two directions as two
- * tasks on the caller's parallel-for (largesteps/parallel.h; par NULL,
- * par->run NULL or workers 1: one after the other on this thread), each
- * direction's samples in their order as there: the same report, bit for
- * bit, for any worker count. samples: samples_a and samples_b. The same bytes (ls_mesh_distance_bytes) and
- * errors; workers 0: LS_ERR_INVALID. */
+/* ls_mesh_distance_parallel: ls_mesh_distance on the caller's parallel-for
+ * (largesteps/parallel.h; par NULL, par->run NULL or workers 1: on this
+ * thread): each direction in rounds of 4,096 points, the closest points
+ * of a round in slices on the workers, their distances and angles added in
+ * point order on this thread: the same report, bit for bit, for any worker
+ * count. samples: samples_a and samples_b. Memory:
+ * ls_mesh_distance_parallel_bytes (with workers > 1 the two trees and the
+ * rounds' arrays, 80 KiB in double, are held together). Errors as
+ * ls_mesh_distance; workers 0: LS_ERR_INVALID. */
 ls_status ls_mesh_distance_parallel(const ls_mesh *a, const ls_mesh *b, const uint32_t samples[2], const ls_parallel *par,
                                     uint32_t workers, ls_arena *arena, ls_distance_report *out, ls_diag *diag);
 

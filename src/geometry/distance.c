@@ -263,6 +263,163 @@ ls_status ls_distance_one_way(const ls_mesh *src, const ls_bvh *target, uint32_t
     return LS_OK;
 }
 
+/* The parallel path (ls_mesh_distance_parallel with workers > 1): each
+ * direction in rounds of DIST_ROUND points. The calling thread hands out
+ * the round's points (vertices, or face samples with their faces from the
+ * area walk), the workers find their closest points in slices, each into
+ * the point's own entry, and the calling thread adds the round's distances
+ * and angles in point order: the operations and the order of one_way, so
+ * the same bits (the closest point does not depend on the guess). */
+#define DIST_ROUND 4096u
+#define DIST_SLICES_PER_WORKER 4u
+
+typedef struct dist_round {
+    const ls_mesh *src;
+    const ls_bvh *target;
+    uint32_t first;      /* the round's first vertex or sample index */
+    uint32_t count;      /* its points */
+    uint32_t slices;
+    int faces;           /* 0: vertices, 1: face samples (face[] holds their faces) */
+    uint32_t *face;      /* DIST_ROUND */
+    ls_real *dist;       /* DIST_ROUND */
+    ls_real *angle;      /* DIST_ROUND: -1 when a normal is zero */
+    ls_status st[32]; /* a status per slice: at most 32 slices */
+} dist_round;
+
+static ls_status dist_point(const dist_round *r, uint32_t i, uint32_t *guess)
+{
+    ls_bvh_hit hit;
+    ls_real p[3];
+    const ls_real *q = p;
+    ls_status st;
+    if (r->faces) sample_in_face(r->src, r->face[i], r->first + i, p);
+    else q = r->src->positions + 3u * (size_t)(r->first + i);
+    st = ls_bvh_closest_near(r->target, q, LS_REAL_MAX, *guess, &hit);
+    if (st != LS_OK) return st;
+    *guess = hit.face;
+    r->dist[i] = LS_RSQRT(hit.dist2);
+    if (r->faces) {
+        ls_real n1[3], n2[3];
+        face_cross(r->src, r->face[i], n1);
+        tri_cross(r->target->positions, r->target->triangles, hit.face, n2);
+        r->angle[i] = normal_angle(n1, n2);
+    }
+    return LS_OK;
+}
+
+static void round_task(void *arg, uint32_t index, uint32_t worker)
+{
+    dist_round *r = (dist_round *)arg;
+    const uint32_t lo = (uint32_t)((uint64_t)r->count * index / r->slices);
+    const uint32_t hi = (uint32_t)((uint64_t)r->count * (index + 1u) / r->slices);
+    uint32_t i, guess = UINT32_MAX;
+    ls_status st = LS_OK;
+    (void)worker;
+    for (i = lo; i < hi && st == LS_OK; i++) st = dist_point(r, i, &guess);
+    r->st[index] = st;
+}
+
+static ls_status run_round(dist_round *r, const ls_parallel *par, uint32_t workers)
+{
+    uint32_t k, most = (uint32_t)(sizeof r->st / sizeof r->st[0]);
+    r->slices = workers * DIST_SLICES_PER_WORKER < most ? workers * DIST_SLICES_PER_WORKER : most;
+    if (r->slices > r->count) r->slices = r->count;
+    ls_parallel_run(par, workers, r->slices, round_task, r);
+    for (k = 0; k < r->slices; k++)
+        if (r->st[k] != LS_OK) return r->st[k];
+    return LS_OK;
+}
+
+/* one_way on the workers; r's arrays from the caller. */
+static ls_status one_way_rounds(dist_round *r, const ls_parallel *par, uint32_t workers, uint32_t samples,
+                                ls_dist_one_way *out)
+{
+    const ls_mesh *src = r->src;
+    acc av, af, an;
+    sampler sm;
+    uint32_t f = 0, left = 0, i; /* the walk: face f still has `left` samples to hand out */
+    ls_status st;
+    acc_init(&av);
+    acc_init(&af);
+    acc_init(&an);
+    r->faces = 0;
+    for (r->first = 0; r->first < src->vertex_count; r->first += r->count) {
+        r->count = src->vertex_count - r->first < DIST_ROUND ? src->vertex_count - r->first : DIST_ROUND;
+        st = run_round(r, par, workers);
+        if (st != LS_OK) return st;
+        for (i = 0; i < r->count; i++) acc_add(&av, r->dist[i], r->first + i);
+    }
+    memset(&sm, 0, sizeof sm);
+    sm.total = total_area2(src);
+    sm.n = sm.total > 0 ? samples : 0u;
+    r->faces = 1;
+    r->first = 0;
+    while (sm.n > 0) {
+        r->count = 0;
+        while (r->count < DIST_ROUND) {
+            if (left == 0) {
+                ls_real n1[3];
+                if (f == src->face_count) break;
+                face_cross(src, f, n1);
+                left = sampler_next(&sm, norm3(n1), f + 1u == src->face_count);
+                f++;
+                continue;
+            }
+            r->face[r->count++] = f - 1u;
+            left--;
+        }
+        if (r->count == 0) break;
+        st = run_round(r, par, workers);
+        if (st != LS_OK) return st;
+        for (i = 0; i < r->count; i++) {
+            acc_add(&af, r->dist[i], r->first + i);
+            if (r->angle[i] >= 0) acc_add(&an, r->angle[i], r->first + i);
+        }
+        r->first += r->count;
+    }
+    acc_get(&av, &out->vertex);
+    acc_get(&af, &out->face);
+    acc_get(&an, &out->normal);
+    return LS_OK;
+}
+
+/* The staging arrays of the parallel path. */
+static void round_sizes(ls_size *s)
+{
+    ls_size_add(s, DIST_ROUND, sizeof(uint32_t));
+    ls_size_add(s, DIST_ROUND, sizeof(ls_real));
+    ls_size_add(s, DIST_ROUND, sizeof(ls_real));
+}
+
+ls_status ls_mesh_distance_parallel_bytes(uint32_t faces_a, uint32_t faces_b, uint32_t workers, size_t *bytes)
+{
+    size_t whole = 0, ta, fa, tb, fb, held;
+    ls_size s;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (workers == 0) return LS_ERR_INVALID;
+    st = ls_mesh_distance_bytes(faces_a, faces_b, &whole);
+    if (st != LS_OK || workers == 1u) {
+        *bytes = whole;
+        return st;
+    }
+    /* the two trees and their frames, then the rounds' arrays */
+    if ((st = ls_bvh_tree_bytes(faces_a, &ta)) != LS_OK) return st;
+    if ((st = ls_bvh_tree_bytes(faces_b, &tb)) != LS_OK) return st;
+    if ((st = ls_bvh_frames_bytes(faces_a, &fa)) != LS_OK) return st;
+    if ((st = ls_bvh_frames_bytes(faces_b, &fb)) != LS_OK) return st;
+    ls_size_init(&s);
+    ls_size_add(&s, ta, 1);
+    ls_size_add(&s, tb, 1);
+    ls_size_add(&s, fa, 1);
+    ls_size_add(&s, fb, 1);
+    round_sizes(&s);
+    if ((st = ls_size_get(&s, &held)) != LS_OK) return st;
+    *bytes = held > whole ? held : whole;
+    return LS_OK;
+}
+
 ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *bytes)
 {
     size_t ta, tb, ba, bb, fa, fb, keep_b, a_peak, x;
@@ -285,22 +442,6 @@ ls_status ls_mesh_distance_bytes(uint32_t faces_a, uint32_t faces_b, size_t *byt
     return LS_OK;
 }
 
-/* The two directions, a task each (ls_mesh_distance_parallel). */
-typedef struct dist_job {
-    const ls_mesh *src[2];
-    const ls_bvh *target[2];
-    uint32_t samples[2];
-    ls_dist_one_way *out[2];
-    ls_status st[2];
-} dist_job;
-
-static void dist_task(void *arg, uint32_t index, uint32_t worker)
-{
-    dist_job *j = (dist_job *)arg;
-    (void)worker;
-    j->st[index] = one_way(j->src[index], j->target[index], j->samples[index], j->out[index]);
-}
-
 ls_status ls_mesh_distance(const ls_mesh *a, const ls_mesh *b, uint32_t samples_a, uint32_t samples_b,
                            ls_arena *arena, ls_distance_report *out, ls_diag *diag)
 {
@@ -316,7 +457,6 @@ ls_status ls_mesh_distance_parallel(const ls_mesh *a, const ls_mesh *b, const ui
     ls_bvh ta, tb;
     ls_distance_report r;
     ls_real lo[3], hi[3], d[3];
-    dist_job job;
     ls_status st;
     uint32_t k;
     if (workers == 0u || samples == NULL) {
@@ -355,16 +495,27 @@ ls_status ls_mesh_distance_parallel(const ls_mesh *a, const ls_mesh *b, const ui
         return st;
     }
     memset(&r, 0, sizeof r);
-    job.src[0] = a;
-    job.src[1] = b;
-    job.target[0] = &tb;
-    job.target[1] = &ta;
-    job.samples[0] = samples[0];
-    job.samples[1] = samples[1];
-    job.out[0] = &r.ab;
-    job.out[1] = &r.ba;
-    ls_parallel_run(par, workers, 2u, dist_task, &job);
-    st = job.st[0] != LS_OK ? job.st[0] : job.st[1];
+    if (workers > 1u && par != NULL && par->run != NULL) {
+        dist_round rd;
+        rd.face = (uint32_t *)ls_arena_alloc(arena, DIST_ROUND, sizeof(uint32_t));
+        rd.dist = (ls_real *)ls_arena_alloc(arena, DIST_ROUND, sizeof(ls_real));
+        rd.angle = (ls_real *)ls_arena_alloc(arena, DIST_ROUND, sizeof(ls_real));
+        st = rd.face != NULL && rd.dist != NULL && rd.angle != NULL ? LS_OK : LS_ERR_NOMEM;
+        if (st == LS_ERR_NOMEM) {
+            ls_arena_restore(arena, mark);
+            diag_set(diag, st, "arena too small for the two BVHs and the rounds' arrays", 0, 0);
+            return st;
+        }
+        rd.src = a;
+        rd.target = &tb;
+        st = one_way_rounds(&rd, par, workers, samples[0], &r.ab);
+        rd.src = b;
+        rd.target = &ta;
+        if (st == LS_OK) st = one_way_rounds(&rd, par, workers, samples[1], &r.ba);
+    } else {
+        st = one_way(a, &tb, samples[0], &r.ab);
+        if (st == LS_OK) st = one_way(b, &ta, samples[1], &r.ba);
+    }
     ls_arena_restore(arena, mark);
     if (st != LS_OK) {
         diag_set(diag, st, "closest-point query failed", 0, 0);
