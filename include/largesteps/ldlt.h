@@ -235,7 +235,7 @@ ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, si
 /* ls_ldlt_split_init: the plan for factor f (factored at least once: the
  * pattern of L comes with the numeric factor) and `workers` workers.
  * O(nnz(L) + n log n). Errors: LS_ERR_INVALID (NULL, workers 0 or above 4096),
- * LS_ERR_STATE (not factored), LS_ERR_NOMEM (arena and *sp unchanged). */
+ * LS_ERR_STATE (not factored), LS_ERR_TOO_LARGE, LS_ERR_NOMEM (arena and *sp unchanged). */
 ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t workers, ls_arena *arena);
 
 /* ls_ldlt_split_get_stats: the plan's shares of the work (sp made for f). O(n).

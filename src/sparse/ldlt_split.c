@@ -90,9 +90,11 @@ static uint32_t held_tasks(const ls_ldlt_split *sp)
 }
 
 /* Object and build scratch, in the order ls_ldlt_split_init takes them. */
-static int split_sizes(uint32_t n, uint32_t workers, ls_size *object, ls_size *peak)
+static ls_status split_sizes(uint32_t n, uint32_t workers, ls_size *object, ls_size *peak)
 {
-    if (workers == 0 || workers > SPLIT_MAX_WORKERS) return 0;
+    if (workers == 0 || workers > SPLIT_MAX_WORKERS) return LS_ERR_INVALID;
+    /* data_words stays below SIZE_MAX / 4 (a 32-bit size_t and a huge n) */
+    if ((size_t)n > (SIZE_MAX / sizeof(uint32_t) - 2u * ((size_t)workers + 1u)) / 6u) return LS_ERR_TOO_LARGE;
     ls_size_init(object);
     ls_size_add(object, data_words(n, workers), sizeof(uint32_t)); /* group, rows, sub, held */
     *peak = *object;
@@ -102,7 +104,7 @@ static int split_sizes(uint32_t n, uint32_t workers, ls_size *object, ls_size *p
     ls_size_add(peak, n, sizeof(uint32_t));       /* heap */
     ls_size_add(peak, workers, sizeof(uint64_t)); /* each worker's load */
     ls_size_add(peak, workers, sizeof(uint32_t)); /* the workers' heap, then fill positions */
-    return 1;
+    return LS_OK;
 }
 
 ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, size_t *peak)
@@ -111,8 +113,8 @@ ls_status ls_ldlt_split_bytes_n(uint32_t n, uint32_t workers, size_t *object, si
     ls_status st;
     if (object == NULL || peak == NULL) return LS_ERR_INVALID;
     *object = *peak = 0;
-    if (!split_sizes(n, workers, &o, &p)) return LS_ERR_INVALID;
-    st = ls_size_get(&o, object);
+    st = split_sizes(n, workers, &o, &p);
+    if (st == LS_OK) st = ls_size_get(&o, object);
     if (st == LS_OK) st = ls_size_get(&p, peak);
     if (st != LS_OK) *object = *peak = 0;
     return st;
@@ -266,6 +268,11 @@ ls_status ls_ldlt_split_init(ls_ldlt_split *sp, const ls_ldlt *f, uint32_t worke
     if (sp == NULL || f == NULL || arena == NULL || workers == 0 || workers > SPLIT_MAX_WORKERS) return LS_ERR_INVALID;
     if (f->li == NULL || f->state == LS_LDLT_ANALYZED) return LS_ERR_STATE; /* the pattern of L comes with the factor */
     n = f->n;
+    {
+        ls_size object, peak;
+        ls_status st = split_sizes(n, workers, &object, &peak);
+        if (st != LS_OK) return st;
+    }
     memset(&q, 0, sizeof q);
     q.n = n;
     q.workers = workers;
