@@ -190,41 +190,59 @@ static ls_real normal_angle(const ls_real n1[3], const ls_real n2[3])
     return LS_RATAN2(norm3(c), d) * RAD_TO_DEG;
 }
 
+/* The closest point on target of vertex k of src (face UINT32_MAX) or of
+ * face sample k in face `face`: its distance and, for a sample, the angle
+ * between the two faces' normals (-1 when one is zero). *guess: the last
+ * answer (consecutive points are close; the answer does not depend on it). */
+static ls_status closest_of(const ls_mesh *src, const ls_bvh *target, uint32_t face, uint32_t k, uint32_t *guess,
+                            ls_real *dist, ls_real *angle)
+{
+    ls_bvh_hit hit;
+    ls_real p[3];
+    const ls_real *q = p;
+    ls_status st;
+    if (face != UINT32_MAX) sample_in_face(src, face, k, p);
+    else q = src->positions + 3u * (size_t)k;
+    st = ls_bvh_closest_near(target, q, LS_REAL_MAX, *guess, &hit);
+    if (st != LS_OK) return st;
+    *guess = hit.face;
+    *dist = LS_RSQRT(hit.dist2);
+    if (face != UINT32_MAX) {
+        ls_real n1[3], n2[3];
+        face_cross(src, face, n1);
+        tri_cross(target->positions, target->triangles, hit.face, n2);
+        *angle = normal_angle(n1, n2);
+    }
+    return LS_OK;
+}
+
 static ls_status one_way(const ls_mesh *src, const ls_bvh *target, uint32_t samples, ls_dist_one_way *out)
 {
     acc av, af, an;
     sampler sm;
-    uint32_t v, f, k = 0, guess = UINT32_MAX; /* the last answer: consecutive samples are close */
-    ls_bvh_hit hit;
+    uint32_t v, f, k = 0, guess = UINT32_MAX;
+    ls_real d, ang = -1;
     ls_status st;
-    const ls_real inf = LS_REAL_MAX;
     acc_init(&av);
     acc_init(&af);
     acc_init(&an);
     for (v = 0; v < src->vertex_count; v++) {
-        st = ls_bvh_closest_near(target, src->positions + 3u * (size_t)v, inf, guess, &hit);
+        st = closest_of(src, target, UINT32_MAX, v, &guess, &d, &ang);
         if (st != LS_OK) return st;
-        guess = hit.face;
-        acc_add(&av, LS_RSQRT(hit.dist2), v);
+        acc_add(&av, d, v);
     }
     memset(&sm, 0, sizeof sm);
     sm.total = total_area2(src);
     sm.n = sm.total > 0 ? samples : 0u;
     for (f = 0; f < src->face_count && sm.n > 0; f++) {
-        ls_real n1[3], area2;
+        ls_real n1[3];
         uint32_t c;
         face_cross(src, f, n1);
-        area2 = norm3(n1);
-        c = sampler_next(&sm, area2, f + 1u == src->face_count);
+        c = sampler_next(&sm, norm3(n1), f + 1u == src->face_count);
         for (; c > 0; c--, k++) {
-            ls_real p[3], n2[3], ang;
-            sample_in_face(src, f, k, p);
-            st = ls_bvh_closest_near(target, p, inf, guess, &hit);
+            st = closest_of(src, target, f, k, &guess, &d, &ang);
             if (st != LS_OK) return st;
-            guess = hit.face;
-            acc_add(&af, LS_RSQRT(hit.dist2), k);
-            tri_cross(target->positions, target->triangles, hit.face, n2);
-            ang = normal_angle(n1, n2);
+            acc_add(&af, d, k);
             if (ang >= 0) acc_add(&an, ang, k);
         }
     }
@@ -288,23 +306,8 @@ typedef struct dist_round {
 
 static ls_status dist_point(const dist_round *r, uint32_t i, uint32_t *guess)
 {
-    ls_bvh_hit hit;
-    ls_real p[3];
-    const ls_real *q = p;
-    ls_status st;
-    if (r->faces) sample_in_face(r->src, r->face[i], r->first + i, p);
-    else q = r->src->positions + 3u * (size_t)(r->first + i);
-    st = ls_bvh_closest_near(r->target, q, LS_REAL_MAX, *guess, &hit);
-    if (st != LS_OK) return st;
-    *guess = hit.face;
-    r->dist[i] = LS_RSQRT(hit.dist2);
-    if (r->faces) {
-        ls_real n1[3], n2[3];
-        face_cross(r->src, r->face[i], n1);
-        tri_cross(r->target->positions, r->target->triangles, hit.face, n2);
-        r->angle[i] = normal_angle(n1, n2);
-    }
-    return LS_OK;
+    return closest_of(r->src, r->target, r->faces ? r->face[i] : UINT32_MAX, r->first + i, guess, &r->dist[i],
+                      &r->angle[i]);
 }
 
 static void round_task(void *arg, uint32_t index, uint32_t worker)

@@ -339,15 +339,14 @@ typedef struct split_run {
     const ls_ldlt_split *sp;
     ls_acc *w;
     ls_real *x;
-    uint32_t moves;                 /* gather or scatter tasks */
     unsigned char finite[HELD_TASKS];/* each one's verdict */
 } split_run;
 
 static void move_range(const split_run *r, uint32_t i, uint32_t *lo, uint32_t *hi)
 {
-    const uint64_t n = r->f->n;
-    *lo = (uint32_t)(n * i / r->moves);
-    *hi = (uint32_t)(n * (i + 1u) / r->moves);
+    const uint64_t n = r->f->n, moves = held_tasks(r->sp);
+    *lo = (uint32_t)(n * i / moves);
+    *hi = (uint32_t)(n * (i + 1u) / moves);
 }
 
 static void gather_task(void *arg, uint32_t i, uint32_t worker)
@@ -371,7 +370,7 @@ static void scatter_task(void *arg, uint32_t i, uint32_t worker)
 static int all_moved_finite(const split_run *r)
 {
     uint32_t i;
-    for (i = 0; i < r->moves; i++)
+    for (i = 0; i < held_tasks(r->sp); i++)
         if (!r->finite[i]) return 0;
     return 1;
 }
@@ -436,8 +435,7 @@ ls_status ls_ldlt_split_solve3(const ls_ldlt *f, const ls_ldlt_split *sp, const 
     r.sp = sp;
     r.w = w;
     r.x = x;
-    r.moves = held_tasks(sp);
-    ls_parallel_run(par, sp->workers, r.moves, gather_task, &r);
+    ls_parallel_run(par, sp->workers, held_tasks(sp), gather_task, &r);
     if (!all_moved_finite(&r)) return LS_ERR_NONFINITE;
     ls_parallel_run(par, sp->workers, sp->workers, forward_task, &r);
     ls_parallel_run(par, sp->workers, held_tasks(sp), held_task, &r);
@@ -454,6 +452,6 @@ ls_status ls_ldlt_split_solve3(const ls_ldlt *f, const ls_ldlt_split *sp, const 
     ls_ldlt_fwd3_range(f, w, sp->top, f->n, f->n);
     ls_ldlt_bwd3_range(f, w, sp->top_start, f->n);
     ls_parallel_run(par, sp->workers, sp->workers, backward_task, &r);
-    ls_parallel_run(par, sp->workers, r.moves, scatter_task, &r);
+    ls_parallel_run(par, sp->workers, held_tasks(sp), scatter_task, &r);
     return all_moved_finite(&r) ? LS_OK : LS_ERR_NONFINITE;
 }
