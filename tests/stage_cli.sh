@@ -466,6 +466,24 @@ if boost_fit boost_mesh fixtures/meshes/bunny.obj && boost_fit boost_mesh15 fixt
         ! cmp -s "$out/boost_ds/result.obj" "$out/boost_ds15/result.obj"; then
     ok "fit_boost_default_follows_the_shading (1.5 given, 3 estimated)"
 else bad "fit_boost_default_follows_the_shading"; fi
+# the finest stage's boost: from the last scheduled remesh on, 1 by default where
+# the shading is given; --boost alone holds for the whole run; with estimated
+# lighting it stays 3; a remesh later than the last iteration changes nothing
+if boost_fit final_mesh fixtures/meshes/bunny.obj --remesh 2,5 &&
+        boost_fit final_mesh1 fixtures/meshes/bunny.obj --remesh 2,5 --boost-final 1 &&
+        boost_fit final_mesh15 fixtures/meshes/bunny.obj --remesh 2,5 --boost 1.5 &&
+        boost_fit final_mesh15b fixtures/meshes/bunny.obj --remesh 2,5 --boost-final 1.5 &&
+        boost_fit final_late fixtures/meshes/bunny.obj --remesh 9 && boost_fit final_none fixtures/meshes/bunny.obj &&
+        boost_fit final_ds "$ds.lambert/transforms.json" --remesh 2,5 &&
+        boost_fit final_ds3 "$ds.lambert/transforms.json" --remesh 2,5 --boost-final 3 &&
+        cmp -s "$out/final_mesh/result.obj" "$out/final_mesh1/result.obj" &&
+        cmp -s "$out/final_mesh15/result.obj" "$out/final_mesh15b/result.obj" &&
+        ! cmp -s "$out/final_mesh/result.obj" "$out/final_mesh15/result.obj" &&
+        cmp -s "$out/final_late/result.obj" "$out/final_none/result.obj" &&
+        cmp -s "$out/final_ds/result.obj" "$out/final_ds3/result.obj"; then
+    ok "fit_boost_final (1 from the last remesh on, --boost alone for the whole run, 3 estimated)"
+else bad "fit_boost_final"; fi
+expect fit_boost_final_range 2 "--boost-final" "$ls" fit --boost-final -1 -o "$out/x"
 # render --cameras: a dataset's own cameras give its images again, byte for
 # byte, and the same transforms.json (its numbers to 1e-12); a non-square dataset with an off-centre
 # principal point gives images of its size and keeps the point; --cameras

@@ -185,7 +185,9 @@ typedef struct ls_fit_config {
     uint32_t use_translation; /* 1: optimize a global translation too */
     ls_real reg_weight;       /* LS_FIT_LAPLACIAN / LS_FIT_BILAPLACIAN */
     uint32_t loss;            /* LS_LOSS_L1 or LS_LOSS_L2 */
-    ls_real boost;            /* silhouette gradient multiplier (the paper uses 3) */
+    ls_real boost;            /* silhouette gradient multiplier (the paper uses 3); read at every
+                                 step, so a caller may change fit->config.boost between steps
+                                 (largesteps fit lowers it for the finest stage) */
     uint32_t width, height;   /* render size */
     uint32_t ss;              /* samples per pixel side of the fit's renders (1, 2, 4) */
     ls_shade_opts shading;    /* mode, SH, lights, background (vertex_colors must be NULL) */

@@ -42,6 +42,7 @@ typedef struct fit_args {
     uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
+    uint32_t boost_final_given; /* --boost-final was given (else --boost's, or the default for the shading) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
@@ -74,9 +75,13 @@ static int usage(FILE *f)
             "  --ss S             supersampling of the fit's renders: 1 (default), 2 or 4\n"
             "  --aa-adaptive A    A x A sub-samples in silhouette pixels (forward and shading gradient;\n"
             "                     2..32, off when A <= S; default 0 = off)\n"
-            "  --loss L           l1 (default) | l2\n"
+            "  --loss L           l1 (default) | l2\n");
+    fprintf(f,
             "  --boost B          silhouette gradient multiplier (0..1e6; default 1.5, 3 with\n"
             "                     estimated lighting or --shading mask)\n"
+            "  --boost-final B    the multiplier from the last scheduled remesh on, the finest stage\n"
+            "                     (0..1e6; default 1 with the default --boost where the shading is\n"
+            "                     given, else --boost's value)\n"
             "  --mask-pull W      pull vertices that project outside a target's mask back into it,\n"
             "                     along the mask's distance field, weight W (0..1e12; default 3e-5;\n"
             "                     0: off, the paper's)\n"
@@ -171,7 +176,7 @@ static int ranged(const char *o)
                                         "--target-ss", "--ss", "--aa-adaptive", "--track", "--max-vertices",
                                         "--max-faces", "--max-factor-nnz", "--power", "--cg-tol", "--remesh-h",
                                         "--remesh-lr", "--lambda", "--alpha", "--lr", "--guard-lr", "--guard-remesh",
-                                        "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost",
+                                        "--guard", "--settle", "--settle-lr", "--perturb", "--reg", "--boost", "--boost-final",
                                         "--grad-limit", "--mask-pull", "--threads"};
     size_t k;
     for (k = 0; k < sizeof names / sizeof names[0]; k++)
@@ -273,6 +278,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--perturb") == 0) ok = parse_u32(v, 0, 1000, &perturb);
         else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
         else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost), a->boost_given = 1;
+        else if (strcmp(o, "--boost-final") == 0)
+            ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->sched.boost_final), a->boost_final_given = 1;
         else if (strcmp(o, "--mask-pull") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.mask_pull);
         else if (strcmp(o, "--grad-limit") == 0)
             ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.grad_limit), a->grad_limit_given = 1;
@@ -600,9 +607,12 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* and is refined less when --remesh asks */
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
-    if (!a.boost_given)
-        a.cfg.boost = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE || p.shading.mode == LS_SHADE_MASK ? LS_JOB_BOOST_ESTIMATE
-                                                                                                  : LS_JOB_BOOST);
+    {
+        const int shading_given = p.light != LS_FIT_LIGHT_ESTIMATE && p.shading.mode != LS_SHADE_MASK;
+        if (!a.boost_given) a.cfg.boost = (ls_real)(shading_given ? LS_JOB_BOOST : LS_JOB_BOOST_ESTIMATE);
+        if (!a.boost_final_given) /* --boost alone holds for the whole run */
+            a.sched.boost_final = !a.boost_given && shading_given ? (ls_real)LS_JOB_BOOST_FINAL : a.cfg.boost;
+    }
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
         fprintf(stderr, "largesteps fit: --albedo vertex is estimated with the lighting, from a camera dataset that "
                         "does not record its lighting (its transforms.json without largesteps_sh); this target's "

@@ -861,6 +861,7 @@ void ls_job_schedule_default(ls_job_schedule *s)
     /* the last eighth at half the learning rate: a lower H on 7 of 8 suite targets
        (docs/fit-suite.md) for no time */
     s->settle = (ls_real)0.125;
+    s->boost_final = (ls_real)-1; /* the fit's config.boost throughout; largesteps fit lowers it (cmd_fit.c) */
     s->settle_lr = (ls_real)0.5;
 }
 
@@ -981,6 +982,8 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             size_t held = fit.block.capacity;
             if (capacity != NULL) ls_arena_reset_peak(&fit.job);
             int done;
+            /* the finest stage's boost (fit.h: read at every step), refused remesh or not */
+            if (s->boost_final >= 0 && next + 1u == remesh_count) fit.config.boost = s->boost_final;
             st = guarded_remesh(&fit, capacity != NULL ? NULL : arena, s->remesh_h, s->remesh_lr, &ri, &done, &d);
             if (st != LS_OK) return capacity_fail("remeshing", st, &d);
             if (done == 1) ref_vertices = fit.vertex_count;
