@@ -484,6 +484,9 @@ if boost_fit final_mesh fixtures/meshes/bunny.obj --remesh 2,5 &&
     ok "fit_boost_final (1 from the last remesh on, --boost alone for the whole run, 3 estimated)"
 else bad "fit_boost_final"; fi
 expect fit_boost_final_range 2 "--boost-final" "$ls" fit --boost-final -1 -o "$out/x"
+# a scheduled remesh beyond the job's capacity is said, and the fit goes on with its mesh
+expect fit_remesh_beyond_capacity_goes_on 0 "a remesh before iteration 1 would exceed the job's capacity" \
+    "$ls" fit --iters 3 --remesh 1 --max-vertices 700 --res 32 --views 4 --quiet --track 0 -o "$out/cap"
 # render --cameras: a dataset's own cameras give its images again, byte for
 # byte, and the same transforms.json (its numbers to 1e-12); a non-square dataset with an off-centre
 # principal point gives images of its size and keeps the point; --cameras

@@ -803,15 +803,18 @@ static int capacity_fail(const char *what, ls_status st, const ls_diag *d)
 
 /* ls_fit_remesh at h, and where the guard refuses the result for new
  * self-intersections (LS_ERR_MESH), once more at another h (5/4 h, or 3/4 h
- * from h = 0.8 up). *done: 1 remeshed; 0 refused twice for self-intersections,
- * -1 beyond the job's capacity (said on stderr); either way the mesh stays as
- * it is and the call succeeds. */
+ * from h = 0.8 up). *done: 1 remeshed; 0 refused for self-intersections (the
+ * second try refused too, or beyond the job's capacity: a fallback, not
+ * worth a word); -1 the asked h beyond the capacity (said on stderr); either
+ * way the mesh stays as it is and the call succeeds. */
 static ls_status guarded_remesh(ls_fit *fit, ls_arena *arena, ls_real h, ls_real lr_factor, ls_remesh_info *ri,
                                 int *done, ls_diag *d)
 {
     ls_status st = ls_fit_remesh(fit, arena, h, lr_factor, ri, d);
-    if (st == LS_ERR_MESH && fit->config.guard)
+    if (st == LS_ERR_MESH && fit->config.guard) {
         st = ls_fit_remesh(fit, arena, h < (ls_real)0.8 ? h * (ls_real)1.25 : h * (ls_real)0.75, lr_factor, ri, d);
+        if (st == LS_ERR_TOO_LARGE) st = LS_ERR_MESH;
+    }
     *done = st == LS_OK ? 1 : 0;
     if (st == LS_ERR_TOO_LARGE && fit->config.guard) { /* the fit is as before: go on without this remesh */
         fprintf(stderr, "largesteps: a remesh before iteration %u would exceed the job's capacity (%s); the fit goes "
