@@ -864,8 +864,8 @@ void ls_job_schedule_default(ls_job_schedule *s)
     /* the last eighth at half the learning rate: a lower H on 7 of 8 suite targets
        (docs/fit-suite.md) for no time */
     s->settle = (ls_real)0.125;
-    s->boost_final = (ls_real)-1; /* the fit's config.boost throughout; largesteps fit lowers it (cmd_fit.c) */
     s->settle_lr = (ls_real)0.5;
+    s->boost_final = (ls_real)-1; /* the fit's config.boost throughout; largesteps fit lowers it (cmd_fit.c) */
 }
 
 int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_schedule *s, int progress,

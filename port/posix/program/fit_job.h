@@ -69,8 +69,8 @@ typedef struct ls_job_options {
 /* The boost of the finest stage, from the last scheduled remesh on, when the
  * targets' shading is given: the silhouettes are in place by then, and a
  * lower boost leaves the shading more of each step for the detail
- * (docs/fit-suite.md: the mean of the sphere starts' medians 2.44 -> 2.29 %
- * at 1). With estimated lighting it stays LS_JOB_BOOST_ESTIMATE. */
+ * (docs/fit-suite.md: the mean of the eight sphere starts' medians of six
+ * runs 2.56 -> 2.45 %). With estimated lighting it stays LS_JOB_BOOST_ESTIMATE. */
 #define LS_JOB_BOOST_FINAL 1.0
 
 /* largesteps fit's config.mask_pull (fit.h). On the fit suite (median of
