@@ -42,7 +42,6 @@ typedef struct fit_args {
     uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
-    uint32_t boost_final_given; /* --boost-final was given (else --boost's, or the default for the shading) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
@@ -279,7 +278,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--reg") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.reg_weight);
         else if (strcmp(o, "--boost") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.boost), a->boost_given = 1;
         else if (strcmp(o, "--boost-final") == 0)
-            ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->sched.boost_final), a->boost_final_given = 1;
+            ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->sched.boost_final);
         else if (strcmp(o, "--mask-pull") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.mask_pull);
         else if (strcmp(o, "--grad-limit") == 0)
             ok = parse_range(v, 0, 1e6, LS_ARG_CLOSED, &a->cfg.grad_limit), a->grad_limit_given = 1;
@@ -610,7 +609,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     {
         const int shading_given = p.light != LS_FIT_LIGHT_ESTIMATE && p.shading.mode != LS_SHADE_MASK;
         if (!a.boost_given) a.cfg.boost = (ls_real)(shading_given ? LS_JOB_BOOST : LS_JOB_BOOST_ESTIMATE);
-        if (!a.boost_final_given) /* --boost alone holds for the whole run */
+        if (a.sched.boost_final < 0) /* not given (the schedule's -1): --boost alone holds for the whole run */
             a.sched.boost_final = !a.boost_given && shading_given ? (ls_real)LS_JOB_BOOST_FINAL : a.cfg.boost;
     }
     if (a.cfg.albedo == LS_FIT_ALBEDO_VERTEX && p.light != LS_FIT_LIGHT_ESTIMATE) {
