@@ -484,6 +484,17 @@ if boost_fit final_mesh fixtures/meshes/bunny.obj --remesh 2,5 &&
     ok "fit_boost_final (1 from the last remesh on, --boost alone for the whole run, 3 estimated)"
 else bad "fit_boost_final"; fi
 expect fit_boost_final_range 2 "--boost-final" "$ls" fit --boost-final -1 -o "$out/x"
+# a start from the target itself, not smoothed, steps at lr 0.003 by default; a
+# smoothed start at 0.01, as from the sphere; --lr overrides either
+own=fixtures/meshes/elephant.obj
+if boost_fit lr_own "$own" && boost_fit lr_own3 "$own" --lr 0.003 && boost_fit lr_own1 "$own" --lr 0.01 &&
+        boost_fit lr_smooth "$own" --init-coarse 0.012 --init-smooth 2 &&
+        boost_fit lr_smooth1 "$own" --init-coarse 0.012 --init-smooth 2 --lr 0.01 &&
+        cmp -s "$out/lr_own/result.obj" "$out/lr_own3/result.obj" &&
+        ! cmp -s "$out/lr_own/result.obj" "$out/lr_own1/result.obj" &&
+        cmp -s "$out/lr_smooth/result.obj" "$out/lr_smooth1/result.obj"; then
+    ok "fit_lr_follows_the_start (0.003 from the target itself, 0.01 smoothed)"
+else bad "fit_lr_follows_the_start"; fi
 # a scheduled remesh beyond the job's capacity is said, and the fit goes on with its mesh
 expect fit_remesh_beyond_capacity_goes_on 0 "a remesh before iteration 1 would exceed the job's capacity" \
     "$ls" fit --iters 3 --remesh 1 --max-vertices 700 --res 32 --views 4 --quiet --track 0 -o "$out/cap"

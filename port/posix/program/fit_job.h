@@ -97,6 +97,21 @@ typedef struct ls_job_options {
 #define LS_JOB_START_RETRIES 2u
 #define LS_JOB_COARSE_REMESH_H 0.62
 
+/* The learning rate of a start from the target itself, not smoothed (--lr's
+ * default there; 0.01 from the icosphere, the visual hull and a smoothed
+ * start). Such a start is the target's own surface, near the answer, and
+ * Adam's first step is full-sized whatever the gradient: at 0.01 the femur's
+ * first step raised the loss 6-fold (0.0026 -> 0.015) and the fit never came
+ * back to its start's H 1.49 % (ended at 2.1 %). On the six targets of
+ * docs/fit-suite.md that start so (medians of three runs, H % of the
+ * diagonal), 0.01 / 0.005 / 0.003 / 0.002 / 0.001: mean 1.86 / 1.86 / 1.74 /
+ * 1.76 / 1.66, the femur 2.06 / 2.12 / 1.93 / 1.90 / 1.95; started at 0.03 of
+ * the diagonal (one run each, four targets), 0.01 / 0.003 / 0.001: mean 1.92
+ * / 1.73 / 2.01 not smoothed (0.001 moves too little to bring back what a
+ * coarser start lacks), 2.25 / 2.58 (0.003) smoothed by 10 Taubin steps (a
+ * smoothed start has lost detail the fit must bring back). */
+#define LS_JOB_COARSE_LR 0.003
+
 /* The visual hull start's edge (x its bounding-box diagonal): at 0.03 a
  * camel's legs, remeshed, cross each other; at 0.02 they do not. */
 #define LS_JOB_HULL_EDGE 0.02
