@@ -104,8 +104,8 @@ typedef struct ls_job_options {
  * first step raised the loss 6-fold (0.0026 -> 0.015) and the fit never came
  * back to its start's H 1.49 % (ended at 2.1 %). On the six targets of
  * docs/fit-suite.md that start so (medians of three runs, H % of the
- * diagonal), 0.01 / 0.005 / 0.003 / 0.002 / 0.001: mean 1.86 / 1.86 / 1.74 /
- * 1.76 / 1.66, the femur 2.06 / 2.12 / 1.93 / 1.90 / 1.95; started at 0.03 of
+ * diagonal), 0.01 / 0.005 / 0.003 / 0.002 / 0.001: mean 1.92 / 1.86 / 1.74 /
+ * 1.76 / 1.66, the femur 2.04 / 2.12 / 1.93 / 1.90 / 1.95; started at 0.03 of
  * the diagonal (one run each, four targets), 0.01 / 0.003 / 0.001: mean 1.92
  * / 1.73 / 2.01 not smoothed (0.001 moves too little to bring back what a
  * coarser start lacks), 2.25 / 2.58 (0.003) smoothed by 10 Taubin steps (a
