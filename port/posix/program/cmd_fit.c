@@ -43,8 +43,8 @@ typedef struct fit_args {
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
-    uint32_t lr_given;          /* --lr was given (else the default for the start) */
-    uint32_t perturb;           /* --perturb K: every learning rate x (1 + K 1e-6) */
+    uint32_t perturb;           /* --perturb K: the learning rate x (1 + K 1e-6) */
+    ls_real lr;               /* --lr: 0 when not given (the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
@@ -186,17 +186,10 @@ static int ranged(const char *o)
     return 0;
 }
 
-/* A learning rate as --perturb moves it, in the 6th digit. */
-static ls_real perturbed(const fit_args *a, ls_real lr)
-{
-    return lr * ((ls_real)1 + (ls_real)a->perturb * (ls_real)1e-6);
-}
-
 static int parse_args(int argc, char **argv, fit_args *a)
 {
     int i, optimizer_set = 0;
     uint32_t optimizer = LS_OPTIM_UNIFORM_ADAM;
-    ls_real lr = (ls_real)0.01;
     int lambda_set = 0, alpha_set = 0;
     memset(a, 0, sizeof *a);
     a->views = 32;
@@ -276,7 +269,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         }
         else if (strcmp(o, "--lambda") == 0) ok = parse_range(v, 0, 1e12, LS_ARG_CLOSED, &a->cfg.weight), a->cfg.form = LS_SYSTEM_LAMBDA, lambda_set = 1;
         else if (strcmp(o, "--alpha") == 0) ok = parse_range(v, 0, 1, LS_ARG_HI_OPEN, &a->cfg.weight), a->cfg.form = LS_SYSTEM_ALPHA, alpha_set = 1;
-        else if (strcmp(o, "--lr") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_LO_OPEN, &lr), a->lr_given = 1;
+        else if (strcmp(o, "--lr") == 0) ok = parse_range(v, 0, 1e6, LS_ARG_LO_OPEN, &a->lr);
         else if (strcmp(o, "--settle") == 0) ok = parse_range(v, 0, 1, LS_ARG_CLOSED, &a->sched.settle);
         else if (strcmp(o, "--settle-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.settle_lr);
         else if (strcmp(o, "--guard-lr") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->sched.guard_lr);
@@ -327,8 +320,6 @@ static int parse_args(int argc, char **argv, fit_args *a)
     if (a->out == NULL) return fprintf(stderr, "largesteps fit: -o DIR is required\n"), 0;
     if (!optimizer_set && a->cfg.method != LS_FIT_LARGE_STEPS) optimizer = LS_OPTIM_ADAM;
     (void)ls_optim_config_default(optimizer, &a->cfg.optim);
-    /* in units of the initial mesh's radius (fit.h); --perturb moves it in the 6th digit */
-    a->cfg.optim.lr = perturbed(a, lr);
     a->cfg.width = a->cfg.height = a->res;
     return 1;
 }
@@ -611,8 +602,10 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     if (!a.remesh_given && p.from_target) a.sched.remesh_count = 0; /* a start from the target has its detail */
     if (!a.remesh_h_given && p.from_target)
         a.sched.remesh_h = (ls_real)LS_JOB_COARSE_REMESH_H; /* and is refined less when --remesh asks */
-    if (!a.lr_given && p.from_target && a.init_smooth == 0)
-        a.cfg.optim.lr = perturbed(&a, (ls_real)LS_JOB_COARSE_LR); /* the target's own surface: near the answer */
+    if (a.lr == 0) /* the target's own surface, not smoothed, is near the answer */
+        a.lr = (ls_real)(p.from_target && a.init_smooth == 0 ? LS_JOB_COARSE_LR : LS_JOB_LR);
+    /* in units of the initial mesh's radius (fit.h); --perturb moves it in the 6th digit */
+    a.cfg.optim.lr = a.lr * ((ls_real)1 + (ls_real)a.perturb * (ls_real)1e-6);
     if (!a.grad_limit_given)
         a.cfg.grad_limit = (ls_real)(p.light == LS_FIT_LIGHT_ESTIMATE ? LS_JOB_GRAD_LIMIT_ESTIMATE : LS_JOB_GRAD_LIMIT);
     {

@@ -97,9 +97,11 @@ typedef struct ls_job_options {
 #define LS_JOB_START_RETRIES 2u
 #define LS_JOB_COARSE_REMESH_H 0.62
 
+/* --lr's default: from the icosphere, the visual hull and a smoothed start. */
+#define LS_JOB_LR 0.01
+
 /* The learning rate of a start from the target itself, not smoothed (--lr's
- * default there; 0.01 from the icosphere, the visual hull and a smoothed
- * start). Such a start is the target's own surface, near the answer, and
+ * default there). Such a start is the target's own surface, near the answer, and
  * Adam's first step is full-sized whatever the gradient: at 0.01 the femur's
  * first step raised the loss 6-fold (0.0026 -> 0.015) and the fit never came
  * back to its start's H 1.49 % (ended at 2.1 %). On the six targets of
