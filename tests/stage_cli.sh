@@ -563,7 +563,7 @@ cc -std=c99 -O2 -Iinclude -I"$build/include" -Iport/posix tests/tools/imgtool.c 
     "$build/liblargesteps.a" -lm -o "$build/imgtool" 2> "$build/imgtool.err" || cat "$build/imgtool.err"
 colours() { "$build/imgtool" dump "$1" | awk '$NF == 255 { c[$(NF-3) " " $(NF-2) " " $(NF-1)]++ } END { n = 0; for (k in c) n++; print n }'; }
 { cube 0; cube_faces 0; } > "$out/cube.obj"
-for n in flat smooth default; do
+for n in flat smooth default 45 120; do
     opt="--normals $n"; [ "$n" = default ] && opt=""
     # shellcheck disable=SC2086 # $opt: an option and its value, or nothing
     "$ls" render "$out/cube.obj" --views 1 --res 32 --ss 1 --bits 8 $opt -o "$out/cube_$n" > "$build/cube_$n.log" 2>&1
@@ -573,15 +573,23 @@ if [ -n "$cf" ] && [ "$cf" -ge 1 ] && [ "$cf" -le 3 ] && [ -n "$cs" ] && [ "$cs"
         cmp -s "$out/cube_smooth/view_000.png" "$out/cube_default/view_000.png"; then
     ok "render_normals_flat ($cf colours flat, $cs smooth)"
 else bad "render_normals_flat ($cf colours flat, $cs smooth)"; fi
-expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth or flat" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
-for n in flat smooth; do
+# --normals DEGREES splits the cube's 90-degree edges below 90 and none above
+c45=$(colours "$out/cube_45/view_000.png")
+if [ -n "$c45" ] && [ "$c45" -ge 1 ] && [ "$c45" -le 3 ] && cmp -s "$out/cube_smooth/view_000.png" "$out/cube_120/view_000.png"; then
+    ok "render_normals_creases ($c45 colours at 45 degrees; 120 degrees the same bytes as smooth)"
+else bad "render_normals_creases ($c45 colours at 45 degrees)"; fi
+expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth, flat or an angle" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
+for n in flat smooth 45 120; do
     "$ls" fit "$out/cube.obj" --target-normals "$n" --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
 done
 if [ -s "$out/cube_fit_flat/contact.png" ] && [ -s "$out/cube_fit_smooth/contact.png" ] &&
-        ! cmp -s "$out/cube_fit_flat/contact.png" "$out/cube_fit_smooth/contact.png"; then
-    ok "fit_target_normals_flat_changes_the_targets"
-else bad "fit_target_normals_flat_changes_the_targets"; tail -n 3 "$build/cube_fit_flat.log"; fi
-expect fit_target_normals_needs_a_mesh 2 "--target-normals flat shades the renders of a mesh target" \
+        ! cmp -s "$out/cube_fit_flat/contact.png" "$out/cube_fit_smooth/contact.png" &&
+        ! cmp -s "$out/cube_fit_45/contact.png" "$out/cube_fit_smooth/contact.png" &&
+        cmp -s "$out/cube_fit_120/contact.png" "$out/cube_fit_smooth/contact.png"; then
+    ok "fit_target_normals_change_the_targets (flat and 45 degrees differ from smooth, 120 does not)"
+else bad "fit_target_normals_change_the_targets"; tail -n 3 "$build/cube_fit_flat.log" "$build/cube_fit_45.log"; fi
+expect fit_target_normals_bad_value 2 "--target-normals" "$ls" fit "$out/cube.obj" --target-normals 180 -o "$out/x"
+expect fit_target_normals_needs_a_mesh 2 "--target-normals shades the renders of a mesh target" \
     "$ls" fit "$ds/transforms.json" --target-normals flat --iters 0 -o "$out/x"
 
 echo "cli: $pass passed, $fail failed"

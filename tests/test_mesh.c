@@ -642,6 +642,113 @@ static void unweld_gives_each_face_its_vertices(void)
     CHECK_STATUS(ls_mesh_unweld(NULL, fresh_arena(), &u, NULL), LS_ERR_INVALID);
 }
 
+/* --- splitting at creases ----------------------------------------------------------- */
+
+/* The result's vertex normals against each face's own normal (independent
+ * double cross products): 1 when every corner of every face whose vertex
+ * normal should be its face's (all of them, for a mesh split at every crease)
+ * matches, and each corner sits where the input's corner was. */
+static int split_shows_face_normals(const small_mesh *s, const ls_mesh *u)
+{
+    ls_real vn[3 * 64];
+    uint32_t f, k, i;
+    if (ls_mesh_vertex_normals(u, LS_NORMALS_UNIFORM, vn, NULL) != LS_OK) return 0;
+    for (f = 0; f < s->m.face_count; f++) {
+        const ls_real *a0 = s->p + 3 * s->t[3 * f], *b = s->p + 3 * s->t[3 * f + 1], *c = s->p + 3 * s->t[3 * f + 2];
+        double e1[3], e2[3], x[3], len;
+        for (i = 0; i < 3; i++) e1[i] = (double)b[i] - (double)a0[i], e2[i] = (double)c[i] - (double)a0[i];
+        x[0] = e1[1] * e2[2] - e1[2] * e2[1], x[1] = e1[2] * e2[0] - e1[0] * e2[2], x[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        for (k = 0; k < 3; k++)
+            for (i = 0; i < 3; i++) {
+                const uint32_t v = u->triangles[3 * f + k];
+                if (fabs((double)vn[3 * v + i] - x[i] / len) > 1e-5) return 0;
+                if (u->positions[3 * v + i] != s->p[3 * s->t[3 * f + k] + i]) return 0;
+            }
+    }
+    return 1;
+}
+
+static void split_creases_keeps_smooth_sheets_together(void)
+{
+    static const double cube_p[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+    /* two triangles on the edge 0-1, their normals 30 degrees apart; open */
+    static const double hinge_p[] = {0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -0.8660254037844386, 0.5};
+    static const uint32_t hinge_t[] = {0, 1, 2, 1, 0, 3};
+    static unsigned char mem[8192];
+    const ls_real cos45 = (ls_real)0.70710678118654752, cos100 = (ls_real)-0.17364817766693035;
+    small_mesh s;
+    ls_mesh u;
+    ls_arena a;
+    ls_diag d;
+    size_t bytes = 0, mesh_bytes = 0;
+    uint32_t i;
+
+    /* a cube at 45 degrees: each corner on its three sides, 24 vertices shaded flat */
+    sm_init(&s, cube_p, 8, cube_t, 12);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 24);
+    CHECK_EQ(u.face_count, 12);
+    CHECK(split_shows_face_normals(&s, &u));
+    /* at 180 degrees nothing splits: the same mesh, index for index */
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, -1, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 8);
+    for (i = 0; i < 36; i++) CHECK_EQ(u.triangles[i], cube_t[i]);
+    for (i = 0; i < 24; i++) CHECK(u.positions[i] == s.p[i]);
+
+    /* the tetrahedron: its three faces at the origin meet at 90 degrees, the
+     * slanted face meets them at 125.3; at 100 the origin stays one vertex,
+     * each other corner splits in two (the slanted face's sheet is new) */
+    sm_init(&s, tet_p, 4, tet_t, 4);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos100, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 7);
+    for (i = 0; i < 9; i++) CHECK_EQ(u.triangles[i], tet_t[i]); /* the first sheets keep their indices */
+    CHECK(u.triangles[9] >= 4 && u.triangles[10] >= 4 && u.triangles[11] >= 4);
+    CHECK(!split_shows_face_normals(&s, &u)); /* the axis faces share averaged normals */
+    CHECK(u.triangles[9] != u.triangles[10] && u.triangles[10] != u.triangles[11]);
+    /* at 45 degrees every edge is a crease: 12 vertices, flat as ls_mesh_unweld shows it */
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 12);
+    CHECK(split_shows_face_normals(&s, &u));
+
+    /* the hinge: 30 degrees apart; joined at 45, split at 25; its boundary edges split nothing */
+    sm_init(&s, hinge_p, 4, hinge_t, 2);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 4);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, (ls_real)0.90630778703665, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 6);
+    CHECK(split_shows_face_normals(&s, &u));
+    /* faces that disagree on orientation do not share their vertices */
+    s.t[3] = 0, s.t[4] = 1;
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, -1, fresh_arena(), &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 6);
+
+    /* the bytes it says are enough for the most vertices a split can make;
+     * without room for the result it fails and leaves the arena as it was */
+    sm_init(&s, tet_p, 4, tet_t, 4);
+    CHECK_STATUS(ls_mesh_split_creases_bytes(4, 4, &bytes), LS_OK);
+    CHECK_STATUS(ls_mesh_bytes(16, 4, &mesh_bytes), LS_OK);
+    CHECK(bytes > mesh_bytes && bytes <= sizeof mem);
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes), LS_OK);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, &a, &u, NULL), LS_OK);
+    CHECK_EQ(u.vertex_count, 12);
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes - mesh_bytes), LS_OK);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, &a, &u, NULL), LS_ERR_NOMEM);
+    CHECK_EQ(a.bottom, 0);
+    CHECK_EQ(a.top, 0);
+    CHECK_STATUS(ls_mesh_split_creases_bytes(UINT32_MAX, 1, &bytes), LS_ERR_TOO_LARGE);
+
+    /* bad arguments and an index out of range are named */
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, (ls_real)1.5, fresh_arena(), &u, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_mesh_split_creases(NULL, 0, fresh_arena(), &u, NULL), LS_ERR_INVALID);
+    s.t[7] = 9;
+    ls_diag_clear(&d);
+    CHECK_STATUS(ls_mesh_split_creases(&s.m, 0, fresh_arena(), &u, &d), LS_ERR_MESH);
+    CHECK_EQ(d.index, 2);
+}
+
 /* --- normals ------------------------------------------------------------------------ */
 
 static void face_and_vertex_normals(void)
@@ -969,6 +1076,7 @@ int main(void)
     TEST_RUN(edges_and_adjacency_are_sorted_and_complete);
     TEST_RUN(weld_merges_exact_duplicates_only);
     TEST_RUN(unweld_gives_each_face_its_vertices);
+    TEST_RUN(split_creases_keeps_smooth_sheets_together);
     TEST_RUN(face_and_vertex_normals);
     TEST_RUN(bunny_vertex_normals_point_outward);
     TEST_RUN(reorder_is_a_spatial_permutation);

@@ -137,6 +137,31 @@ ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_di
  * face_count faces (exact; ls_mesh_bytes(3 F, F)). O(1). */
 ls_status ls_mesh_unweld_bytes(uint32_t face_count, size_t *bytes);
 
+/* ls_mesh_split_creases: the mesh with its vertices split along its creases,
+ * into *out (positions and triangles from the bottom of the arena): where
+ * the two faces of an edge meet at an angle whose cosine is below crease_cos
+ * (their normals more than acos(crease_cos) apart), each side of the edge
+ * gets vertices of its own, as do the sides of a boundary edge, of an edge
+ * with more than two faces, and of one whose faces disagree on orientation.
+ * The vertex normals of the result then average each vertex's faces only
+ * within one smooth sheet: renders show a CAD part's creases sharp and its
+ * curved faces smooth. The surface is the same. Vertex v's first sheet (in
+ * face order) keeps index v; the others are added after the input's vertices
+ * in the order of their first corner, so a mesh without creases comes back
+ * as it was. crease_cos = 1 splits every edge between faces that are not
+ * coplanar; -1 splits none but the edges named above. O(F log F).
+ * Errors: LS_ERR_INVALID (NULL, crease_cos outside [-1, 1]), LS_ERR_MESH (an
+ * index out of range, diag->index = the face), LS_ERR_TOO_LARGE, LS_ERR_NOMEM;
+ * the arena and *out are unchanged on any error. */
+ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_mesh *out, ls_diag *diag);
+
+/* ls_mesh_split_creases_bytes: the arena bytes ls_mesh_split_creases needs
+ * for a mesh of these counts: its scratch (20 bytes per face corner and 4 per
+ * vertex) and its result at the most vertices it can have (V + 3 F); the
+ * result it keeps takes 3 * sizeof(ls_real) bytes fewer per vertex that no
+ * crease adds. O(1). */
+ls_status ls_mesh_split_creases_bytes(uint32_t vertex_count, uint32_t face_count, size_t *bytes);
+
 /* ls_mesh_reorder: puts the mesh in a spatially coherent order, in place:
  * faces sorted by the Morton code (10 bits per axis of the bounding box) of
  * their centroids, equal codes keeping their order, each face's corners as

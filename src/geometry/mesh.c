@@ -443,6 +443,133 @@ ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_di
     return LS_OK;
 }
 
+ls_status ls_mesh_split_creases_bytes(uint32_t vertex_count, uint32_t face_count, size_t *bytes)
+{
+    ls_size s;
+    size_t h = 3u * (size_t)face_count, mesh_bytes;
+    ls_status st;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (face_count > MAX_VALIDATE_FACES || vertex_count > UINT32_MAX - 3u * face_count) return LS_ERR_TOO_LARGE;
+    st = ls_mesh_bytes(vertex_count + 3u * face_count, face_count, &mesh_bytes);
+    if (st != LS_OK) return st;
+    ls_size_init(&s);
+    ls_size_add(&s, mesh_bytes, 1);
+    ls_size_add(&s, h, sizeof(uint64_t)); /* edge keys */
+    ls_size_add(&s, h, sizeof(uint32_t)); /* half-edges in key order */
+    ls_size_add(&s, h, sizeof(uint32_t)); /* sort scratch, then each corner's vertex */
+    ls_size_add(&s, h, sizeof(uint32_t)); /* corner groups (union-find) */
+    ls_size_add(&s, vertex_count, sizeof(uint32_t)); /* vertices given to a group */
+    return ls_size_get(&s, bytes);
+}
+
+/* Whether faces f and g meet at less than the crease angle: their normals'
+ * cosine at least crease_cos (a degenerate face joins its neighbours). */
+static int smooth_across(const ls_mesh *m, uint32_t f, uint32_t g, ls_real crease_cos)
+{
+    ls_real n[2][3], dot, len;
+    uint32_t i, k;
+    for (i = 0; i < 2u; i++) {
+        const uint32_t *t = m->triangles + 3u * (size_t)(i == 0 ? f : g);
+        const ls_real *a = m->positions + 3u * (size_t)t[0], *b = m->positions + 3u * (size_t)t[1],
+                      *c = m->positions + 3u * (size_t)t[2];
+        ls_real u[3], v[3];
+        for (k = 0; k < 3u; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+        n[i][0] = u[1] * v[2] - u[2] * v[1];
+        n[i][1] = u[2] * v[0] - u[0] * v[2];
+        n[i][2] = u[0] * v[1] - u[1] * v[0];
+    }
+    dot = n[0][0] * n[1][0] + n[0][1] * n[1][1] + n[0][2] * n[1][2];
+    len = REAL_SQRT(n[0][0] * n[0][0] + n[0][1] * n[0][1] + n[0][2] * n[0][2]) *
+          REAL_SQRT(n[1][0] * n[1][0] + n[1][1] * n[1][1] + n[1][2] * n[1][2]);
+    return !(dot < crease_cos * len);
+}
+
+ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_mesh *out, ls_diag *diag)
+{
+    ls_diag_clear(diag);
+    ls_arena_mark mark;
+    uint64_t *keys;
+    uint32_t *idx, *tmp, *group, *given, bad, next, c;
+    size_t h, nh, i, j;
+    ls_mesh m;
+    ls_status st;
+    if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, mesh_problem(in));
+    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
+    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
+    if (!(crease_cos >= -1 && crease_cos <= 1)) return ls_invalid_arg(diag, "crease_cos is not in [-1, 1]");
+    if (in->face_count > MAX_VALIDATE_FACES || in->vertex_count > UINT32_MAX - 3u * in->face_count)
+        return LS_ERR_TOO_LARGE;
+    bad = first_bad_face(in);
+    if (bad != LS_MESH_NONE) {
+        set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
+        return LS_ERR_MESH;
+    }
+    h = 3u * (size_t)in->face_count;
+    mark = ls_arena_save(arena);
+    keys = (uint64_t *)ls_arena_scratch(arena, h, sizeof(uint64_t));
+    idx = keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    tmp = idx == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    group = tmp == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    given = group == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, in->vertex_count, sizeof(uint32_t));
+    if (given == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    /* The corners of a vertex stay one vertex where the two faces of an
+     * edge through it meet at less than the crease angle. An edge with one
+     * face or more than two, or whose faces disagree on orientation, splits. */
+    for (c = 0; c < (uint32_t)h; c++) group[c] = c;
+    nh = half_edges(in, keys, idx);
+    (void)ls_sort_u64(keys, idx, nh, tmp);
+    for (i = 0; i < nh; i = j) {
+        for (j = i + 1; j < nh && keys[idx[j]] == keys[idx[i]]; j++) {}
+        /* two faces, and opposite directions: their first vertices differ */
+        if (j - i == 2 && in->triangles[idx[i]] != in->triangles[idx[i + 1]]) {
+            const uint32_t f = idx[i] / 3u, g = idx[i + 1] / 3u;
+            const uint32_t a = (uint32_t)(keys[idx[i]] >> 32), b = (uint32_t)keys[idx[i]];
+            if (smooth_across(in, f, g, crease_cos)) {
+                uf_union(group, corner_of(in->triangles, f, a), corner_of(in->triangles, g, a));
+                uf_union(group, corner_of(in->triangles, f, b), corner_of(in->triangles, g, b));
+            }
+        }
+    }
+    /* A vertex's first group keeps its index; each further group is a new
+     * vertex after the input's, in the order of its first corner. */
+    memset(given, 0, (size_t)in->vertex_count * sizeof(uint32_t));
+    next = in->vertex_count;
+    for (c = 0; c < (uint32_t)h; c++) {
+        const uint32_t r = uf_find(group, c), v = in->triangles[c];
+        if (r != c) {
+            tmp[c] = tmp[r];
+        } else if (!given[v]) {
+            given[v] = 1;
+            tmp[c] = v;
+        } else {
+            tmp[c] = next++;
+        }
+    }
+    st = ls_mesh_alloc(&m, next, in->face_count, arena);
+    if (st != LS_OK) {
+        ls_arena_restore(arena, mark);
+        return st;
+    }
+    memcpy(m.positions, in->positions, 3u * (size_t)in->vertex_count * sizeof(ls_real));
+    for (c = 0; c < (uint32_t)h; c++) {
+        m.triangles[c] = tmp[c];
+        if (tmp[c] >= in->vertex_count)
+            memcpy(m.positions + 3u * (size_t)tmp[c], in->positions + 3u * (size_t)in->triangles[c], 3u * sizeof(ls_real));
+    }
+    {   /* release the scratch, keep the mesh */
+        ls_arena_mark keep;
+        keep.bottom = arena->bottom;
+        keep.top = mark.top;
+        ls_arena_restore(arena, keep);
+    }
+    *out = m;
+    return LS_OK;
+}
+
 ls_status ls_mesh_weld_bytes(const ls_mesh *mesh, size_t *bytes)
 {
     ls_size s;

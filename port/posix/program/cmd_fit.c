@@ -38,7 +38,7 @@
 
 typedef struct fit_args {
     const char *target, *out;
-    uint32_t views, res, level, target_ss, target_flat, quiet, track, init_smooth, init_sphere, init_hull, threads;
+    uint32_t views, res, level, target_ss, target_normals, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
@@ -46,6 +46,7 @@ typedef struct fit_args {
     uint32_t perturb;           /* --perturb K: the learning rate x (1 + K 1e-6) */
     ls_real lr;               /* --lr: 0 when not given (the default for the start) */
     ls_real init_edge;        /* --init-coarse: 0 for the icosphere */
+    double target_crease_deg; /* --target-normals DEGREES */
     ls_job_schedule sched;
     ls_fit_capacity cap;      /* --max-*: 0 means ls_job_capacity's default */
     ls_fit_config cfg;
@@ -134,7 +135,9 @@ static int usage(FILE *f)
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --target-normals N smooth (default: vertex normals averaged over their faces) | flat\n"
             "                     (each face its own normal: a mesh target whose faces are flat pieces\n"
-            "                     of the object, a CAD part; mesh targets only)\n"
+            "                     of the object) | DEGREES (0..180: split at the edges whose faces meet\n"
+            "                     at more than this angle, smooth elsewhere: a CAD part's sharp creases\n"
+            "                     and curved faces); mesh targets only\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
@@ -307,8 +310,16 @@ static int parse_args(int argc, char **argv, fit_args *a)
             a->cfg.shading.mode = strcmp(v, "sh") == 0 ? LS_SHADE_SH : strcmp(v, "mask") == 0 ? LS_SHADE_MASK : 99u;
             ok = a->cfg.shading.mode != 99u;
         } else if (strcmp(o, "--target-normals") == 0) {
-            a->target_flat = strcmp(v, "flat") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 0u : 99u;
-            ok = a->target_flat != 99u;
+            double deg = 0;
+            a->target_normals = strcmp(v, "flat") == 0   ? LS_JOB_NORMALS_FLAT
+                              : strcmp(v, "smooth") == 0 ? LS_JOB_NORMALS_SMOOTH
+                              : ls_parse_double(v, strlen(v), &deg) == LS_OK && deg > 0 && deg < 180
+                                  ? LS_JOB_NORMALS_CREASES
+                                  : 99u;
+            a->target_crease_deg = deg;
+            if (a->target_normals == 99u)
+                return fprintf(stderr, "largesteps fit: --target-normals: '%s' is not smooth, flat or an angle in degrees "
+                                       "between 0 and 180\n", v), 0;
         } else {
             return fprintf(stderr, "largesteps fit: unknown option %s (see --help)\n", o), 0;
         }
@@ -583,7 +594,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.views = a.views;
     o.width = o.height = a.res;
     o.target_ss = a.target_ss;
-    o.target_flat = a.target_flat;
+    o.target_normals = a.target_normals;
+    o.target_crease_deg = a.target_crease_deg;
     o.shading = a.cfg.shading.mode;
     o.level = a.level;
     o.init_edge = (double)a.init_edge;
@@ -593,8 +605,8 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
     o.workers = a.cfg.workers;
     if (!ls_job_load(&p, &o, &arena)) return 1;
-    if (a.target_flat && !p.have_mesh) {
-        fprintf(stderr, "largesteps fit: --target-normals flat shades the renders of a mesh target; %s's targets are "
+    if (a.target_normals != LS_JOB_NORMALS_SMOOTH && !p.have_mesh) {
+        fprintf(stderr, "largesteps fit: --target-normals shades the renders of a mesh target; %s's targets are "
                         "its images (leave the option out)\n", a.target);
         return 2;
     }

@@ -681,7 +681,13 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     if (p->have_mesh) {
         ls_arena_mark mark = ls_arena_save(arena);
         ls_mesh shown = p->target;
-        st = o->target_flat ? ls_mesh_unweld(&p->target, arena, &shown, &d) : LS_OK;
+        st = LS_OK;
+        if (o->target_normals == LS_JOB_NORMALS_FLAT) {
+            st = ls_mesh_unweld(&p->target, arena, &shown, &d);
+        } else if (o->target_normals == LS_JOB_NORMALS_CREASES) {
+            const ls_real crease_cos = (ls_real)ls_cos(o->target_crease_deg * (3.14159265358979323846 / 180.0));
+            st = ls_mesh_split_creases(&p->target, crease_cos, arena, &shown, &d);
+        }
         if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
         ls_arena_restore(arena, mark);
         if (st != LS_OK) return ls_job_fail("rendering the target", st, &d);

@@ -14,13 +14,20 @@
  * with a message (nothing would ever move). */
 #define LS_JOB_STILL_LIMIT 20u
 
+/* How a mesh target's renders are shaded (ls_job_options.target_normals). */
+#define LS_JOB_NORMALS_SMOOTH 0u
+#define LS_JOB_NORMALS_FLAT 1u
+#define LS_JOB_NORMALS_CREASES 2u
+
 typedef struct ls_job_options {
     const char *target;     /* mesh or scene path; NULL: the embedded bunny */
     uint32_t views;         /* views on a Fibonacci sphere (mesh targets) */
     uint32_t width, height; /* render size (mesh targets) */
     uint32_t target_ss;     /* supersampling of the target renders */
-    uint32_t target_flat;   /* 1 (mesh targets): the target rendered with each face's own normal
-                               (ls_mesh_unweld), as a CAD part's flat faces look */
+    uint32_t target_normals; /* mesh targets: LS_JOB_NORMALS_SMOOTH, _FLAT (each face's own normal,
+                                ls_mesh_unweld) or _CREASES (split where faces meet at more than
+                                target_crease_deg, ls_mesh_split_creases) */
+    double target_crease_deg;
     uint32_t shading;       /* LS_SHADE_SH or LS_SHADE_MASK (mesh targets) */
     uint32_t level;         /* initial icosphere level */
     double init_edge;       /* > 0 (mesh targets): the initial mesh is the target remeshed to this
