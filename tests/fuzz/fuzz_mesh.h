@@ -14,6 +14,41 @@
 
 #include "fuzz_common.h"
 
+/* The mesh read, split at its creases (the angle from the selector): within
+ * its sizing answer it succeeds and stays there; in less it succeeds within
+ * the arena or runs out and leaves it as it was; the result has the input's
+ * faces, each corner where the input's was, and its indices in range. */
+static void fuzz_split_creases(const ls_mesh *mesh, uint8_t selector)
+{
+    fuzz_arena fs;
+    ls_mesh out, before;
+    ls_diag diag;
+    ls_status st;
+    size_t need = 0, c;
+    const ls_real crease_cos = (ls_real)((double)(selector % 65u) / 32.0 - 1.0);
+    if (ls_mesh_split_creases_bytes(mesh->vertex_count, mesh->face_count, &need) != LS_OK) return;
+    fuzz_arena_open(&fs, selector, need);
+    memset(&out, 0x5A, sizeof out);
+    before = out;
+    ls_diag_clear(&diag);
+    st = ls_mesh_split_creases(mesh, crease_cos, &fs.arena, &out, &diag);
+    FUZZ_ASSERT(st == LS_OK || (st == LS_ERR_NOMEM && !fs.enough));
+    if (st != LS_OK) {
+        fuzz_check_failure(st, &diag, &fs, &out, &before, sizeof out);
+    } else {
+        FUZZ_ASSERT(fuzz_arena_peak(&fs) <= need);
+        FUZZ_ASSERT(out.face_count == mesh->face_count);
+        FUZZ_ASSERT(out.vertex_count >= mesh->vertex_count);
+        FUZZ_ASSERT((size_t)out.vertex_count <= (size_t)mesh->vertex_count + 3u * (size_t)mesh->face_count);
+        for (c = 0; c < 3u * (size_t)out.face_count; c++) {
+            FUZZ_ASSERT(out.triangles[c] < out.vertex_count);
+            FUZZ_ASSERT(memcmp(out.positions + 3u * (size_t)out.triangles[c], mesh->positions + 3u * (size_t)mesh->triangles[c],
+                               3u * sizeof(ls_real)) == 0);
+        }
+    }
+    fuzz_arena_close(&fs);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     ls_mesh_file_info info;
@@ -54,6 +89,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_ASSERT(mesh.vertex_count == info.vertex_count && mesh.face_count == info.face_count);
         for (i = 0; i < (size_t)mesh.face_count * 3u; i++) FUZZ_ASSERT(mesh.triangles[i] < mesh.vertex_count);
         for (i = 0; i < (size_t)mesh.vertex_count * 3u; i++) FUZZ_ASSERT(fuzz_finite_real(mesh.positions[i]));
+        fuzz_split_creases(&mesh, selector);
     }
     fuzz_arena_close(&fa);
     return 0;
