@@ -579,8 +579,10 @@ if [ -n "$c45" ] && [ "$c45" -ge 1 ] && [ "$c45" -le 3 ] && cmp -s "$out/cube_sm
     ok "render_normals_creases ($c45 colours at 45 degrees; 120 degrees the same bytes as smooth)"
 else bad "render_normals_creases ($c45 colours at 45 degrees)"; fi
 expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth, flat or an angle" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
-for n in flat smooth 45 120; do
-    "$ls" fit "$out/cube.obj" --target-normals "$n" --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
+for n in flat smooth 45 60 120 default; do
+    opt="--target-normals $n"; [ "$n" = default ] && opt=""
+    # shellcheck disable=SC2086 # $opt: an option and its value, or nothing
+    "$ls" fit "$out/cube.obj" $opt --iters 0 --res 32 --views 4 --quiet -o "$out/cube_fit_$n" > "$build/cube_fit_$n.log" 2>&1
 done
 if [ -s "$out/cube_fit_flat/contact.png" ] && [ -s "$out/cube_fit_smooth/contact.png" ] &&
         ! cmp -s "$out/cube_fit_flat/contact.png" "$out/cube_fit_smooth/contact.png" &&
@@ -588,6 +590,16 @@ if [ -s "$out/cube_fit_flat/contact.png" ] && [ -s "$out/cube_fit_smooth/contact
         cmp -s "$out/cube_fit_120/contact.png" "$out/cube_fit_smooth/contact.png"; then
     ok "fit_target_normals_change_the_targets (flat and 45 degrees differ from smooth, 120 does not)"
 else bad "fit_target_normals_change_the_targets"; tail -n 3 "$build/cube_fit_flat.log" "$build/cube_fit_45.log"; fi
+# The default (auto) splits a target made of flat pieces at 60 degrees and says so (a third of
+# the cube's edges join coplanar faces), and leaves a smooth one as it is (the bunny: 3 %).
+"$ls" fit --target-normals smooth --iters 0 --res 32 --views 4 --quiet -o "$out/bunny_fit_smooth" > "$build/bunny_fit_smooth.log" 2>&1
+"$ls" fit --iters 0 --res 32 --views 4 --quiet -o "$out/bunny_fit_default" > "$build/bunny_fit_default.log" 2>&1
+if cmp -s "$out/cube_fit_default/contact.png" "$out/cube_fit_60/contact.png" &&
+        grep -q "the target is made of flat pieces (33 % of its edges join coplanar faces)" "$build/cube_fit_default.log" &&
+        [ -s "$out/bunny_fit_default/contact.png" ] && cmp -s "$out/bunny_fit_default/contact.png" "$out/bunny_fit_smooth/contact.png" &&
+        ! grep -q "flat pieces" "$build/bunny_fit_default.log"; then
+    ok "fit_target_normals_auto (the cube split at 60 degrees, the bunny smooth)"
+else bad "fit_target_normals_auto"; cat "$build/cube_fit_default.log"; fi
 expect fit_target_normals_bad_value 2 "--target-normals" "$ls" fit "$out/cube.obj" --target-normals 180 -o "$out/x"
 expect fit_target_normals_needs_a_mesh 2 "--target-normals shades the renders of a mesh target" \
     "$ls" fit "$ds/transforms.json" --target-normals flat --iters 0 -o "$out/x"

@@ -669,7 +669,7 @@ static int split_shows_face_normals(const small_mesh *s, const ls_mesh *u)
     return 1;
 }
 
-static void split_creases_keeps_smooth_sheets_together(void)
+static void creases_split_and_counted(void)
 {
     static const double cube_p[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
     static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
@@ -686,8 +686,14 @@ static void split_creases_keeps_smooth_sheets_together(void)
     size_t bytes = 0, mesh_bytes = 0;
     uint32_t i;
 
+    uint32_t creases = 0, edges = 0;
+
     /* a cube at 45 degrees: each corner on its three sides, 24 vertices shaded flat */
     sm_init(&s, cube_p, 8, cube_t, 12);
+    /* its 18 edges: the 12 of the cube, and 6 diagonals between coplanar faces */
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, cos45, fresh_arena(), &creases, &edges, NULL), LS_OK);
+    CHECK_EQ(edges, 18);
+    CHECK_EQ(creases, 12);
     CHECK_STATUS(ls_mesh_split_creases(&s.m, cos45, fresh_arena(), &u, NULL), LS_OK);
     CHECK_EQ(u.vertex_count, 24);
     CHECK_EQ(u.face_count, 12);
@@ -704,6 +710,9 @@ static void split_creases_keeps_smooth_sheets_together(void)
     sm_init(&s, tet_p, 4, tet_t, 4);
     CHECK_STATUS(ls_mesh_split_creases(&s.m, cos100, fresh_arena(), &u, NULL), LS_OK);
     CHECK_EQ(u.vertex_count, 7);
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, cos100, fresh_arena(), &creases, &edges, NULL), LS_OK);
+    CHECK_EQ(edges, 6);
+    CHECK_EQ(creases, 3);
     for (i = 0; i < 9; i++) CHECK_EQ(u.triangles[i], tet_t[i]); /* the first sheets keep their indices */
     CHECK(u.triangles[9] >= 4 && u.triangles[10] >= 4 && u.triangles[11] >= 4);
     CHECK(!split_shows_face_normals(&s, &u)); /* the axis faces share averaged normals */
@@ -720,6 +729,9 @@ static void split_creases_keeps_smooth_sheets_together(void)
     CHECK_STATUS(ls_mesh_split_creases(&s.m, (ls_real)0.90630778703665, fresh_arena(), &u, NULL), LS_OK);
     CHECK_EQ(u.vertex_count, 6);
     CHECK(split_shows_face_normals(&s, &u));
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, (ls_real)0.90630778703665, fresh_arena(), &creases, &edges, NULL), LS_OK);
+    CHECK_EQ(edges, 1); /* the four boundary edges are not counted */
+    CHECK_EQ(creases, 1);
     /* faces that disagree on orientation do not share their vertices */
     s.t[3] = 0, s.t[4] = 1;
     CHECK_STATUS(ls_mesh_split_creases(&s.m, -1, fresh_arena(), &u, NULL), LS_OK);
@@ -739,10 +751,21 @@ static void split_creases_keeps_smooth_sheets_together(void)
     CHECK_EQ(a.bottom, 0);
     CHECK_EQ(a.top, 0);
     CHECK_STATUS(ls_mesh_split_creases_bytes(UINT32_MAX, 1, &bytes), LS_ERR_TOO_LARGE);
+    /* counting takes exactly its scratch, and gives it back */
+    CHECK_STATUS(ls_mesh_count_creases_bytes(4, &bytes), LS_OK);
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes), LS_OK);
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, cos45, &a, &creases, &edges, NULL), LS_OK);
+    CHECK_EQ(creases, 6);
+    CHECK_EQ(a.bottom + a.top, 0);
+    CHECK_STATUS(ls_arena_init(&a, mem, bytes - 1), LS_OK);
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, cos45, &a, &creases, &edges, NULL), LS_ERR_NOMEM);
+    CHECK_EQ(a.bottom + a.top, 0);
 
     /* bad arguments and an index out of range are named */
     CHECK_STATUS(ls_mesh_split_creases(&s.m, (ls_real)1.5, fresh_arena(), &u, NULL), LS_ERR_INVALID);
     CHECK_STATUS(ls_mesh_split_creases(NULL, 0, fresh_arena(), &u, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, 0, fresh_arena(), NULL, &edges, NULL), LS_ERR_INVALID);
+    CHECK_STATUS(ls_mesh_count_creases(&s.m, 0, NULL, &creases, &edges, NULL), LS_ERR_INVALID);
     s.t[7] = 9;
     ls_diag_clear(&d);
     CHECK_STATUS(ls_mesh_split_creases(&s.m, 0, fresh_arena(), &u, &d), LS_ERR_MESH);
@@ -1076,7 +1099,7 @@ int main(void)
     TEST_RUN(edges_and_adjacency_are_sorted_and_complete);
     TEST_RUN(weld_merges_exact_duplicates_only);
     TEST_RUN(unweld_gives_each_face_its_vertices);
-    TEST_RUN(split_creases_keeps_smooth_sheets_together);
+    TEST_RUN(creases_split_and_counted);
     TEST_RUN(face_and_vertex_normals);
     TEST_RUN(bunny_vertex_normals_point_outward);
     TEST_RUN(reorder_is_a_spatial_permutation);

@@ -162,6 +162,20 @@ ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena 
  * crease adds. O(1). */
 ls_status ls_mesh_split_creases_bytes(uint32_t vertex_count, uint32_t face_count, size_t *bytes);
 
+/* ls_mesh_count_creases: of the mesh's edges that have exactly two faces,
+ * oriented alike (the edges ls_mesh_split_creases may keep whole), *edges;
+ * of those, *creases have faces whose normals' cosine is below crease_cos.
+ * With a small angle (crease_cos near 1) edges - creases counts the edges
+ * between coplanar faces: most of a CAD part's edges, few of a scan's.
+ * Scratch only (ls_mesh_count_creases_bytes); the arena is as it was after.
+ * O(F log F). Errors as ls_mesh_split_creases's. */
+ls_status ls_mesh_count_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, uint32_t *creases,
+                                uint32_t *edges, ls_diag *diag);
+
+/* ls_mesh_count_creases_bytes: the scratch ls_mesh_count_creases needs (exact:
+ * 16 bytes per face corner). O(1). */
+ls_status ls_mesh_count_creases_bytes(uint32_t face_count, size_t *bytes);
+
 /* ls_mesh_reorder: puts the mesh in a spatially coherent order, in place:
  * faces sorted by the Morton code (10 bits per axis of the bounding box) of
  * their centroids, equal codes keeping their order, each face's corners as

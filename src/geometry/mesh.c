@@ -485,18 +485,17 @@ static int smooth_across(const ls_mesh *m, uint32_t f, uint32_t g, ls_real creas
     return !(dot < crease_cos * len);
 }
 
-ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_mesh *out, ls_diag *diag)
+/* The arguments of the crease functions checked, then the usable faces'
+ * half-edges from the top of the arena, sorted by edge (keys, idx; tmp is
+ * free for the caller after). On an error the arena is as it was. */
+static ls_status sorted_half_edges(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_diag *diag,
+                                   uint64_t **keys, uint32_t **idx, uint32_t **tmp, size_t *nh)
 {
-    ls_diag_clear(diag);
+    const size_t h = 3u * (size_t)(in == NULL ? 0 : in->face_count);
     ls_arena_mark mark;
-    uint64_t *keys;
-    uint32_t *idx, *tmp, *group, *given, bad, next, c;
-    size_t h, nh, i, j;
-    ls_mesh m;
-    ls_status st;
+    uint32_t bad;
     if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, mesh_problem(in));
     if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
-    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
     if (!(crease_cos >= -1 && crease_cos <= 1)) return ls_invalid_arg(diag, "crease_cos is not in [-1, 1]");
     if (in->face_count > MAX_VALIDATE_FACES || in->vertex_count > UINT32_MAX - 3u * in->face_count)
         return LS_ERR_TOO_LARGE;
@@ -505,12 +504,89 @@ ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena 
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
         return LS_ERR_MESH;
     }
-    h = 3u * (size_t)in->face_count;
     mark = ls_arena_save(arena);
-    keys = (uint64_t *)ls_arena_scratch(arena, h, sizeof(uint64_t));
-    idx = keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
-    tmp = idx == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
-    group = tmp == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    *keys = (uint64_t *)ls_arena_scratch(arena, h, sizeof(uint64_t));
+    *idx = *keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    *tmp = *idx == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
+    if (*tmp == NULL) {
+        ls_arena_restore(arena, mark);
+        return LS_ERR_NOMEM;
+    }
+    *nh = half_edges(in, *keys, *idx);
+    (void)ls_sort_u64(*keys, *idx, *nh, *tmp);
+    return LS_OK;
+}
+
+/* The next edge from sorted half-edge *i on that has exactly two faces, of
+ * opposite directions along it (their first vertices differ): its faces f
+ * and g and its key; 0 when none is left. */
+static int next_face_pair(const ls_mesh *m, const uint64_t *keys, const uint32_t *idx, size_t nh, size_t *i,
+                          uint32_t *f, uint32_t *g, uint64_t *key)
+{
+    while (*i < nh) {
+        const size_t k = *i;
+        size_t j = k + 1;
+        while (j < nh && keys[idx[j]] == keys[idx[k]]) j++;
+        *i = j;
+        if (j - k == 2 && m->triangles[idx[k]] != m->triangles[idx[k + 1]]) {
+            *f = idx[k] / 3u, *g = idx[k + 1] / 3u, *key = keys[idx[k]];
+            return 1;
+        }
+    }
+    return 0;
+}
+
+ls_status ls_mesh_count_creases_bytes(uint32_t face_count, size_t *bytes)
+{
+    ls_size s;
+    if (bytes == NULL) return LS_ERR_INVALID;
+    *bytes = 0;
+    if (face_count > MAX_VALIDATE_FACES) return LS_ERR_TOO_LARGE;
+    ls_size_init(&s);
+    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint64_t));
+    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint32_t));
+    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint32_t));
+    return ls_size_get(&s, bytes);
+}
+
+ls_status ls_mesh_count_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, uint32_t *creases,
+                                uint32_t *edges, ls_diag *diag)
+{
+    ls_diag_clear(diag);
+    ls_arena_mark mark;
+    uint64_t *keys, key;
+    uint32_t *idx, *tmp, f, g, nc = 0, ne = 0;
+    size_t nh, i = 0;
+    ls_status st;
+    if (creases == NULL || edges == NULL) return ls_invalid_arg(diag, "creases or edges is NULL");
+    mark = arena == NULL ? (ls_arena_mark){0, 0} : ls_arena_save(arena);
+    st = sorted_half_edges(in, crease_cos, arena, diag, &keys, &idx, &tmp, &nh);
+    if (st != LS_OK) return st;
+    while (next_face_pair(in, keys, idx, nh, &i, &f, &g, &key)) {
+        ne++;
+        if (!smooth_across(in, f, g, crease_cos)) nc++;
+    }
+    ls_arena_restore(arena, mark);
+    *creases = nc;
+    *edges = ne;
+    return LS_OK;
+}
+
+ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_mesh *out, ls_diag *diag)
+{
+    ls_diag_clear(diag);
+    ls_arena_mark mark;
+    uint64_t *keys, key;
+    uint32_t *idx, *tmp, *group, *given, next, c, f, g;
+    size_t h, nh, i = 0;
+    ls_mesh m;
+    ls_status st;
+    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
+    mark = arena == NULL ? (ls_arena_mark){0, 0} : ls_arena_save(arena);
+    st = sorted_half_edges(in, crease_cos, arena, diag, &keys, &idx, &tmp, &nh);
+    if (st != LS_OK) return st;
+    h = 3u * (size_t)in->face_count;
+    group = (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
     given = group == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, in->vertex_count, sizeof(uint32_t));
     if (given == NULL) {
         ls_arena_restore(arena, mark);
@@ -520,18 +596,11 @@ ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena 
      * edge through it meet at less than the crease angle. An edge with one
      * face or more than two, or whose faces disagree on orientation, splits. */
     for (c = 0; c < (uint32_t)h; c++) group[c] = c;
-    nh = half_edges(in, keys, idx);
-    (void)ls_sort_u64(keys, idx, nh, tmp);
-    for (i = 0; i < nh; i = j) {
-        for (j = i + 1; j < nh && keys[idx[j]] == keys[idx[i]]; j++) {}
-        /* two faces, and opposite directions: their first vertices differ */
-        if (j - i == 2 && in->triangles[idx[i]] != in->triangles[idx[i + 1]]) {
-            const uint32_t f = idx[i] / 3u, g = idx[i + 1] / 3u;
-            const uint32_t a = (uint32_t)(keys[idx[i]] >> 32), b = (uint32_t)keys[idx[i]];
-            if (smooth_across(in, f, g, crease_cos)) {
-                uf_union(group, corner_of(in->triangles, f, a), corner_of(in->triangles, g, a));
-                uf_union(group, corner_of(in->triangles, f, b), corner_of(in->triangles, g, b));
-            }
+    while (next_face_pair(in, keys, idx, nh, &i, &f, &g, &key)) {
+        const uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
+        if (smooth_across(in, f, g, crease_cos)) {
+            uf_union(group, corner_of(in->triangles, f, a), corner_of(in->triangles, g, a));
+            uf_union(group, corner_of(in->triangles, f, b), corner_of(in->triangles, g, b));
         }
     }
     /* A vertex's first group keeps its index; each further group is a new

@@ -42,6 +42,7 @@ typedef struct fit_args {
     uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
+    uint32_t target_normals_given; /* --target-normals was given (a mesh target's option) */
     uint32_t remesh_h_given;    /* --remesh-h was given (else the default for the start) */
     uint32_t perturb;           /* --perturb K: the learning rate x (1 + K 1e-6) */
     ls_real lr;               /* --lr: 0 when not given (the default for the start) */
@@ -133,11 +134,11 @@ static int usage(FILE *f)
             "                     across (2..1024; e.g. 128), remeshed to 0.02 of its diagonal (--init-coarse\n"
             "                     E sets it)\n"
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
-            "  --target-normals N smooth (default: vertex normals averaged over their faces) | flat\n"
-            "                     (each face its own normal: a mesh target whose faces are flat pieces\n"
-            "                     of the object) | DEGREES (0..180: split at the edges whose faces meet\n"
-            "                     at more than this angle, smooth elsewhere: a CAD part's sharp creases\n"
-            "                     and curved faces); mesh targets only\n"
+            "  --target-normals N how a mesh target's renders are shaded: auto (default: vertex normals\n"
+            "                     averaged over their faces, but a target made of flat pieces, a CAD part,\n"
+            "                     split at its creases sharper than 60 degrees) | smooth (never split) |\n"
+            "                     flat (each face its own normal) | DEGREES (0..180: split at the edges\n"
+            "                     whose faces meet at more than this angle)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
             "                     convergence.svg (default 25; 0: only at the end; not counted in the times)\n"
             "  --no-translation   do not optimize a global translation\n"
@@ -200,6 +201,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
     ls_job_schedule_default(&a->sched);
     a->level = 3;
     a->target_ss = 4;
+    a->target_normals = LS_JOB_NORMALS_AUTO;
     a->track = 25;
     ls_fit_config_default(&a->cfg);
     a->cfg.form = LS_SYSTEM_ALPHA;
@@ -313,13 +315,15 @@ static int parse_args(int argc, char **argv, fit_args *a)
             double deg = 0;
             a->target_normals = strcmp(v, "flat") == 0   ? LS_JOB_NORMALS_FLAT
                               : strcmp(v, "smooth") == 0 ? LS_JOB_NORMALS_SMOOTH
+                              : strcmp(v, "auto") == 0   ? LS_JOB_NORMALS_AUTO
                               : ls_parse_double(v, strlen(v), &deg) == LS_OK && deg > 0 && deg < 180
                                   ? LS_JOB_NORMALS_CREASES
                                   : 99u;
             a->target_crease_deg = deg;
+            a->target_normals_given = 1;
             if (a->target_normals == 99u)
-                return fprintf(stderr, "largesteps fit: --target-normals: '%s' is not smooth, flat or an angle in degrees "
-                                       "between 0 and 180\n", v), 0;
+                return fprintf(stderr, "largesteps fit: --target-normals: '%s' is not auto, smooth, flat or an angle in "
+                                       "degrees between 0 and 180\n", v), 0;
         } else {
             return fprintf(stderr, "largesteps fit: unknown option %s (see --help)\n", o), 0;
         }
@@ -605,7 +609,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
     o.workers = a.cfg.workers;
     if (!ls_job_load(&p, &o, &arena)) return 1;
-    if (a.target_normals != LS_JOB_NORMALS_SMOOTH && !p.have_mesh) {
+    if (a.target_normals_given && !p.have_mesh) {
         fprintf(stderr, "largesteps fit: --target-normals shades the renders of a mesh target; %s's targets are "
                         "its images (leave the option out)\n", a.target);
         return 2;
@@ -632,6 +636,10 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                         "shading is %s\n", p.shading.mode == LS_SHADE_MASK ? "the masks alone" : "given");
         return 2;
     }
+    if (p.target_creased)
+        printf("the target is made of flat pieces (%.0f %% of its edges join coplanar faces): its renders show its "
+               "creases sharper than %g degrees (--target-normals smooth shades it smooth)\n",
+               100.0 * p.target_flat_share, LS_JOB_CREASE_DEG);
     if (p.have_mesh && (p.target_genus > 0 || p.target_components > 1)) {
         char what[64];
         if (p.target_genus > 0 && p.target_components > 1)

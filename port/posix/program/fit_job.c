@@ -684,9 +684,19 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         st = LS_OK;
         if (o->target_normals == LS_JOB_NORMALS_FLAT) {
             st = ls_mesh_unweld(&p->target, arena, &shown, &d);
-        } else if (o->target_normals == LS_JOB_NORMALS_CREASES) {
-            const ls_real crease_cos = (ls_real)ls_cos(o->target_crease_deg * (3.14159265358979323846 / 180.0));
-            st = ls_mesh_split_creases(&p->target, crease_cos, arena, &shown, &d);
+        } else if (o->target_normals == LS_JOB_NORMALS_CREASES || o->target_normals == LS_JOB_NORMALS_AUTO) {
+            double deg = o->target_crease_deg;
+            uint32_t creases = 0, edges = 0;
+            if (o->target_normals == LS_JOB_NORMALS_AUTO) { /* split only a target made of flat pieces */
+                st = ls_mesh_count_creases(&p->target, (ls_real)ls_cos(LS_JOB_COPLANAR_DEG * (3.14159265358979323846 / 180.0)),
+                                           arena, &creases, &edges, &d);
+                p->target_flat_share = edges > 0 ? (double)(edges - creases) / (double)edges : 0;
+                p->target_creased = st == LS_OK && p->target_flat_share >= LS_JOB_FLAT_SHARE;
+                deg = LS_JOB_CREASE_DEG;
+            }
+            if (st == LS_OK && (o->target_normals == LS_JOB_NORMALS_CREASES || p->target_creased))
+                st = ls_mesh_split_creases(&p->target, (ls_real)ls_cos(deg * (3.14159265358979323846 / 180.0)), arena,
+                                           &shown, &d);
         }
         if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
         ls_arena_restore(arena, mark);
