@@ -1,6 +1,6 @@
 #!/bin/sh
 # fit_suite.sh - `make bench-fit`: `largesteps fit` with default options on
-# every target of tests/bench/fit_suite.txt, plus PERTURBED runs per target
+# every target of tests/bench/fit_suite.txt (or SUITE_LIST), plus PERTURBED runs per target
 # whose learning rate is moved in the 6th digit (--perturb 1..N), and one
 # Markdown table: dense symmetric Hausdorff and RMS over the target's
 # bounding-box diagonal, self-intersecting pairs, iterations, time, the job's
@@ -8,7 +8,8 @@
 #
 #   sh tests/bench/fit_suite.sh [TARGET ...] [-- FIT OPTIONS]
 #
-# Environment: BUILD (build), JOBS (2: runs at once), PERTURBED (5),
+# Environment: SUITE_LIST (tests/bench/fit_suite.txt; tests/bench/fit_suite_cad.txt
+# lists CAD parts), BUILD (build), JOBS (2: runs at once), PERTURBED (5),
 # SUITE_OUT ($BUILD/bench/fit_suite), SHARED (../shared/meshes), CGAL_DATA
 # (/usr/share/doc/libcgal-dev/data.tar.gz, Debian's libcgal-demo).
 # Targets whose file is not there are listed as skipped.
@@ -21,6 +22,8 @@ PERTURBED=${PERTURBED:-5}
 OUT=${SUITE_OUT:-$BUILD/bench/fit_suite}
 SHARED=${SHARED:-../shared/meshes}
 CGAL_DATA=${CGAL_DATA:-/usr/share/doc/libcgal-dev/data.tar.gz}
+SUITE_LIST=${SUITE_LIST:-tests/bench/fit_suite.txt}
+export SUITE_LIST
 args="$*"
 only=
 while [ $# -gt 0 ] && [ "$1" != -- ]; do only="$only $1"; shift; done
@@ -34,14 +37,14 @@ if [ -r "$CGAL_DATA" ] && [ ! -e "$OUT/meshes/.cgal" ]; then
 fi
 list=$OUT/runs.txt
 : > "$list"
-sed -e 's/#.*//' tests/bench/fit_suite.txt | while read -r name where file what; do
+sed -e 's/#.*//' "$SUITE_LIST" | while read -r name where file what; do
     [ -n "$name" ] || continue
     if [ -n "$only" ] && ! echo " $only " | grep -q " $name "; then continue; fi
     case $where in
         fixture) path=fixtures/meshes/$file ;;
         shared) path=$SHARED/$file ;;
         cgal) path=$OUT/meshes/$file ;;
-        *) echo "fit_suite.txt: unknown place '$where' for $name" >&2; exit 2 ;;
+        *) echo "$SUITE_LIST: unknown place '$where' for $name" >&2; exit 2 ;;
     esac
     if [ ! -r "$path" ]; then echo "$name skipped $path"; continue; fi
     k=0

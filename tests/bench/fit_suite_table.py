@@ -20,7 +20,7 @@ for line in open(runs):
     elif len(w) == 3 and w[0] not in targets:
         targets.append(w[0])
 what = {}
-for line in open("tests/bench/fit_suite.txt"):
+for line in open(os.environ.get("SUITE_LIST", "tests/bench/fit_suite.txt")):
     w = line.split("#")[0].split(None, 3)
     if len(w) == 4:
         what[w[0]] = w[3].strip()
