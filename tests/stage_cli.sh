@@ -563,7 +563,7 @@ cc -std=c99 -O2 -Iinclude -I"$build/include" -Iport/posix tests/tools/imgtool.c 
     "$build/liblargesteps.a" -lm -o "$build/imgtool" 2> "$build/imgtool.err" || cat "$build/imgtool.err"
 colours() { "$build/imgtool" dump "$1" | awk '$NF == 255 { c[$(NF-3) " " $(NF-2) " " $(NF-1)]++ } END { n = 0; for (k in c) n++; print n }'; }
 { cube 0; cube_faces 0; } > "$out/cube.obj"
-for n in flat smooth default 45 120; do
+for n in flat smooth default 45 60 120 auto; do
     opt="--normals $n"; [ "$n" = default ] && opt=""
     # shellcheck disable=SC2086 # $opt: an option and its value, or nothing
     "$ls" render "$out/cube.obj" --views 1 --res 32 --ss 1 --bits 8 $opt -o "$out/cube_$n" > "$build/cube_$n.log" 2>&1
@@ -575,10 +575,11 @@ if [ -n "$cf" ] && [ "$cf" -ge 1 ] && [ "$cf" -le 3 ] && [ -n "$cs" ] && [ "$cs"
 else bad "render_normals_flat ($cf colours flat, $cs smooth)"; fi
 # --normals DEGREES splits the cube's 90-degree edges below 90 and none above
 c45=$(colours "$out/cube_45/view_000.png")
-if [ -n "$c45" ] && [ "$c45" -ge 1 ] && [ "$c45" -le 3 ] && cmp -s "$out/cube_smooth/view_000.png" "$out/cube_120/view_000.png"; then
-    ok "render_normals_creases ($c45 colours at 45 degrees; 120 degrees the same bytes as smooth)"
+if [ -n "$c45" ] && [ "$c45" -ge 1 ] && [ "$c45" -le 3 ] && cmp -s "$out/cube_smooth/view_000.png" "$out/cube_120/view_000.png" &&
+        cmp -s "$out/cube_auto/view_000.png" "$out/cube_60/view_000.png"; then
+    ok "render_normals_creases ($c45 colours at 45 degrees; 120 degrees the same bytes as smooth; auto as 60)"
 else bad "render_normals_creases ($c45 colours at 45 degrees)"; fi
-expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth, flat or an angle" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
+expect render_normals_bad_value 2 "--normals: 'bumpy' is not smooth, auto, flat or an angle" "$ls" render "$out/cube.obj" --normals bumpy -o "$out/x"
 for n in flat smooth 45 60 120 default; do
     opt="--target-normals $n"; [ "$n" = default ] && opt=""
     # shellcheck disable=SC2086 # $opt: an option and its value, or nothing

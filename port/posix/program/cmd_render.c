@@ -50,8 +50,7 @@ typedef struct render_args {
     const char *mesh_path, *out_dir;
     const char *cameras; /* --cameras: a camera dataset whose cameras are used */
     uint32_t views, res, ss, mode, rings, bits;
-    uint32_t normals;    /* --normals: LS_JOB_NORMALS_SMOOTH, _FLAT (each face its own normal,
-                            ls_mesh_unweld) or _CREASES (ls_mesh_split_creases at crease_deg) */
+    uint32_t normals;    /* --normals: LS_JOB_NORMALS_* (ls_job_shown_mesh) */
     double crease_deg;
     double fov_deg;
     int placed;          /* --views, --placement or --fov given (not with --cameras) */
@@ -71,10 +70,11 @@ static int usage(FILE *f)
                "  --res W       image size W x W (1..%u; default 256)\n"
                "  --ss S        supersampling: 1, 2 or 4 (default 2)\n"
                "  --shading S   " SHADE_NAMES " (default sh)\n"
-               "  --normals N   smooth (default: vertex normals averaged over their faces) | flat (each\n"
-               "                face its own normal: a mesh whose faces are flat pieces of the object) |\n"
-               "                DEGREES (0..180: split at the edges whose faces meet at more than this\n"
-               "                angle, smooth elsewhere: a CAD part's sharp creases and curved faces)\n"
+               "  --normals N   smooth (default: vertex normals averaged over their faces) | auto (as\n"
+               "                `fit` shows its targets: smooth, but a mesh made of flat pieces, a CAD\n"
+               "                part, split at its creases sharper than 60 degrees) | flat (each face\n"
+               "                its own normal) | DEGREES (0..180: split at the edges whose faces meet\n"
+               "                at more than this angle)\n"
                "  --placement P fibonacci (default: the whole sphere) | rings | hemisphere (the Fibonacci\n"
                "                lattice above y = -1/4: the upper half and a little below)\n"
                "  --bits B      8 or 16 bits per sample (default 16)\n"
@@ -131,10 +131,11 @@ static int parse_args(int argc, char **argv, render_args *a)
         } else if (strcmp(o, "--normals") == 0) {
             if (strcmp(v, "smooth") == 0) a->normals = LS_JOB_NORMALS_SMOOTH;
             else if (strcmp(v, "flat") == 0) a->normals = LS_JOB_NORMALS_FLAT;
+            else if (strcmp(v, "auto") == 0) a->normals = LS_JOB_NORMALS_AUTO;
             else if (ls_parse_double(v, strlen(v), &a->crease_deg) == LS_OK && a->crease_deg > 0 && a->crease_deg < 180)
                 a->normals = LS_JOB_NORMALS_CREASES;
-            else ok = 0, fprintf(stderr, "largesteps render: --normals: '%s' is not smooth, flat or an angle in degrees "
-                                         "between 0 and 180\n", v);
+            else ok = 0, fprintf(stderr, "largesteps render: --normals: '%s' is not smooth, auto, flat or an angle in "
+                                         "degrees between 0 and 180\n", v);
         } else if (strcmp(o, "--shading") == 0) {
             if (strcmp(v, "mask") == 0) a->mode = LS_SHADE_MASK;
             else if (strcmp(v, "sh") == 0) a->mode = LS_SHADE_SH;
@@ -339,12 +340,12 @@ static int setup(render_run *r)
     st = ls_mesh_read_info(data, bytes, LS_MESH_FORMAT_AUTO, &info, &d);
     if (st == LS_OK) st = ls_mesh_read_bytes(&info, &mesh_bytes);
     /* --normals flat renders the mesh unwelded: 3 F vertices of its own;
-     * split at its creases, at most V + 3 F */
+     * split at its creases, at most V + 3 F (auto: counted first, in less) */
     shown_vertices = info.vertex_count;
     if (st == LS_OK && r->a.normals == LS_JOB_NORMALS_FLAT) {
         st = ls_mesh_unweld_bytes(info.face_count, &flat_bytes);
         shown_vertices = 3u * info.face_count;
-    } else if (st == LS_OK && r->a.normals == LS_JOB_NORMALS_CREASES) {
+    } else if (st == LS_OK && r->a.normals != LS_JOB_NORMALS_SMOOTH) {
         st = ls_mesh_split_creases_bytes(info.vertex_count, info.face_count, &flat_bytes);
         shown_vertices = info.vertex_count + 3u * info.face_count;
     }
@@ -380,11 +381,11 @@ static int setup(render_run *r)
         if (st == LS_ERR_INVALID) d.what = "cannot frame the mesh: no vertices, or all at one point";
     }
     if (st == LS_OK) st = place_views(r);
-    if (st == LS_OK && r->a.normals != LS_JOB_NORMALS_SMOOTH) {
+    if (st == LS_OK) {
         ls_mesh u;
-        const ls_real crease_cos = (ls_real)ls_cos(r->a.crease_deg * (3.14159265358979323846 / 180.0));
-        st = r->a.normals == LS_JOB_NORMALS_FLAT ? ls_mesh_unweld(&r->mesh, &r->geo, &u, &d)
-                                                 : ls_mesh_split_creases(&r->mesh, crease_cos, &r->geo, &u, &d);
+        int creased;
+        double share;
+        st = ls_job_shown_mesh(&r->mesh, r->a.normals, r->a.crease_deg, &r->geo, &u, &creased, &share, &d);
         if (st == LS_OK) r->mesh = u;
     }
     if (st == LS_OK) st = ls_mesh_vertex_normals(&r->mesh, LS_NORMALS_UNIFORM, r->normals, &d);

@@ -597,6 +597,27 @@ static int hull_initial(ls_job_problem *p, uint32_t resolution, double edge, uin
     return coarse_initial(p, &hull, edge, smooth, 1, arena);
 }
 
+ls_status ls_job_shown_mesh(const ls_mesh *mesh, uint32_t normals, double crease_deg, ls_arena *arena, ls_mesh *shown,
+                            int *creased, double *flat_share, ls_diag *d)
+{
+    const double rad = 3.14159265358979323846 / 180.0;
+    ls_status st = LS_OK;
+    *shown = *mesh;
+    *creased = 0;
+    *flat_share = 0;
+    if (normals == LS_JOB_NORMALS_FLAT) return ls_mesh_unweld(mesh, arena, shown, d);
+    if (normals == LS_JOB_NORMALS_AUTO) { /* split only a mesh made of flat pieces */
+        uint32_t creases = 0, edges = 0;
+        st = ls_mesh_count_creases(mesh, (ls_real)ls_cos(LS_JOB_COPLANAR_DEG * rad), arena, &creases, &edges, d);
+        *flat_share = edges > 0 ? (double)(edges - creases) / (double)edges : 0;
+        *creased = st == LS_OK && *flat_share >= LS_JOB_FLAT_SHARE;
+        crease_deg = LS_JOB_CREASE_DEG;
+    }
+    if (st == LS_OK && (normals == LS_JOB_NORMALS_CREASES || *creased))
+        st = ls_mesh_split_creases(mesh, (ls_real)ls_cos(crease_deg * rad), arena, shown, d);
+    return st;
+}
+
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 {
     ls_scene scene;
@@ -681,23 +702,8 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     if (p->have_mesh) {
         ls_arena_mark mark = ls_arena_save(arena);
         ls_mesh shown = p->target;
-        st = LS_OK;
-        if (o->target_normals == LS_JOB_NORMALS_FLAT) {
-            st = ls_mesh_unweld(&p->target, arena, &shown, &d);
-        } else if (o->target_normals == LS_JOB_NORMALS_CREASES || o->target_normals == LS_JOB_NORMALS_AUTO) {
-            double deg = o->target_crease_deg;
-            uint32_t creases = 0, edges = 0;
-            if (o->target_normals == LS_JOB_NORMALS_AUTO) { /* split only a target made of flat pieces */
-                st = ls_mesh_count_creases(&p->target, (ls_real)ls_cos(LS_JOB_COPLANAR_DEG * (3.14159265358979323846 / 180.0)),
-                                           arena, &creases, &edges, &d);
-                p->target_flat_share = edges > 0 ? (double)(edges - creases) / (double)edges : 0;
-                p->target_creased = st == LS_OK && p->target_flat_share >= LS_JOB_FLAT_SHARE;
-                deg = LS_JOB_CREASE_DEG;
-            }
-            if (st == LS_OK && (o->target_normals == LS_JOB_NORMALS_CREASES || p->target_creased))
-                st = ls_mesh_split_creases(&p->target, (ls_real)ls_cos(deg * (3.14159265358979323846 / 180.0)), arena,
-                                           &shown, &d);
-        }
+        st = ls_job_shown_mesh(&p->target, o->target_normals, o->target_crease_deg, arena, &shown, &p->target_creased,
+                               &p->target_flat_share, &d);
         if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
         ls_arena_restore(arena, mark);
         if (st != LS_OK) return ls_job_fail("rendering the target", st, &d);

@@ -208,6 +208,13 @@ typedef struct ls_job_run {
                                 channel, the scale in sh); else NULL */
 } ls_job_run;
 
+/* The mesh a target's renders show for target_normals (LS_JOB_NORMALS_*):
+ * the mesh itself, unwelded, or split at its creases (from the arena); for
+ * _AUTO, *flat_share is the share of its two-face edges between coplanar
+ * faces and *creased whether it was split for it. */
+ls_status ls_job_shown_mesh(const ls_mesh *mesh, uint32_t normals, double crease_deg, ls_arena *arena, ls_mesh *shown,
+                            int *creased, double *flat_share, ls_diag *d);
+
 /* Loads the problem into the arena (everything stays allocated). */
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena);
 
