@@ -23,10 +23,10 @@
 /* --target-normals auto: a mesh target at least LS_JOB_FLAT_SHARE of whose
  * edges (of those with two faces) join faces less than LS_JOB_COPLANAR_DEG
  * apart is made of flat pieces, a CAD part, and its renders are split at its
- * creases sharper than LS_JOB_CREASE_DEG. Among the meshes of CGAL's data
- * the share is 26-79 % on 15 CAD parts (the fandisk 78 %, the rotor 66 %;
- * a 16th, 16 %, has almost no edge sharper than 60 degrees) and 2-21 % on 25
- * organic shapes and scans (the bunny 3 %, the triceratops 21 %). */
+ * creases sharper than LS_JOB_CREASE_DEG. The share is 26-79 % on 15 CAD
+ * parts of CGAL's data (the fandisk 78 %, the rotor 66 %; a 16th, 16 %, has
+ * almost no edge sharper than 60 degrees) and 2-21 % on 25 organic shapes
+ * and scans (23 of CGAL's, the bunny 3 %, Suzanne 3 %, the triceratops 21 %). */
 #define LS_JOB_FLAT_SHARE 0.25
 #define LS_JOB_COPLANAR_DEG 0.5
 #define LS_JOB_CREASE_DEG 60.0
