@@ -1,9 +1,10 @@
 /* mesh.c - indexed triangle meshes: validation, welding, edges, adjacency,
- * normals and bounds. */
+ * normals and bounds (crease.c: splitting at creases). */
 #include <largesteps/mesh.h>
 #include <largesteps/sort.h>
 #include <largesteps/math.h>
 #include "../base/diag_internal.h"
+#include "mesh_internal.h"
 #include <string.h>
 #include <math.h>
 
@@ -15,8 +16,6 @@
 #define REAL_ATAN2 ls_atan2
 #endif
 
-/* Faces above this make corner ids reach bit 31 (used as a mark). */
-#define MAX_VALIDATE_FACES 0x2AAAAAAAu
 #define MARK 0x80000000u
 
 static void set_diag(ls_diag *diag, ls_status st, const char *what, uint64_t index)
@@ -60,7 +59,7 @@ ls_status ls_mesh_alloc(ls_mesh *mesh, uint32_t vertex_count, uint32_t face_coun
 }
 
 /* What is wrong with the mesh argument, or NULL when it is usable. */
-static const char *mesh_problem(const ls_mesh *mesh)
+const char *ls_mesh_impl_problem(const ls_mesh *mesh)
 {
     if (mesh == NULL) return "mesh is NULL";
     if (mesh->vertex_count > 0 && mesh->positions == NULL) return "mesh->positions is NULL with vertex_count > 0";
@@ -70,11 +69,11 @@ static const char *mesh_problem(const ls_mesh *mesh)
 
 static ls_status check_mesh(const ls_mesh *mesh)
 {
-    return mesh_problem(mesh) == NULL ? LS_OK : LS_ERR_INVALID;
+    return ls_mesh_impl_problem(mesh) == NULL ? LS_OK : LS_ERR_INVALID;
 }
 
 /* The first face with an index out of range, or LS_MESH_NONE. */
-static uint32_t first_bad_face(const ls_mesh *mesh)
+uint32_t ls_mesh_impl_first_bad_face(const ls_mesh *mesh)
 {
     uint32_t f;
     const uint32_t *t = mesh->triangles;
@@ -91,37 +90,9 @@ static int usable(const uint32_t *t, uint32_t nv)
     return t[0] < nv && t[1] < nv && t[2] < nv && t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
 }
 
-/* Union-find with path halving (iterative). */
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    /* the smaller root wins: the result does not depend on the call order's details */
-    if (a < b) parent[b] = a;
-    else if (b < a) parent[a] = b;
-}
-
-/* The corner (3f + k) of usable face f at vertex v. */
-static uint32_t corner_of(const uint32_t *t, uint32_t f, uint32_t v)
-{
-    size_t c = 3 * (size_t)f;
-    if (t[c] == v) return (uint32_t)c;
-    if (t[c + 1] == v) return (uint32_t)(c + 1);
-    return (uint32_t)(c + 2);
-}
-
 /* Fills keys[h] = (min << 32 | max) of each half-edge of the usable faces and
  * lists those half-edges in idx; returns how many. */
-static size_t half_edges(const ls_mesh *mesh, uint64_t *keys, uint32_t *idx)
+size_t ls_mesh_impl_half_edges(const ls_mesh *mesh, uint64_t *keys, uint32_t *idx)
 {
     const uint32_t *t = mesh->triangles;
     uint32_t f, k;
@@ -286,7 +257,7 @@ ls_status ls_mesh_validate(const ls_mesh *mesh, ls_arena *arena, ls_mesh_report 
     report_init(&r, mesh);
     validate_faces(mesh, &r);
 
-    nh = half_edges(mesh, ekey, idx);
+    nh = ls_mesh_impl_half_edges(mesh, ekey, idx);
     (void)ls_sort_u64(ekey, idx, nh, tmp);
     for (i = 0; i < h; i++) cpar[i] = (uint32_t)i;
     for (v = 0; v < nv; v++) vpar[v] = v;
@@ -422,11 +393,11 @@ ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_di
     ls_mesh m;
     uint32_t bad, f, k;
     ls_status st;
-    if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, mesh_problem(in));
+    if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, ls_mesh_impl_problem(in));
     if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
     if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
     if (in->face_count > UINT32_MAX / 3u) return LS_ERR_TOO_LARGE;
-    bad = first_bad_face(in);
+    bad = ls_mesh_impl_first_bad_face(in);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
         return LS_ERR_MESH;
@@ -439,202 +410,6 @@ ls_status ls_mesh_unweld(const ls_mesh *in, ls_arena *arena, ls_mesh *out, ls_di
             memcpy(m.positions + 3u * c, in->positions + 3u * (size_t)in->triangles[c], 3u * sizeof(ls_real));
             m.triangles[c] = (uint32_t)c;
         }
-    *out = m;
-    return LS_OK;
-}
-
-ls_status ls_mesh_split_creases_bytes(uint32_t vertex_count, uint32_t face_count, size_t *bytes)
-{
-    ls_size s;
-    size_t h = 3u * (size_t)face_count, mesh_bytes;
-    ls_status st;
-    if (bytes == NULL) return LS_ERR_INVALID;
-    *bytes = 0;
-    if (face_count > MAX_VALIDATE_FACES || vertex_count > UINT32_MAX - 3u * face_count) return LS_ERR_TOO_LARGE;
-    st = ls_mesh_bytes(vertex_count + 3u * face_count, face_count, &mesh_bytes);
-    if (st != LS_OK) return st;
-    ls_size_init(&s);
-    ls_size_add(&s, mesh_bytes, 1);
-    ls_size_add(&s, h, sizeof(uint64_t)); /* edge keys */
-    ls_size_add(&s, h, sizeof(uint32_t)); /* half-edges in key order */
-    ls_size_add(&s, h, sizeof(uint32_t)); /* sort scratch, then each corner's vertex */
-    ls_size_add(&s, h, sizeof(uint32_t)); /* corner groups (union-find) */
-    ls_size_add(&s, vertex_count, sizeof(uint32_t)); /* vertices given to a group */
-    return ls_size_get(&s, bytes);
-}
-
-/* Whether faces f and g meet at less than the crease angle: their normals'
- * cosine at least crease_cos (a degenerate face joins its neighbours). */
-static int smooth_across(const ls_mesh *m, uint32_t f, uint32_t g, ls_real crease_cos)
-{
-    ls_real n[2][3], dot, len;
-    uint32_t i, k;
-    for (i = 0; i < 2u; i++) {
-        const uint32_t *t = m->triangles + 3u * (size_t)(i == 0 ? f : g);
-        const ls_real *a = m->positions + 3u * (size_t)t[0], *b = m->positions + 3u * (size_t)t[1],
-                      *c = m->positions + 3u * (size_t)t[2];
-        ls_real u[3], v[3];
-        for (k = 0; k < 3u; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-        n[i][0] = u[1] * v[2] - u[2] * v[1];
-        n[i][1] = u[2] * v[0] - u[0] * v[2];
-        n[i][2] = u[0] * v[1] - u[1] * v[0];
-    }
-    dot = n[0][0] * n[1][0] + n[0][1] * n[1][1] + n[0][2] * n[1][2];
-    len = REAL_SQRT(n[0][0] * n[0][0] + n[0][1] * n[0][1] + n[0][2] * n[0][2]) *
-          REAL_SQRT(n[1][0] * n[1][0] + n[1][1] * n[1][1] + n[1][2] * n[1][2]);
-    return !(dot < crease_cos * len);
-}
-
-/* The arguments of the crease functions checked, then the usable faces'
- * half-edges from the top of the arena, sorted by edge (keys, idx; tmp is
- * free for the caller after). On an error the arena is as it was. */
-static ls_status sorted_half_edges(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_diag *diag,
-                                   uint64_t **keys, uint32_t **idx, uint32_t **tmp, size_t *nh)
-{
-    const size_t h = 3u * (size_t)(in == NULL ? 0 : in->face_count);
-    ls_arena_mark mark;
-    uint32_t bad;
-    if (check_mesh(in) != LS_OK) return ls_invalid_arg(diag, mesh_problem(in));
-    if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
-    if (!(crease_cos >= -1 && crease_cos <= 1)) return ls_invalid_arg(diag, "crease_cos is not in [-1, 1]");
-    if (in->face_count > MAX_VALIDATE_FACES || in->vertex_count > UINT32_MAX - 3u * in->face_count)
-        return LS_ERR_TOO_LARGE;
-    bad = first_bad_face(in);
-    if (bad != LS_MESH_NONE) {
-        set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
-        return LS_ERR_MESH;
-    }
-    mark = ls_arena_save(arena);
-    *keys = (uint64_t *)ls_arena_scratch(arena, h, sizeof(uint64_t));
-    *idx = *keys == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
-    *tmp = *idx == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
-    if (*tmp == NULL) {
-        ls_arena_restore(arena, mark);
-        return LS_ERR_NOMEM;
-    }
-    *nh = half_edges(in, *keys, *idx);
-    (void)ls_sort_u64(*keys, *idx, *nh, *tmp);
-    return LS_OK;
-}
-
-/* The next edge from sorted half-edge *i on that has exactly two faces, of
- * opposite directions along it (their first vertices differ): its faces f
- * and g and its key; 0 when none is left. */
-static int next_face_pair(const ls_mesh *m, const uint64_t *keys, const uint32_t *idx, size_t nh, size_t *i,
-                          uint32_t *f, uint32_t *g, uint64_t *key)
-{
-    while (*i < nh) {
-        const size_t k = *i;
-        size_t j = k + 1;
-        while (j < nh && keys[idx[j]] == keys[idx[k]]) j++;
-        *i = j;
-        if (j - k == 2 && m->triangles[idx[k]] != m->triangles[idx[k + 1]]) {
-            *f = idx[k] / 3u, *g = idx[k + 1] / 3u, *key = keys[idx[k]];
-            return 1;
-        }
-    }
-    return 0;
-}
-
-ls_status ls_mesh_count_creases_bytes(uint32_t face_count, size_t *bytes)
-{
-    ls_size s;
-    if (bytes == NULL) return LS_ERR_INVALID;
-    *bytes = 0;
-    if (face_count > MAX_VALIDATE_FACES) return LS_ERR_TOO_LARGE;
-    ls_size_init(&s);
-    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint64_t));
-    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint32_t));
-    ls_size_add(&s, 3u * (size_t)face_count, sizeof(uint32_t));
-    return ls_size_get(&s, bytes);
-}
-
-ls_status ls_mesh_count_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, uint32_t *creases,
-                                uint32_t *edges, ls_diag *diag)
-{
-    ls_diag_clear(diag);
-    ls_arena_mark mark;
-    uint64_t *keys, key;
-    uint32_t *idx, *tmp, f, g, nc = 0, ne = 0;
-    size_t nh, i = 0;
-    ls_status st;
-    if (creases == NULL || edges == NULL) return ls_invalid_arg(diag, "creases or edges is NULL");
-    mark = arena == NULL ? (ls_arena_mark){0, 0} : ls_arena_save(arena);
-    st = sorted_half_edges(in, crease_cos, arena, diag, &keys, &idx, &tmp, &nh);
-    if (st != LS_OK) return st;
-    while (next_face_pair(in, keys, idx, nh, &i, &f, &g, &key)) {
-        ne++;
-        if (!smooth_across(in, f, g, crease_cos)) nc++;
-    }
-    ls_arena_restore(arena, mark);
-    *creases = nc;
-    *edges = ne;
-    return LS_OK;
-}
-
-ls_status ls_mesh_split_creases(const ls_mesh *in, ls_real crease_cos, ls_arena *arena, ls_mesh *out, ls_diag *diag)
-{
-    ls_diag_clear(diag);
-    ls_arena_mark mark;
-    uint64_t *keys, key;
-    uint32_t *idx, *tmp, *group, *given, next, c, f, g;
-    size_t h, nh, i = 0;
-    ls_mesh m;
-    ls_status st;
-    if (out == NULL) return ls_invalid_arg(diag, "out is NULL");
-    mark = arena == NULL ? (ls_arena_mark){0, 0} : ls_arena_save(arena);
-    st = sorted_half_edges(in, crease_cos, arena, diag, &keys, &idx, &tmp, &nh);
-    if (st != LS_OK) return st;
-    h = 3u * (size_t)in->face_count;
-    group = (uint32_t *)ls_arena_scratch(arena, h, sizeof(uint32_t));
-    given = group == NULL ? NULL : (uint32_t *)ls_arena_scratch(arena, in->vertex_count, sizeof(uint32_t));
-    if (given == NULL) {
-        ls_arena_restore(arena, mark);
-        return LS_ERR_NOMEM;
-    }
-    /* The corners of a vertex stay one vertex where the two faces of an
-     * edge through it meet at less than the crease angle. An edge with one
-     * face or more than two, or whose faces disagree on orientation, splits. */
-    for (c = 0; c < (uint32_t)h; c++) group[c] = c;
-    while (next_face_pair(in, keys, idx, nh, &i, &f, &g, &key)) {
-        const uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
-        if (smooth_across(in, f, g, crease_cos)) {
-            uf_union(group, corner_of(in->triangles, f, a), corner_of(in->triangles, g, a));
-            uf_union(group, corner_of(in->triangles, f, b), corner_of(in->triangles, g, b));
-        }
-    }
-    /* A vertex's first group keeps its index; each further group is a new
-     * vertex after the input's, in the order of its first corner. */
-    memset(given, 0, (size_t)in->vertex_count * sizeof(uint32_t));
-    next = in->vertex_count;
-    for (c = 0; c < (uint32_t)h; c++) {
-        const uint32_t r = uf_find(group, c), v = in->triangles[c];
-        if (r != c) {
-            tmp[c] = tmp[r];
-        } else if (!given[v]) {
-            given[v] = 1;
-            tmp[c] = v;
-        } else {
-            tmp[c] = next++;
-        }
-    }
-    st = ls_mesh_alloc(&m, next, in->face_count, arena);
-    if (st != LS_OK) {
-        ls_arena_restore(arena, mark);
-        return st;
-    }
-    memcpy(m.positions, in->positions, 3u * (size_t)in->vertex_count * sizeof(ls_real));
-    for (c = 0; c < (uint32_t)h; c++) {
-        m.triangles[c] = tmp[c];
-        if (tmp[c] >= in->vertex_count)
-            memcpy(m.positions + 3u * (size_t)tmp[c], in->positions + 3u * (size_t)in->triangles[c], 3u * sizeof(ls_real));
-    }
-    {   /* release the scratch, keep the mesh */
-        ls_arena_mark keep;
-        keep.bottom = arena->bottom;
-        keep.top = mark.top;
-        ls_arena_restore(arena, keep);
-    }
     *out = m;
     return LS_OK;
 }
@@ -675,7 +450,7 @@ ls_status ls_mesh_weld(ls_mesh *mesh, ls_arena *arena, uint32_t *remap, uint32_t
     size_t c;
     ls_real *p;
     if (check_mesh(mesh) != LS_OK || arena == NULL) return LS_ERR_INVALID;
-    if (first_bad_face(mesh) != LS_MESH_NONE) return LS_ERR_MESH;
+    if (ls_mesh_impl_first_bad_face(mesh) != LS_MESH_NONE) return LS_ERR_MESH;
     nv = mesh->vertex_count;
     p = mesh->positions;
     mark = ls_arena_save(arena);
@@ -769,7 +544,7 @@ ls_status ls_mesh_reorder(ls_mesh *mesh, ls_arena *arena, uint32_t *remap)
     void *buf;
     int k;
     if (check_mesh(mesh) != LS_OK || arena == NULL) return LS_ERR_INVALID;
-    if (first_bad_face(mesh) != LS_MESH_NONE) return LS_ERR_MESH;
+    if (ls_mesh_impl_first_bad_face(mesh) != LS_MESH_NONE) return LS_ERR_MESH;
     nv = mesh->vertex_count;
     nf = mesh->face_count;
     if (nf == 0) { /* every vertex unused: the order stays */
@@ -851,11 +626,11 @@ ls_status ls_mesh_edges_build(const ls_mesh *mesh, ls_arena *arena, ls_mesh_edge
     uint64_t *keys;
     uint32_t *idx, *tmp, *out, bad, count = 0;
     size_t h, nh, i;
-    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, ls_mesh_impl_problem(mesh));
     if (arena == NULL) return ls_invalid_arg(diag, "arena is NULL");
     if (edges == NULL) return ls_invalid_arg(diag, "edges is NULL");
     if (mesh->face_count > MAX_VALIDATE_FACES) return LS_ERR_TOO_LARGE;
-    bad = first_bad_face(mesh);
+    bad = ls_mesh_impl_first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
         return LS_ERR_MESH;
@@ -869,7 +644,7 @@ ls_status ls_mesh_edges_build(const ls_mesh *mesh, ls_arena *arena, ls_mesh_edge
         ls_arena_restore(arena, mark);
         return LS_ERR_NOMEM;
     }
-    nh = half_edges(mesh, keys, idx);
+    nh = ls_mesh_impl_half_edges(mesh, keys, idx);
     (void)ls_sort_u64(keys, idx, nh, tmp);
     for (i = 0; i < nh; i++) {
         if (i == 0 || keys[idx[i]] != keys[idx[i - 1]]) count++;
@@ -969,7 +744,7 @@ static ls_real normalize3(ls_real v[3])
     return len * m;
 }
 
-static void face_cross(const ls_real *p, const uint32_t *t, ls_real n[3])
+void ls_mesh_impl_face_cross(const ls_real *p, const uint32_t *t, ls_real n[3])
 {
     const ls_real *a = p + 3 * (size_t)t[0], *b = p + 3 * (size_t)t[1], *c = p + 3 * (size_t)t[2];
     ls_real u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
@@ -1012,9 +787,9 @@ ls_status ls_mesh_face_normals(const ls_mesh *mesh, ls_real *out, ls_diag *diag)
 {
     ls_diag_clear(diag);
     uint32_t f, bad;
-    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, ls_mesh_impl_problem(mesh));
     if (out == NULL && mesh->face_count > 0) return ls_invalid_arg(diag, "out is NULL with face_count > 0");
-    bad = first_bad_face(mesh);
+    bad = ls_mesh_impl_first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
         return LS_ERR_MESH;
@@ -1045,10 +820,10 @@ ls_status ls_mesh_vertex_normals(const ls_mesh *mesh, uint32_t weighting, ls_rea
     ls_diag_clear(diag);
     uint32_t f, v, k, bad;
     const ls_real *p;
-    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, mesh_problem(mesh));
+    if (check_mesh(mesh) != LS_OK) return ls_invalid_arg(diag, ls_mesh_impl_problem(mesh));
     if (out == NULL && mesh->vertex_count > 0) return ls_invalid_arg(diag, "out is NULL with vertex_count > 0");
     if (weighting > LS_NORMALS_ANGLE) return ls_invalid_arg(diag, "weighting: allowed LS_NORMALS_UNIFORM .. LS_NORMALS_ANGLE");
-    bad = first_bad_face(mesh);
+    bad = ls_mesh_impl_first_bad_face(mesh);
     if (bad != LS_MESH_NONE) {
         set_diag(diag, LS_ERR_MESH, "face index out of range", bad);
         return LS_ERR_MESH;
@@ -1059,7 +834,7 @@ ls_status ls_mesh_vertex_normals(const ls_mesh *mesh, uint32_t weighting, ls_rea
         const uint32_t *t = mesh->triangles + 3 * (size_t)f;
         ls_real n[3], unit[3];
         if (!face_unit_normal(p, t, unit)) continue;
-        face_cross(p, t, n);
+        ls_mesh_impl_face_cross(p, t, n);
         for (k = 0; k < 3; k++) {
             ls_real *o = out + 3 * (size_t)t[k];
             if (weighting == LS_NORMALS_AREA) {

@@ -312,16 +312,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
             a->cfg.shading.mode = strcmp(v, "sh") == 0 ? LS_SHADE_SH : strcmp(v, "mask") == 0 ? LS_SHADE_MASK : 99u;
             ok = a->cfg.shading.mode != 99u;
         } else if (strcmp(o, "--target-normals") == 0) {
-            double deg = 0;
-            a->target_normals = strcmp(v, "flat") == 0   ? LS_JOB_NORMALS_FLAT
-                              : strcmp(v, "smooth") == 0 ? LS_JOB_NORMALS_SMOOTH
-                              : strcmp(v, "auto") == 0   ? LS_JOB_NORMALS_AUTO
-                              : ls_parse_double(v, strlen(v), &deg) == LS_OK && deg > 0 && deg < 180
-                                  ? LS_JOB_NORMALS_CREASES
-                                  : 99u;
-            a->target_crease_deg = deg;
             a->target_normals_given = 1;
-            if (a->target_normals == 99u)
+            if (!ls_job_parse_normals(v, &a->target_normals, &a->target_crease_deg))
                 return fprintf(stderr, "largesteps fit: --target-normals: '%s' is not auto, smooth, flat or an angle in "
                                        "degrees between 0 and 180\n", v), 0;
         } else {

@@ -129,13 +129,9 @@ static int parse_args(int argc, char **argv, render_args *a)
         } else if (strcmp(o, "--fov") == 0) {
             ok = ls_arg_real("render", o, v, 0, 180, LS_ARG_LO_OPEN | LS_ARG_HI_OPEN, &a->fov_deg);
         } else if (strcmp(o, "--normals") == 0) {
-            if (strcmp(v, "smooth") == 0) a->normals = LS_JOB_NORMALS_SMOOTH;
-            else if (strcmp(v, "flat") == 0) a->normals = LS_JOB_NORMALS_FLAT;
-            else if (strcmp(v, "auto") == 0) a->normals = LS_JOB_NORMALS_AUTO;
-            else if (ls_parse_double(v, strlen(v), &a->crease_deg) == LS_OK && a->crease_deg > 0 && a->crease_deg < 180)
-                a->normals = LS_JOB_NORMALS_CREASES;
-            else ok = 0, fprintf(stderr, "largesteps render: --normals: '%s' is not smooth, auto, flat or an angle in "
-                                         "degrees between 0 and 180\n", v);
+            if (!ls_job_parse_normals(v, &a->normals, &a->crease_deg))
+                ok = 0, fprintf(stderr, "largesteps render: --normals: '%s' is not smooth, auto, flat or an angle in "
+                                        "degrees between 0 and 180\n", v);
         } else if (strcmp(o, "--shading") == 0) {
             if (strcmp(v, "mask") == 0) a->mode = LS_SHADE_MASK;
             else if (strcmp(v, "sh") == 0) a->mode = LS_SHADE_SH;

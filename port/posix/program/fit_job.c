@@ -597,6 +597,18 @@ static int hull_initial(ls_job_problem *p, uint32_t resolution, double edge, uin
     return coarse_initial(p, &hull, edge, smooth, 1, arena);
 }
 
+int ls_job_parse_normals(const char *v, uint32_t *normals, double *crease_deg)
+{
+    double deg = 0;
+    if (strcmp(v, "smooth") == 0) *normals = LS_JOB_NORMALS_SMOOTH;
+    else if (strcmp(v, "flat") == 0) *normals = LS_JOB_NORMALS_FLAT;
+    else if (strcmp(v, "auto") == 0) *normals = LS_JOB_NORMALS_AUTO;
+    else if (ls_parse_double(v, strlen(v), &deg) == LS_OK && deg > 0 && deg < 180) *normals = LS_JOB_NORMALS_CREASES;
+    else return 0;
+    *crease_deg = deg;
+    return 1;
+}
+
 ls_status ls_job_shown_mesh(const ls_mesh *mesh, uint32_t normals, double crease_deg, ls_arena *arena, ls_mesh *shown,
                             int *creased, double *flat_share, ls_diag *d)
 {

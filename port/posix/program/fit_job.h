@@ -37,8 +37,8 @@ typedef struct ls_job_options {
     uint32_t width, height; /* render size (mesh targets) */
     uint32_t target_ss;     /* supersampling of the target renders */
     uint32_t target_normals; /* mesh targets: LS_JOB_NORMALS_SMOOTH, _FLAT (each face's own normal,
-                                ls_mesh_unweld) or _CREASES (split where faces meet at more than
-                                target_crease_deg, ls_mesh_split_creases) */
+                                ls_mesh_unweld), _CREASES (split where faces meet at more than
+                                target_crease_deg, ls_mesh_split_creases) or _AUTO (ls_job_shown_mesh) */
     double target_crease_deg;
     uint32_t shading;       /* LS_SHADE_SH or LS_SHADE_MASK (mesh targets) */
     uint32_t level;         /* initial icosphere level */
@@ -207,6 +207,11 @@ typedef struct ls_job_run {
     ls_real *albedo;         /* [3 result.vertex_count] LS_FIT_ALBEDO_VERTEX: the estimated albedo (mean 1 per
                                 channel, the scale in sh); else NULL */
 } ls_job_run;
+
+/* --target-normals / --normals: smooth, flat, auto or an angle in degrees in
+ * (0, 180) into *normals (LS_JOB_NORMALS_*) and *crease_deg; 0 for anything
+ * else (the caller says what is allowed). */
+int ls_job_parse_normals(const char *v, uint32_t *normals, double *crease_deg);
 
 /* The mesh a target's renders show for target_normals (LS_JOB_NORMALS_*):
  * the mesh itself, unwelded, or split at its creases (from the arena); for
