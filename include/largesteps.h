@@ -50,5 +50,6 @@
 #include <largesteps/halfedge.h>
 #include <largesteps/remesh.h>
 #include <largesteps/visual_hull.h>
+#include <largesteps/mask.h>
 
 #endif /* LARGESTEPS_H */

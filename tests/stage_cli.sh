@@ -605,5 +605,20 @@ expect fit_target_normals_bad_value 2 "--target-normals" "$ls" fit "$out/cube.ob
 expect fit_target_normals_needs_a_mesh 2 "--target-normals shades the renders of a mesh target" \
     "$ls" fit "$ds/transforms.json" --target-normals flat --iters 0 -o "$out/x"
 
+# A target only a few pixels thick at the asked size (a bar 1 x 0.03 x 0.03: 2.8 pixels in the
+# median of 8 views at 128 x 128) is fitted at the size that makes it 6 thick, rounded up to a
+# multiple of 64; with --res given, the size stays and a warning names the fix; the bunny (6.4
+# pixels at 32 x 32) says nothing of it.
+awk 'BEGIN { for (i = 0; i < 8; i++) printf "v %g %g %g\n", (i % 2), (int(i / 2) % 2) * 0.03, int(i / 4) * 0.03 }' > "$out/bar.obj"
+cube_faces 0 >> "$out/bar.obj"
+"$ls" fit "$out/bar.obj" --iters 0 --views 8 --quiet -o "$out/bar_fit" > "$build/bar_fit.log" 2>&1
+"$ls" fit "$out/bar.obj" --iters 0 --views 8 --res 200 --quiet -o "$out/bar_fit_200" > "$build/bar_fit_200.log" 2>&1
+if grep -q "the target is 2.8 pixels thick at 128 x 128 .*: fitting at 320 x 320, where it is 6.0" "$build/bar_fit.log" &&
+        grep -q "8 views at 320 x 320" "$build/bar_fit.log" && ! grep -q "warning" "$build/bar_fit.log" &&
+        grep -q "warning: the object is only 4.0 pixels thick .*a larger --res makes it thicker" "$build/bar_fit_200.log" &&
+        grep -q "8 views at 200 x 200" "$build/bar_fit_200.log" && grep -q "(the object 6.4 pixels thick)" "$build/bunny_fit_default.log" && ! grep -q "too thin\|warning" "$build/bunny_fit_default.log"; then
+    ok "fit_thin_target_rendered_larger (2.8 pixels at 128: 320 x 320; --res 200 kept, with a warning)"
+else bad "fit_thin_target_rendered_larger"; cat "$build/bar_fit.log" "$build/bar_fit_200.log"; fi
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -17,45 +17,11 @@
  * pixel (a vertex on the true surface projects into a covered pixel, at most
  * half a pixel from a covered centre). Vertices behind the camera or outside
  * the image are not pulled. The distance fields are exact Euclidean distance
- * transforms of the targets' masks (Felzenszwalb and Huttenlocher's lower
- * envelope of parabolas, columns then rows), made when the fit is built. */
+ * transforms of the targets' masks (mask.c), made when the fit is built. */
 #include <largesteps/math.h>
 #include "fit_internal.h"
 #include "../base/parallel.h"
-
-/* A distance larger than any in an image (squared pixels). */
-#define MASK_FAR ((ls_real)1e20)
-
-/* The 1D squared distance transform of f[0..n) into d: d[q] = min over p of
- * (q - p)^2 + f[p] (f: 0 or MASK_FAR). v: n indices, z: n + 1 reals. */
-static void dt_line(const ls_real *f, uint32_t n, ls_real *d, uint32_t *v, ls_real *z)
-{
-    uint32_t q, k = 0;
-    v[0] = 0;
-    z[0] = -(ls_real)2 * MASK_FAR; /* below every intersection: s >= -MASK_FAR / 2 */
-    z[1] = (ls_real)2 * MASK_FAR;
-    for (q = 1; q < n; q++) {
-        const ls_real qq = (ls_real)q;
-        ls_real s;
-        for (;;) {
-            const ls_real p = (ls_real)v[k];
-            s = ((f[q] + qq * qq) - (f[v[k]] + p * p)) / ((ls_real)2 * (qq - p));
-            if (s > z[k] || k == 0) break;
-            k--;
-        }
-        k++;
-        v[k] = q;
-        z[k] = s;
-        z[k + 1u] = (ls_real)2 * MASK_FAR;
-    }
-    k = 0;
-    for (q = 0; q < n; q++) {
-        ls_real t;
-        while (z[k + 1u] < (ls_real)q) k++;
-        t = (ls_real)q - (ls_real)v[k];
-        d[q] = t * t + f[v[k]];
-    }
-}
+#include "../render/mask_internal.h"
 
 void ls_fit_impl_mask_sizes(const ls_fit_config *c, uint32_t views, size_t *reals, size_t *indices)
 {
@@ -69,15 +35,8 @@ void ls_fit_impl_mask_sizes(const ls_fit_config *c, uint32_t views, size_t *real
 void ls_fit_impl_mask_init(ls_fit *fit)
 {
     const uint32_t w = fit->config.width, h = fit->config.height;
-    const uint32_t side = w > h ? w : h;
-    uint32_t view, x, y;
-    ls_real *f, *d, *z;
-    uint32_t *v;
+    uint32_t view;
     if (fit->mask_dist == NULL) return;
-    f = fit->mask_dist + (size_t)fit->views.count * w * h;
-    d = f + side + 1u;
-    z = d + side + 1u;
-    v = fit->mask_index;
     for (view = 0; view < fit->views.count; view++) {
         const ls_real *t = fit->views.targets[view];
         ls_real *g = fit->mask_dist + (size_t)view * w * h;
@@ -87,16 +46,8 @@ void ls_fit_impl_mask_init(ls_fit *fit)
             memset(g, 0, (size_t)w * h * sizeof(ls_real));
             continue;
         }
-        for (x = 0; x < w; x++) { /* columns */
-            for (y = 0; y < h; y++) f[y] = t[4u * ((size_t)y * w + x) + 3u] > (ls_real)0 ? (ls_real)0 : MASK_FAR;
-            dt_line(f, h, d, v, z);
-            for (y = 0; y < h; y++) g[(size_t)y * w + x] = d[y];
-        }
-        for (y = 0; y < h; y++) { /* rows */
-            memcpy(f, g + (size_t)y * w, w * sizeof(ls_real));
-            dt_line(f, w, d, v, z);
-            for (x = 0; x < w; x++) g[(size_t)y * w + x] = LS_RSQRT(d[x]);
-        }
+        for (i = 0; i < (size_t)w * h; i++) g[i] = t[4u * i + 3u] > (ls_real)0 ? (ls_real)0 : LS_MASK_FAR;
+        ls_mask_impl_transform(g, w, h, fit->mask_dist + (size_t)fit->views.count * w * h, fit->mask_index);
     }
 }
 

@@ -40,6 +40,7 @@ typedef struct fit_args {
     const char *target, *out;
     uint32_t views, res, level, target_ss, target_normals, quiet, track, init_smooth, init_sphere, init_hull, threads;
     uint32_t remesh_given;      /* --remesh was given (else the default for the start) */
+    uint32_t res_given;         /* --res was given (else a thin mesh target raises the size) */
     uint32_t grad_limit_given;  /* --grad-limit was given (else the default for the lighting) */
     uint32_t boost_given;       /* --boost was given (else the default for the shading) */
     uint32_t target_normals_given; /* --target-normals was given (a mesh target's option) */
@@ -61,7 +62,8 @@ static int usage(FILE *f)
             "  --views N          views on a Fibonacci sphere (1..1024; default 32)\n"
             "  --batch B          views rendered per iteration, spread over the --views pool (0 = all;\n"
             "                     default 16; all when the pool has no more)\n"
-            "  --res R            render size R x R (8..4096; default 128)\n"
+            "  --res R            render size R x R (8..4096; default 128, and for a mesh target thinner\n"
+            "                     than 6 pixels there the size that makes it 6 thick, at most 512)\n"
             "  --iters N          iterations (0..1000000; default 800)\n"
             "  --alpha A          M = (1 - A) I + A Laplacian, 0 <= A < 1 (default 0.95, the paper's form)\n"
             "  --lambda L         M = I + L Laplacian instead (lambda = alpha / (1 - alpha); 0 <= L <= 1e12;\n"
@@ -242,7 +244,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
         else if (strcmp(o, "--views") == 0) ok = parse_u32(v, 1, 1024, &a->views);
         else if (strcmp(o, "--threads") == 0) ok = parse_u32(v, 1, LS_FIT_MAX_WORKERS, &a->threads);
         else if (strcmp(o, "--batch") == 0) ok = parse_u32(v, 0, 1024, &a->cfg.view_batch);
-        else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res);
+        else if (strcmp(o, "--res") == 0) ok = parse_u32(v, 8, 4096, &a->res), a->res_given = 1;
         else if (strcmp(o, "--iters") == 0) ok = parse_u32(v, 0, 1000000, &a->sched.iterations);
         else if (strcmp(o, "--level") == 0) ok = parse_u32(v, 0, 7, &a->level);
         else if (strcmp(o, "--init-coarse") == 0) ok = parse_range(v, 0, 1, LS_ARG_LO_OPEN, &a->init_edge);
@@ -598,6 +600,7 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
     o.init_smooth = a.init_smooth;
     o.init_auto = !a.init_sphere;
     o.init_hull = a.init_hull;
+    o.auto_res = !a.res_given;
     o.parallel = a.cfg.parallel; /* the target renders and the metrics on the fit's threads */
     o.workers = a.cfg.workers;
     if (!ls_job_load(&p, &o, &arena)) return 1;
@@ -628,6 +631,17 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                         "shading is %s\n", p.shading.mode == LS_SHADE_MASK ? "the masks alone" : "given");
         return 2;
     }
+    if (p.res_asked > 0)
+        printf("the target is %.1f pixels thick at %u x %u (the median view's largest disc inside its mask), too thin "
+               "for its silhouettes to grow a fit into: fitting at %u x %u, where it is %.1f (--res sets the size)\n",
+               p.thickness_asked, (unsigned)p.res_asked, (unsigned)p.res_asked, (unsigned)p.width, (unsigned)p.height,
+               p.thickness);
+    if (p.thickness > 0 && p.thickness < LS_JOB_MIN_THICKNESS)
+        fprintf(stderr, "largesteps fit: warning: the object is only %.1f pixels thick in the targets (the median "
+                        "view's largest disc inside its mask); below %g the fit tends to shrink onto a part of it (%s)\n",
+                p.thickness, LS_JOB_MIN_THICKNESS,
+                p.have_mesh ? "a larger --res makes it thicker" : "images of higher resolution, or cropped closer to the "
+                                                                 "object, make it thicker");
     if (p.target_creased)
         printf("the target is made of flat pieces (%.0f %% of its edges join coplanar faces): its renders show its "
                "creases sharper than %g degrees (--target-normals smooth shades it smooth)\n",
@@ -676,9 +690,10 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                             "lower --alpha brings it below %g\n",
                     lambda, lambda / (1 + lambda), ratio, mu, (double)LS_JOB_MEAN_RATIO_WARN, (double)LS_JOB_MEAN_RATIO_WARN);
     }
-    printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u\n", p.name,
+    printf("target %s: %u vertices, %u faces; initial mesh: %u vertices; %u views at %u x %u (the object %.1f "
+           "pixels thick)\n", p.name,
            p.have_mesh ? (unsigned)p.target.vertex_count : 0u, p.have_mesh ? (unsigned)p.target.face_count : 0u,
-           (unsigned)p.initial.vertex_count, (unsigned)p.views, (unsigned)p.width, (unsigned)p.height);
+           (unsigned)p.initial.vertex_count, (unsigned)p.views, (unsigned)p.width, (unsigned)p.height, p.thickness);
     renders = (ls_real **)ls_arena_alloc(&arena, 2u * p.views, sizeof(ls_real *));
     for (v = 0; renders != NULL && v < 2u * p.views; v++) {
         renders[v] = (ls_real *)ls_arena_alloc(&arena, 4u * (size_t)p.width * p.height, sizeof(ls_real));

@@ -630,12 +630,62 @@ ls_status ls_job_shown_mesh(const ls_mesh *mesh, uint32_t normals, double crease
     return st;
 }
 
+/* The problem's target images, width x height each. */
+static int alloc_targets(ls_job_problem *p, ls_arena *arena)
+{
+    const size_t px = 4u * (size_t)p->width * p->height;
+    uint32_t v;
+    p->targets = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
+    if (p->targets == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    for (v = 0; v < p->views; v++) {
+        p->targets[v] = (ls_real *)ls_arena_alloc(arena, px, sizeof(ls_real));
+        if (p->targets[v] == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
+    }
+    return 1;
+}
+
+/* A mesh target's images: the mesh as --target-normals shows it. */
+static int render_target(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_mesh shown = p->target;
+    ls_diag d;
+    ls_status st;
+    ls_diag_clear(&d);
+    st = ls_job_shown_mesh(&p->target, o->target_normals, o->target_crease_deg, arena, &shown, &p->target_creased,
+                           &p->target_flat_share, &d);
+    if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
+    ls_arena_restore(arena, mark);
+    return st == LS_OK ? 1 : ls_job_fail("rendering the target", st, &d);
+}
+
+/* p->thickness: the median over the views of each target's inscribed radius. */
+static int measure_thickness(ls_job_problem *p, ls_arena *arena)
+{
+    ls_arena_mark mark = ls_arena_save(arena);
+    ls_real *r = (ls_real *)ls_arena_alloc(arena, p->views, sizeof(ls_real));
+    ls_diag d;
+    uint32_t v, k;
+    ls_status st = r != NULL ? LS_OK : LS_ERR_NOMEM;
+    ls_diag_clear(&d);
+    for (v = 0; v < p->views && st == LS_OK; v++) {
+        ls_real x;
+        st = ls_mask_inscribed_radius(p->targets[v], p->width, p->height, arena, &x, &d);
+        for (k = v; k > 0 && r[k - 1u] > x; k--) r[k] = r[k - 1u]; /* kept sorted */
+        if (st == LS_OK) r[k] = x;
+    }
+    if (st == LS_OK)
+        p->thickness = p->views % 2u ? (double)r[p->views / 2u] : 0.5 * ((double)r[p->views / 2u - 1u] + (double)r[p->views / 2u]);
+    ls_arena_restore(arena, mark);
+    return st == LS_OK ? 1 : ls_job_fail("measuring the targets' thickness", st, &d);
+}
+
 int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 {
     ls_scene scene;
+    ls_arena_mark targets_mark;
     ls_diag d;
     uint32_t v, i;
-    size_t px;
     int is_scene;
     ls_status st;
     memset(p, 0, sizeof *p);
@@ -704,25 +754,28 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         (void)ls_camera_fibonacci_dirs(p->views, dirs);
         for (v = 0; v < p->views; v++) (void)ls_camera_framed_view(&p->framing, dirs + 3u * v, NULL, p->mvps + 16u * v);
     }
-    px = 4u * (size_t)p->width * p->height;
-    p->targets = (ls_real **)ls_arena_alloc(arena, p->views, sizeof(ls_real *));
-    if (p->targets == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
-    for (v = 0; v < p->views; v++) {
-        p->targets[v] = (ls_real *)ls_arena_alloc(arena, px, sizeof(ls_real));
-        if (p->targets[v] == NULL) return ls_job_fail("memory", LS_ERR_NOMEM, NULL);
-    }
+    targets_mark = ls_arena_save(arena);
+    if (!alloc_targets(p, arena)) return 0;
     if (p->have_mesh) {
-        ls_arena_mark mark = ls_arena_save(arena);
-        ls_mesh shown = p->target;
-        st = ls_job_shown_mesh(&p->target, o->target_normals, o->target_crease_deg, arena, &shown, &p->target_creased,
-                               &p->target_flat_share, &d);
-        if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
-        ls_arena_restore(arena, mark);
-        if (st != LS_OK) return ls_job_fail("rendering the target", st, &d);
+        if (!render_target(p, o, arena)) return 0;
     } else if (!load_targets(p, &scene, o->target, has_suffix(o->target, ".json"), arena)) {
         return 0;
     } else if (has_suffix(o->target, ".json") && scene.initial == LS_SCENE_INITIAL_ICOSPHERE) {
         start_from_cameras(p, &scene);
+    }
+    if (!measure_thickness(p, arena)) return 0;
+    if (p->have_mesh && o->auto_res && !is_scene && p->width == p->height && p->thickness > 0 &&
+        p->thickness < LS_JOB_MIN_THICKNESS) { /* too thin to grow into: rendered larger */
+        const double want = ceil((double)p->width * LS_JOB_MIN_THICKNESS / p->thickness / LS_JOB_AUTO_RES_STEP);
+        const uint32_t res = want * LS_JOB_AUTO_RES_STEP < LS_JOB_AUTO_RES_MAX ? (uint32_t)want * LS_JOB_AUTO_RES_STEP
+                                                                              : LS_JOB_AUTO_RES_MAX;
+        if (res > p->width) {
+            p->res_asked = p->width;
+            p->thickness_asked = p->thickness;
+            ls_arena_restore(arena, targets_mark);
+            p->width = p->height = res;
+            if (!alloc_targets(p, arena) || !render_target(p, o, arena) || !measure_thickness(p, arena)) return 0;
+        }
     }
     if (p->have_mesh) { /* what a sphere can reach */
         ls_arena_mark mark = ls_arena_save(arena);
