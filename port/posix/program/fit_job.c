@@ -972,6 +972,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
     ls_real *pos;
     uint32_t it, next = 0, still = 0;
     uint32_t saved_pairs = 0;
+    uint32_t guard_every = s->guard_every, clean_checks = 0, starts = 0; /* the guard's interval now (LS_JOB_GUARD_MIN) */
     uint32_t ref_vertices; /* of the mesh after the last scheduled remesh (or the initial mesh) */
     double t0;
     ls_status st;
@@ -1028,7 +1029,7 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
         const int remesh_due = next < remesh_count && remesh_at[next] == it;
         /* the guard's check, and always one before a scheduled remesh: the remesh starts
            from a checked mesh, and one that adds self-intersections to it is refused */
-        if (s->guard_every > 0 && (it % s->guard_every == 0 || !fit.saved_valid || remesh_due)) {
+        if (s->guard_every > 0 && (it % guard_every == 0 || !fit.saved_valid || remesh_due)) {
             uint32_t pairs = 0;
             if (!fit_pairs(&fit, &pairs)) return 0;
             if (fit.saved_valid && fit.saved_iteration < fit.iteration && pairs > saved_pairs) {
@@ -1053,6 +1054,13 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
                     if (remeshed) (void)ls_fit_save(&fit);
                 }
                 fit.optim.config.lr *= s->guard_lr;
+                /* checked more often while the fit cannot leave its start (LS_JOB_GUARD_SPIRAL) */
+                starts = back == 0u ? starts + 1u : 0u;
+                if (starts >= LS_JOB_GUARD_SPIRAL) { /* back to the start again and again: nothing kept */
+                    guard_every = guard_every / 2u > LS_JOB_GUARD_MIN ? guard_every / 2u : LS_JOB_GUARD_MIN;
+                    if (guard_every > s->guard_every) guard_every = s->guard_every;
+                }
+                clean_checks = 0;
                 if (progress)
                     printf("%sself-intersections at iteration %u (%u pairs): back to iteration %u%s, lr x %g\n",
                            progress == 2 ? "\n" : "", (unsigned)it, (unsigned)pairs, (unsigned)back,
@@ -1063,6 +1071,10 @@ int ls_job_fit(const ls_job_problem *p, const ls_fit_config *cfg, const ls_job_s
             } else {
                 (void)ls_fit_save(&fit);
                 saved_pairs = pairs;
+                if (guard_every < s->guard_every && ++clean_checks >= LS_JOB_GUARD_CLEAN) { /* and less once it stops */
+                    guard_every = 2u * guard_every < s->guard_every ? 2u * guard_every : s->guard_every;
+                    clean_checks = 0;
+                }
             }
         }
         if (remesh_due) {

@@ -262,7 +262,8 @@ typedef struct ls_job_schedule {
                                 guard_remesh x its mean edge (when > 0) and multiply the
                                 learning rate by guard_lr */
     ls_real guard_lr;
-    ls_real guard_remesh;
+    ls_real guard_remesh;    /* (roll-backs to the start, again and again, also shorten the interval:
+                                LS_JOB_GUARD_SPIRAL) */
     ls_real settle;          /* the last settle x iterations (rounded down) run at settle_lr x the
                                 learning rate: the steps' jitter dies down before the result is
                                 taken (0: off) */
@@ -270,6 +271,19 @@ typedef struct ls_job_schedule {
     ls_real boost_final;     /* >= 0: config.boost from the last scheduled remesh on (< 0, the
                                 default: unchanged) */
 } ls_job_schedule;
+
+/* The guard's interval while the fit cannot leave its start: from the
+ * LS_JOB_GUARD_SPIRAL-th roll-back in a row to the start on, each one halves
+ * it, down to LS_JOB_GUARD_MIN iterations; LS_JOB_GUARD_CLEAN clean checks in
+ * a row double it back. A sphere collapsing onto thin parts folds within a
+ * few steps, and with a check every 25 iterations the cactus went back to
+ * its start 30 times. A fit that does not keep returning to its start keeps
+ * guard_every (halving at every roll-back to the start made the blade's and
+ * a beam's first roll-backs finer too, and lost them: 2.1 -> 30 % and 0.7 ->
+ * 7.1 %). */
+#define LS_JOB_GUARD_MIN 5u
+#define LS_JOB_GUARD_CLEAN 4u
+#define LS_JOB_GUARD_SPIRAL 3u
 
 /* The program's default schedule: 800 iterations, remeshes before 200 and
  * 500 at the method's h = 1/2 the mean edge and lr x 0.8. */
