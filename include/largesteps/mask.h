@@ -44,8 +44,8 @@ ls_status ls_mask_distance(const ls_real *rgba, uint32_t width, uint32_t height,
 /* ls_mask_inscribed_radius: *radius = the largest distance from a pixel
  * with alpha above 0.5 to the nearest one not above (pixels beyond the image
  * count as background): the radius of the largest disc inside the object, in
- * pixels; 0 when no pixel is inside. 1 for an object one pixel thick, 3.5 for
- * the blade above. Memory: both sizes of ls_mask_distance_bytes from `arena`,
+ * pixels; 0 when no pixel is inside. 1 for an object one pixel thick, 3.0 in
+ * the median view for the blade above. Memory: both sizes of ls_mask_distance_bytes from `arena`,
  * released on return. Errors: as ls_mask_distance. */
 ls_status ls_mask_inscribed_radius(const ls_real *rgba, uint32_t width, uint32_t height, ls_arena *arena,
                                    ls_real *radius, ls_diag *diag);

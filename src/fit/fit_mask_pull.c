@@ -46,8 +46,8 @@ void ls_fit_impl_mask_init(ls_fit *fit)
             memset(g, 0, (size_t)w * h * sizeof(ls_real));
             continue;
         }
-        for (i = 0; i < (size_t)w * h; i++) g[i] = t[4u * i + 3u] > (ls_real)0 ? (ls_real)0 : LS_MASK_FAR;
-        ls_mask_impl_transform(g, w, h, fit->mask_dist + (size_t)fit->views.count * w * h, fit->mask_index);
+        ls_mask_impl_distance(t, w, h, (ls_real)0, 0u, g, fit->mask_dist + (size_t)fit->views.count * w * h,
+                              fit->mask_index);
     }
 }
 

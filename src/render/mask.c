@@ -37,11 +37,17 @@ static void dt_line(const ls_real *f, uint32_t n, ls_real *d, uint32_t *v, ls_re
     }
 }
 
-void ls_mask_impl_transform(ls_real *g, uint32_t w, uint32_t h, ls_real *line, uint32_t *v)
+void ls_mask_impl_distance(const ls_real *rgba, uint32_t w, uint32_t h, ls_real threshold, uint32_t to_background,
+                           ls_real *g, ls_real *line, uint32_t *v)
 {
     const uint32_t side = w > h ? w : h;
     ls_real *f = line, *d = line + side + 1u, *z = d + side + 1u;
     uint32_t x, y;
+    size_t i;
+    for (i = 0; i < (size_t)w * h; i++) { /* 0 at the pixels distances are taken to */
+        const int above = rgba[4u * i + 3u] > threshold;
+        g[i] = (to_background ? !above : above) ? (ls_real)0 : LS_MASK_FAR;
+    }
     for (x = 0; x < w; x++) { /* columns */
         for (y = 0; y < h; y++) f[y] = g[(size_t)y * w + x];
         dt_line(f, h, d, v, z);
@@ -87,11 +93,10 @@ ls_status ls_mask_distance_bytes(uint32_t width, uint32_t height, size_t *line_b
 static ls_status distance_call(const ls_real *rgba, uint32_t width, uint32_t height, ls_real threshold,
                                uint32_t to_background, ls_real *dist, ls_arena *arena, ls_diag *diag)
 {
-    const size_t side = (size_t)(width > height ? width : height) + 1u, n = (size_t)width * height;
+    const size_t side = (size_t)(width > height ? width : height) + 1u;
     ls_arena_mark mark;
     ls_real *line;
     uint32_t *v;
-    size_t i;
     if (rgba == NULL || dist == NULL || arena == NULL) return ls_invalid_arg(diag, "rgba, dist and arena must not be NULL");
     if (check_size(width, height, diag) != LS_OK) return LS_ERR_INVALID;
     if (!(threshold == threshold) || threshold > LS_REAL_MAX || threshold < -LS_REAL_MAX)
@@ -104,11 +109,7 @@ static ls_status distance_call(const ls_real *rgba, uint32_t width, uint32_t hei
         return ls_diag_set(diag, LS_ERR_NOMEM, "mask distance: the arena cannot hold a line's work (ls_mask_distance_bytes)",
                            LS_DIAG_NO_INDEX);
     }
-    for (i = 0; i < n; i++) {
-        const int above = rgba[4u * i + 3u] > threshold;
-        dist[i] = (to_background ? !above : above) ? (ls_real)0 : LS_MASK_FAR;
-    }
-    ls_mask_impl_transform(dist, width, height, line, v);
+    ls_mask_impl_distance(rgba, width, height, threshold, to_background, dist, line, v);
     ls_arena_restore(arena, mark);
     return LS_OK;
 }

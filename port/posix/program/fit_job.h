@@ -149,9 +149,9 @@ typedef struct ls_job_options {
 /* How thick the object is in the targets: the median over the views of the
  * radius of the largest disc inside each mask (ls_mask_inscribed_radius), in
  * pixels. Below LS_JOB_MIN_THICKNESS the silhouettes leave the fit too little
- * to grow into: a blade 3.5 pixels thick at 128 x 128 fitted to 43 % of its
- * diagonal, at 256 x 256 (7 pixels) to 2.1-2.4 %; the 25 other targets of the
- * fit suite and its CAD parts are 12-42 pixels thick at 128 x 128. A mesh
+ * to grow into: a blade 3.0 pixels thick at 128 x 128 fitted to 43 % of its
+ * diagonal, at 256 x 256 (6.5 pixels) to 1.9-2.4 %; the 24 other targets of
+ * the fit suite and its CAD parts are 12-42 pixels thick at 128 x 128. A mesh
  * target that thin is rendered, and fitted, at the size that makes it
  * LS_JOB_MIN_THICKNESS thick, rounded up to a multiple of
  * LS_JOB_AUTO_RES_STEP, at most LS_JOB_AUTO_RES_MAX; images that thin are
