@@ -601,6 +601,26 @@ if cmp -s "$out/cube_fit_default/contact.png" "$out/cube_fit_60/contact.png" &&
         ! grep -q "flat pieces" "$build/bunny_fit_default.log"; then
     ok "fit_target_normals_auto (the cube split at 60 degrees, the bunny smooth)"
 else bad "fit_target_normals_auto"; cat "$build/cube_fit_default.log"; fi
+# A fit that starts from the target itself (the elephant, genus 3: the automatic start) renders it
+# flat by default and says so; with a smoothed start (--init-smooth) or from the sphere, smooth as
+# before (the same bytes as --target-normals smooth).
+for n in default:'' flat:'--target-normals flat' smooth:'--target-normals smooth' smoothed:'--init-smooth 2' \
+    smoothed_smooth:'--init-smooth 2 --target-normals smooth' sphere:'--init-sphere' \
+    sphere_smooth:'--init-sphere --target-normals smooth'; do
+    # shellcheck disable=SC2086 # ${n#*:}: options and their values, or nothing
+    "$ls" fit fixtures/meshes/elephant.obj ${n#*:} --iters 0 --res 24 --views 2 --quiet -o "$out/el_fit_${n%%:*}" \
+        > "$build/el_fit_${n%%:*}.log" 2>&1
+done
+if [ -s "$out/el_fit_default/contact.png" ] && [ -s "$out/el_fit_smooth/contact.png" ] &&
+        cmp -s "$out/el_fit_default/contact.png" "$out/el_fit_flat/contact.png" &&
+        ! cmp -s "$out/el_fit_default/contact.png" "$out/el_fit_smooth/contact.png" &&
+        grep -q "the fit starts from the target itself: its renders show its faces flat" "$build/el_fit_default.log" &&
+        [ -s "$out/el_fit_smoothed/contact.png" ] && [ -s "$out/el_fit_sphere/contact.png" ] &&
+        cmp -s "$out/el_fit_smoothed/contact.png" "$out/el_fit_smoothed_smooth/contact.png" &&
+        cmp -s "$out/el_fit_sphere/contact.png" "$out/el_fit_sphere_smooth/contact.png" &&
+        ! grep -q "renders show its faces flat" "$build/el_fit_smoothed.log" "$build/el_fit_sphere.log"; then
+    ok "fit_target_flat_from_its_own_start (flat from itself; smoothed or from the sphere, smooth)"
+else bad "fit_target_flat_from_its_own_start"; cat "$build/el_fit_default.log"; fi
 expect fit_target_normals_bad_value 2 "--target-normals" "$ls" fit "$out/cube.obj" --target-normals 180 -o "$out/x"
 expect fit_target_normals_needs_a_mesh 2 "--target-normals shades the renders of a mesh target" \
     "$ls" fit "$ds/transforms.json" --target-normals flat --iters 0 -o "$out/x"

@@ -140,7 +140,8 @@ static int usage(FILE *f)
             "  --target-ss S      supersampling of the target renders: 1, 2 or 4 (default 4)\n"
             "  --target-normals N how a mesh target's renders are shaded: auto (default: vertex normals\n"
             "                     averaged over their faces, but a target made of flat pieces, a CAD part,\n"
-            "                     split at its creases sharper than 60 degrees) | smooth (never split) |\n"
+            "                     split at its creases sharper than 60 degrees, and flat when the fit starts\n"
+            "                     from the target itself not smoothed) | smooth (never split) |\n"
             "                     flat (each face its own normal) | DEGREES (0..180: split at the edges\n"
             "                     whose faces meet at more than this angle)\n"
             "  --track N          measure the distances to the target every N iterations for log.csv and\n"
@@ -670,6 +671,9 @@ static int fit_main(fit_args *ap, ls_arena *arena_p)
                             "cannot match it (--init-coarse %g starts from the target's own topology)\n",
                     what, LS_JOB_AUTO_EDGE);
     }
+    if (p.target_flat_start)
+        printf("the fit starts from the target itself: its renders show its faces flat, so that the fit stays on "
+               "them (--target-normals smooth shades them smooth)\n");
     if (p.start_tries > 1 && p.start_pairs > 0) /* a remeshed start (coarse_initial): what became of its edge */
         printf("the start self-intersects (%u face pairs) remeshed to %g, %g and %g of the diagonal alike (a part "
                "thinner than the edge, or a target that self-intersects): remeshed to %g\n",

@@ -644,15 +644,17 @@ static int alloc_targets(ls_job_problem *p, ls_arena *arena)
     return 1;
 }
 
-/* A mesh target's images: the mesh as --target-normals shows it. */
+/* A mesh target's images: the mesh as --target-normals shows it; with auto,
+ * flat when the fit starts from the target itself (p->target_flat_start). */
 static int render_target(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
 {
     ls_arena_mark mark = ls_arena_save(arena);
+    const uint32_t normals = p->target_flat_start ? LS_JOB_NORMALS_FLAT : o->target_normals;
     ls_mesh shown = p->target;
     ls_diag d;
     ls_status st;
     ls_diag_clear(&d);
-    st = ls_job_shown_mesh(&p->target, o->target_normals, o->target_crease_deg, arena, &shown, &p->target_creased,
+    st = ls_job_shown_mesh(&p->target, normals, o->target_crease_deg, arena, &shown, &p->target_creased,
                            &p->target_flat_share, &d);
     if (st == LS_OK) st = ls_job_render(p, &shown, o->target_ss, p->targets, arena, &d);
     ls_arena_restore(arena, mark);
@@ -754,6 +756,23 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         (void)ls_camera_fibonacci_dirs(p->views, dirs);
         for (v = 0; v < p->views; v++) (void)ls_camera_framed_view(&p->framing, dirs + 3u * v, NULL, p->mvps + 16u * v);
     }
+    if (p->have_mesh) { /* what a sphere can reach */
+        ls_arena_mark mark = ls_arena_save(arena);
+        ls_mesh_report rep;
+        if (ls_mesh_validate(&p->target, arena, &rep) == LS_OK) {
+            p->target_genus = rep.has_genus ? rep.genus : -1;
+            p->target_components = rep.components;
+        }
+        ls_arena_restore(arena, mark);
+    }
+    /* a start from the target itself, not smoothed (the automatic one for a genus or components a sphere
+       cannot reach, or --init-coarse): its faces are where the fit begins, and renders that show them flat keep
+       it there, where smooth renders of a coarse mesh show another surface (docs/fit-suite.md) */
+    p->target_flat_start = p->have_mesh && o->target_normals == LS_JOB_NORMALS_AUTO && o->init_smooth == 0 &&
+                           o->init_hull == 0 &&
+                           !(is_scene && scene.initial == LS_SCENE_INITIAL_MESH) &&
+                           (o->init_edge > 0 || (o->init_auto && !is_scene &&
+                                                 (p->target_genus > 0 || p->target_components > 1)));
     targets_mark = ls_arena_save(arena);
     if (!alloc_targets(p, arena)) return 0;
     if (p->have_mesh) {
@@ -777,15 +796,6 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
             if (!alloc_targets(p, arena) || !render_target(p, o, arena) || !measure_thickness(p, arena)) return 0;
         }
     }
-    if (p->have_mesh) { /* what a sphere can reach */
-        ls_arena_mark mark = ls_arena_save(arena);
-        ls_mesh_report rep;
-        if (ls_mesh_validate(&p->target, arena, &rep) == LS_OK) {
-            p->target_genus = rep.has_genus ? rep.genus : -1;
-            p->target_components = rep.components;
-        }
-        ls_arena_restore(arena, mark);
-    }
     if (is_scene && scene.initial == LS_SCENE_INITIAL_MESH) {
         char path[4096];
         join_path(o->target, scene.initial_mesh, path, sizeof path);
@@ -804,6 +814,10 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
             if (got == 0) return 0;
             p->auto_coarse = got > 0 ? 1 : -1;
             p->from_target = got > 0;
+        }
+        if (got < 0 && p->target_flat_start) { /* no start from the target after all: its renders as for a sphere */
+            p->target_flat_start = 0;
+            if (!render_target(p, o, arena)) return 0;
         }
         if (got < 0) { /* an icosphere on the target's bounding sphere */
             st = ls_icosphere(is_scene ? scene.initial_level : o->level, arena, &p->initial);

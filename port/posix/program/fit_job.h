@@ -180,6 +180,7 @@ typedef struct ls_job_problem {
     const char *coarse_failure; /* auto_coarse -1: the remesher's reason (static text) */
     int from_target;         /* 1: the initial mesh is the target remeshed (--init-coarse or automatic) */
     int target_creased;      /* 1: --target-normals auto found the target made of flat pieces */
+    int target_flat_start;   /* 1: --target-normals auto rendered the target flat, the fit starting from it */
     double target_flat_share; /* mesh targets: the share of its two-face edges between coplanar faces */
     double thickness;        /* the targets' median inscribed radius in pixels (LS_JOB_MIN_THICKNESS) */
     uint32_t res_asked;      /* the size asked for when a thin mesh target raised it (else 0) */
