@@ -688,7 +688,7 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     ls_arena_mark targets_mark;
     ls_diag d;
     uint32_t v, i;
-    int is_scene;
+    int is_scene, own_auto; /* own_auto: the automatic start from the target, for a genus or components */
     ls_status st;
     memset(p, 0, sizeof *p);
     memset(&scene, 0, sizeof scene);
@@ -768,11 +768,10 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
     /* a start from the target itself, not smoothed (the automatic one for a genus or components a sphere
        cannot reach, or --init-coarse): its faces are where the fit begins, and renders that show them flat keep
        it there, where smooth renders of a coarse mesh show another surface (docs/fit-suite.md) */
+    own_auto = o->init_auto && p->have_mesh && !is_scene && (p->target_genus > 0 || p->target_components > 1);
     p->target_flat_start = p->have_mesh && o->target_normals == LS_JOB_NORMALS_AUTO && o->init_smooth == 0 &&
-                           o->init_hull == 0 &&
-                           !(is_scene && scene.initial == LS_SCENE_INITIAL_MESH) &&
-                           (o->init_edge > 0 || (o->init_auto && !is_scene &&
-                                                 (p->target_genus > 0 || p->target_components > 1)));
+                           o->init_hull == 0 && !(is_scene && scene.initial == LS_SCENE_INITIAL_MESH) &&
+                           (o->init_edge > 0 || own_auto);
     targets_mark = ls_arena_save(arena);
     if (!alloc_targets(p, arena)) return 0;
     if (p->have_mesh) {
@@ -809,7 +808,7 @@ int ls_job_load(ls_job_problem *p, const ls_job_options *o, ls_arena *arena)
         p->from_target = 1;
     } else {
         int got = -1;
-        if (o->init_auto && p->have_mesh && !is_scene && (p->target_genus > 0 || p->target_components > 1)) {
+        if (own_auto) {
             got = coarse_initial(p, &p->target, LS_JOB_AUTO_EDGE, o->init_smooth, 0, arena);
             if (got == 0) return 0;
             p->auto_coarse = got > 0 ? 1 : -1;
